@@ -1,0 +1,38 @@
+"""The package's errors. Every error a user can cause derives from ``FpdError``.
+
+``InputError`` and its subclasses mean bad input (spec, design.json, CSV): the command
+line prints the message and exits with code 2, with no traceback.
+"""
+
+
+class FpdError(Exception):
+    """Base of every error fpdesign raises on purpose."""
+
+    exit_code = 1
+
+
+class InputError(FpdError, ValueError):
+    """Bad user input: names the key (or row and column), the value and what is allowed."""
+
+    exit_code = 2
+
+
+class SpecError(InputError):
+    """A spec.yaml that cannot be read or violates SPEC.md."""
+
+
+class DesignFileError(InputError):
+    """A design.json that is missing keys or describes an impossible beam."""
+
+
+class CsvError(InputError):
+    """A readings CSV that cannot be used."""
+
+
+class SolverError(FpdError, RuntimeError):
+    """A numerical method failed in a way the caller must hear about."""
+
+
+def describe_allowed(choices) -> str:
+    """``"one of [a, b, c]"`` for error messages."""
+    return "one of [" + ", ".join(str(c) for c in choices) + "]"

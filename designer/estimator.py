@@ -1,0 +1,64 @@
+"""Least-squares force and position estimation from N >= 2 bridges (MODEL.md section 3).
+
+Rows ``V_i - c_i = k_i z1 - k_i d_i z2`` with ``z1 = F x`` and ``z2 = F``; then
+``F = z2`` and ``x = z1 / z2``. For two stations this is exactly the paper's eqs. 11-12.
+Everything here is vectorised with numpy over any leading shape.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def normal_matrix_inverse(k, d):
+    """``(A^T A)^-1`` entries ``(m11, m12, m22)`` for rows ``A_i = [k_i, -k_i d_i]``.
+
+    ``k`` and ``d`` have the station on the last axis. ``Cov(z) = sigma_V^2 (A^T A)^-1``.
+    Written with plain arithmetic so that casadi expressions pass through unchanged.
+    """
+    s0 = sum(ki * ki for ki in _stations(k))
+    s1 = sum(ki * ki * di for ki, di in zip(_stations(k), _stations(d)))
+    s2 = sum(ki * ki * di * di for ki, di in zip(_stations(k), _stations(d)))
+    det = s0 * s2 - s1 * s1
+    # A^T A = [[s0, -s1], [-s1, s2]]  ->  inverse = [[s2, s1], [s1, s0]] / det
+    return s2 / det, s1 / det, s0 / det
+
+
+def _stations(values):
+    if isinstance(values, np.ndarray):
+        return [values[..., i] for i in range(values.shape[-1])]
+    return list(values)
+
+
+def sigma_force(k, d, sigma_v):
+    """1-sigma of the force estimate, N (independent of the load and its position)."""
+    _, _, m22 = normal_matrix_inverse(k, d)
+    return sigma_v * m22 ** 0.5
+
+
+def sigma_position(k, d, sigma_v, force, position):
+    """1-sigma of the position estimate at ``(force, position)``, m (linear propagation)."""
+    m11, m12, m22 = normal_matrix_inverse(k, d)
+    return sigma_v * (m11 - 2 * position * m12 + position * position * m22) ** 0.5 / force
+
+
+def bridge_voltages(k, d, c, force, position):
+    """Noise-free bridge outputs ``V_i = k_i F (x - d_i) + c_i``; station on the last axis."""
+    k, d, c = (np.asarray(a, dtype=float) for a in (k, d, c))
+    force = np.asarray(force, dtype=float)[..., None]
+    position = np.asarray(position, dtype=float)[..., None]
+    return k * force * (position - d) + c
+
+
+def estimate(voltages, k, d, c):
+    """Least-squares ``(F, x)`` from bridge outputs with the station on the last axis."""
+    v = np.asarray(voltages, dtype=float) - np.asarray(c, dtype=float)
+    k = np.asarray(k, dtype=float)
+    d = np.asarray(d, dtype=float)
+    m11, m12, m22 = normal_matrix_inverse(k, d)
+    # A^T v = [sum k v, -sum k d v]
+    b1 = np.sum(k * v, axis=-1)
+    b2 = -np.sum(k * d * v, axis=-1)
+    z1 = m11 * b1 + m12 * b2
+    z2 = m12 * b1 + m22 * b2
+    return z2, z1 / z2
