@@ -1,0 +1,140 @@
+"""Human-readable outputs of a design.json record: a Markdown report and a terminal table."""
+
+from __future__ import annotations
+
+import math
+
+# How each limit's unit is shown: (SI unit) -> (label, factor)
+_DISPLAY = {"Pa": ("MPa", 1e-6), "m": ("mm", 1e3), "strain": ("µε", 1e6), "Hz": ("Hz", 1.0), "": ("", 1.0)}
+_PERCENT_LIMITS = {"force_error"}
+
+
+def display(value: float, unit: str, name: str = "") -> str:
+    if name in _PERCENT_LIMITS:
+        return f"{value * 100:.3g} %"
+    label, factor = _DISPLAY.get(unit, (unit, 1.0))
+    return f"{value * factor:.4g} {label}".strip()
+
+
+def section_text(section: dict) -> str:
+    mm = 1e3
+    if section["kind"] == "rectangle":
+        return f"rectangle {section['width'] * mm:.2f} × {section['height'] * mm:.2f} mm"
+    if section["kind"] == "round":
+        return f"round Ø{section['diameter'] * mm:.2f} mm"
+    return f"tube Ø{section['diameter'] * mm:.2f} × {section['wall'] * mm:.2f} mm wall"
+
+
+def feature_text(feature: dict) -> str:
+    mm = 1e3
+    if feature["kind"] == "pocket":
+        return (f"pocket {feature['length'] * mm:.2f} × {feature['width'] * mm:.2f} mm, "
+                f"{feature['depth'] * mm:.2f} mm deep")
+    if feature["kind"] == "hole":
+        return f"through-hole Ø{feature['diameter'] * mm:.2f} mm"
+    return "none (gauges on the plain surface)"
+
+
+def summary_rows(record: dict) -> list[tuple[str, str]]:
+    d, p, s = record["design"], record["predicted"], record["spec"]
+    mm = 1e3
+    rows = [
+        ("status", record["status"]),
+        ("material", d["material"]),
+        ("section", section_text(d["section"])),
+        ("feature", feature_text(d["feature"])),
+        ("free length", f"{d['length'] * mm:.2f} mm"),
+        ("gauge stations", ", ".join(f"{x * mm:.2f}" for x in d["stations"]) + " mm from the clamp"),
+        ("bridges", f"{d['bridge']}, {d['axes']} axis" + ("es" if d["axes"] == 2 else "")),
+        ("force error (1σ at F_min)", f"{p['force_error'] * 100:.3g} % of {s['load']['force'][0]:.4g} N "
+                                      f"(target {s['targets']['force_error'] * 100:.3g} %)"),
+        ("position error (1σ at F_min, x_max)", f"{p['position_error'] * mm:.3g} mm "
+                                                f"(target {s['targets']['position_error'] * mm:.3g} mm)"),
+        ("free-end deflection", f"{p['deflection'] * mm:.3g} mm ({p['deflection_ratio']:.2%} of the length)"),
+        ("max stress / allowable", f"{p['max_stress'] * 1e-6:.4g} / {p['stress_allowable'] * 1e-6:.4g} MPa"),
+        ("gauge strain at F_max", ", ".join(f"{e * 1e6:.0f}" for e in p["gauge_strain"]) + " µε"),
+        ("smallest signal / noise", f"{p['min_signal_snr']:.3g}"),
+        ("sensitivity k", f"{p['sensitivity'][0] * 1e3:.4g} mV/(N·m)"),
+        ("mass (free length)", f"{p['mass'] * 1e3:.4g} g"),
+        ("first natural frequency", f"{p['natural_frequency']:.4g} Hz"),
+    ]
+    return rows
+
+
+def binding_limits(record: dict) -> list[dict]:
+    return [c for c in record["constraints"] if c["active"] or not c["satisfied"]]
+
+
+def markdown(record: dict) -> str:
+    s = record["spec"]
+    lines = [f"# {s['name']}: force-and-position sensor design", ""]
+    for msg in record.get("messages", []):
+        lines += [f"> **{msg}**", ""]
+    lines += ["## Design", "", "| | |", "|---|---|"]
+    lines += [f"| {k} | {v} |" for k, v in summary_rows(record)]
+    lines += ["", "## Limits", "",
+              "Every limit was checked with the numeric model on the rounded design (0.01 mm).", "",
+              "| limit | value | bound | margin | |", "|---|---|---|---|---|"]
+    for c in record["constraints"]:
+        flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
+        lines.append(f"| {c['name']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
+                     f"{display(c['limit'], c['unit'], c['name'])} | {c['margin']:+.2%} | {flag} |")
+    if record.get("candidates"):
+        lines += ["", "## Candidates", "", "| rank | material | section | status | objective | deflection | mass |",
+                  "|---|---|---|---|---|---|---|"]
+        for i, c in enumerate(record["candidates"], 1):
+            obj = "–" if c.get("objective") is None else f"{c['objective']:.4g}"
+            defl = "–" if c.get("deflection") is None else f"{c['deflection'] * 1e3:.3g} mm"
+            mass = "–" if c.get("mass") is None else f"{c['mass'] * 1e3:.3g} g"
+            lines.append(f"| {i} | {c['material']} | {c['section']} | {c['status']} | {obj} | {defl} | {mass} |")
+    solver = record.get("solver", {})
+    if solver.get("method") not in (None, "none"):
+        lines += ["", "## Solver", "", f"method {solver['method']}, {solver.get('seconds', 0):.3g} s, "
+                  f"{solver.get('evaluations', 0)} model evaluations" +
+                  (f"; fallbacks: {', '.join(solver['fallbacks'])}" if solver.get("fallbacks") else "")]
+    lines += ["", "## Model", "",
+              "Euler–Bernoulli beam theory and closed-form section properties (MODEL.md); noise is Gaussian "
+              "and independent per channel; errors are 1σ by linear propagation (the mean absolute error is "
+              "√(2/π)·σ ≈ 0.80 σ). Loads are perpendicular point loads; the deflection must stay small "
+              "(below 10 % of the length) for the linear model to hold.", ""]
+    for name, title in (("model_picture", "3-D model"), ("drawing", "Drawing")):
+        if record.get("files", {}).get(name):
+            lines += [f"## {title}", "", f"![{title}]({record['files'][name]})", ""]
+    for name in ("operating-region", "error-maps", "voltage-isolines", "candidates",
+                 "tradeoff-deflection", "tradeoff-frequency"):
+        if name + ".png" in record.get("files", {}).get("plots", []):
+            lines += [f"![{name}]({name}.png)", ""]
+    return "\n".join(lines)
+
+
+def print_summary(record: dict, console=None) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    console = console or Console()
+    table = Table(title=f"{record['spec']['name']} — {record['status']}", show_header=False)
+    table.add_column(style="bold")
+    table.add_column()
+    for k, v in summary_rows(record):
+        table.add_row(k, v)
+    console.print(table)
+    binding = binding_limits(record)
+    if binding:
+        lim = Table(title="binding or violated limits")
+        for col in ("limit", "value", "bound", "margin"):
+            lim.add_column(col)
+        for c in binding:
+            lim.add_row(c["name"], display(c["value"], c["unit"], c["name"]),
+                        f"{c['sense']} {display(c['limit'], c['unit'], c['name'])}",
+                        f"[{'red' if not c['satisfied'] else 'yellow'}]{c['margin']:+.2%}[/]")
+        console.print(lim)
+    if record.get("candidates"):
+        cand = Table(title="runners-up")
+        for col in ("material", "section", "status", "objective"):
+            cand.add_column(col)
+        for c in record["candidates"][:6]:
+            obj = "–" if c.get("objective") is None or not math.isfinite(c["objective"]) else f"{c['objective']:.4g}"
+            cand.add_row(c["material"], c["section"], c["status"], obj)
+        console.print(cand)
+    for msg in record.get("messages", []):
+        console.print(f"[yellow]{msg}[/]")
