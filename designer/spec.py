@@ -224,6 +224,9 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
         problem = getattr(exc, "problem", None) or "invalid YAML"
+        context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+        if context and start is not None and (mark is None or start.line != mark.line):
+            problem += f" ({context} that starts at line {start.line + 1}, column {start.column + 1})"
         raise SpecError(f"{source}: YAML syntax error{where}: {problem}") from exc
     if raw is None:
         raise SpecError(f"{source}: the file is empty; a spec needs at least 'load' and 'electronics'")
@@ -248,6 +251,14 @@ def _required(raw: dict, key: str, parent: str):
     if key not in raw or raw[key] is None:
         raise SpecError(f"{parent}.{key}: missing; it is required" if parent else f"{key}: missing; it is required")
     return raw[key]
+
+
+def _catalogue_name(value, key: str, lookup):
+    """A catalogue entry by name; a name that is not text is refused before the look-up."""
+    if not isinstance(value, str):
+        raise SpecError(f"{key}: {value!r} is not a catalogue name; give one name as text, "
+                        "as `fpdesign materials` lists them")
+    return lookup(value, key)
 
 
 def _choice(value, choices, key: str):
@@ -345,7 +356,9 @@ def _parse_gauge(raw) -> Gauge:
     fields = {k: units.parse_positive(v, catalogue.GAUGE_FIELDS[k], f"gauge.{k}")
               for k, v in raw.items() if k != "name"}
     name = raw.get("name")
-    if name is not None and (name in catalogue.gauges() or not isinstance(name, str)):
+    if name is not None and not isinstance(name, str):
+        _catalogue_name(name, "gauge.name", catalogue.gauge)
+    if name is not None and name in catalogue.gauges():
         return catalogue.customised(catalogue.gauge(name), **fields)
     missing = [k for k in ("factor", "length", "width", "max_strain") if k not in fields]
     if missing and name is not None:
@@ -412,7 +425,7 @@ def _parse_search(raw) -> Search:
     if not isinstance(chosen, (list, tuple)) or not chosen:
         raise SpecError(f"search.materials: {chosen!r} must be 'all' or a list of catalogue names")
     for i, m in enumerate(chosen):
-        catalogue.material(m, f"search.materials[{i}]")
+        _catalogue_name(m, f"search.materials[{i}]", catalogue.material)
     sections = raw.get("sections", list(SECTION_KINDS))
     if isinstance(sections, str):
         sections = [sections]
@@ -445,7 +458,7 @@ def _parse_cad(raw, load: Load) -> CadOptions:
 def _parse_design(raw, limits: Limits, gauge: Gauge) -> FixedDesign:
     raw = _mapping(raw, "design", ("material", "section", "stations", "feature", "length"))
     material = _required(raw, "material", "design")
-    catalogue.material(material, "design.material")
+    _catalogue_name(material, "design.material", catalogue.material)
     section = _parse_section(_required(raw, "section", "design"))
     stations = _required(raw, "stations", "design")
     if not isinstance(stations, (list, tuple)) or len(stations) < 2:
