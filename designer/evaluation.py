@@ -6,10 +6,14 @@ fixed designs from a spec and designs read back from design.json all pass throug
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 from . import model
 from .catalogue import Material
+from .errors import InputError
 from .model import Analysis, Geometry, Limit, MaterialParams
 
 ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
@@ -113,10 +117,21 @@ class Evaluation:
 
 
 def evaluate(design: Design, spec) -> Evaluation:
+    """Judge ``design``; sizes or electronics so far off that the numbers break are an InputError."""
     params = design.material_params(spec)
-    a = model.analyse(design.geometry, params, spec)
-    lims = tuple(model.limits(design.geometry, a, params, spec))
-    return Evaluation(design, a, lims, model.objective_value(a, spec), model.error_ratio(a, spec))
+    try:
+        a = model.analyse(design.geometry, params, spec)
+        lims = tuple(model.limits(design.geometry, a, params, spec))
+        ev = Evaluation(design, a, lims, model.objective_value(a, spec), model.error_ratio(a, spec))
+        predicted = ev.predicted()
+    except ArithmeticError as exc:  # ZeroDivisionError, OverflowError
+        raise InputError(f"the design cannot be evaluated ({exc}); a size, load or electronics value is far "
+                         "outside the physical range") from exc
+    broken = [k for k, v in predicted.items() if not all(math.isfinite(x) for x in np.ravel(v))]
+    if broken:
+        raise InputError(f"the design cannot be evaluated: {', '.join(broken)} come out infinite or undefined; "
+                         "a size, load or electronics value is far outside the physical range")
+    return ev
 
 
 def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometry:
