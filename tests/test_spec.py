@@ -114,6 +114,9 @@ BAD_SPECS = {
     "section not a mapping": ({"design.section": "square"}, ["design.section", "square", "mapping"]),
     "load not a mapping": ({"load": ["1 N", "2 N"]}, ["load", "['1 N', '2 N']", "mapping"]),
     "pocket fraction too large": ({"limits.max_pocket_fraction": 0.6}, ["limits.max_pocket_fraction", "0.6"]),
+    # Far outside any physical range: the numbers overflow or divide by zero in the model.
+    "sub-atomic width": ({"design.section.width": "1e-30 mm"}, ["cannot be evaluated", "physical range"]),
+    "absurd gain": ({"electronics.gain": 1e300}, ["cannot be evaluated", "force_error", "physical range"]),
     "YAML syntax error": ("load: [200 gf, 2000 gf\nelectronics: {excitation: 5 V\n", ["YAML syntax error", "line"]),
     "YAML tab indentation": ("load:\n\tforce: [1 N, 2 N]\n", ["YAML syntax error", "line 2"]),
     "empty file": ("", ["empty", "load", "electronics"]),
