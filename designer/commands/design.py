@@ -182,6 +182,8 @@ def run_simulate(args) -> int:
                       f"{res.sigma_position_mc[i] / res.sigma_position[i]:.3f}",
                       f"{res.mean_abs_force_error[i]:.2%}", f"{res.mean_abs_position_error[i]:.2%}")
     console = Console()
+    if not console.is_terminal:  # a pipe or a file: 80 columns would cut the numbers to "0.06…"
+        console = Console(width=160)
     console.print(table)
     if angle is not None:
         console.print(f"biaxial at {args.angle:g}°: angle 1σ MC/model worst ratio "
