@@ -1,0 +1,175 @@
+"""Monte Carlo of the estimator (Noh et al. 2025, section 4.3) against the analytic 1-sigma of
+MODEL.md section 3, on the paper's Prototype B grid and for the biaxial Prototype C.
+
+Tolerances: the standard deviation of N = 1e5 Gaussian draws scatters by 1/sqrt(2N) = 0.22 %;
+the estimator x = z1/z2 and the biaxial magnitude and angle are nonlinear, which adds
+second-order terms of order (sigma_F/F)^2, at most (3.4 %)^2 ~ 0.1 % here. 2 % (the issue's
+acceptance) is therefore 9 sampling sigmas above the noise and far below any real model error
+(a wrong factor of sqrt(2), or a missing (x - d) term, shows up as 10 % or more).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from designer.cli import main
+from designer.evaluation import evaluate, fixed_design
+from designer.simulation import estimate_biaxial, grid, simulate
+from designer.spec import load_spec
+
+DRAWS = 100_000
+SAMPLING = 1 / math.sqrt(2 * DRAWS)  # relative 1-sigma scatter of a sample standard deviation
+
+
+def prototype(examples, name):
+    spec = load_spec(examples / f"{name}.yaml")
+    ev = evaluate(fixed_design(spec).rounded(), spec)
+    g = ev.design.geometry
+    forces, positions = grid(spec.load.force_min, spec.load.force_max, spec.load.position_min,
+                             spec.load.position_max)
+    return spec, [float(ev.analysis.sensitivity)] * len(g.stations), list(g.stations), forces, positions
+
+
+@pytest.fixture(scope="module")
+def prototype_b(examples):
+    """Section 4.3: 7 loads 200-2000 g x 7 positions 150-450 mm, 1e5 draws, 1.3 mV, bridges 80 mm apart."""
+    spec, k, d, forces, positions = prototype(examples, "prototype-b")
+    return spec, simulate(k, d, spec.sigma_v, forces, positions, draws=DRAWS, seed=11)
+
+
+def test_the_grid_is_the_papers(prototype_b):
+    spec, res = prototype_b
+    assert len(res.force) == 49 and res.draws == DRAWS
+    assert sorted(set(np.round(res.force / 9.80665e-3, 6))) == pytest.approx([200, 500, 800, 1100, 1400, 1700, 2000])
+    assert sorted(set(np.round(res.position * 1e3, 6))) == pytest.approx([150, 200, 250, 300, 350, 400, 450])
+    assert spec.sigma_v == pytest.approx(1.3e-3, rel=1e-12)
+
+
+def test_analytic_sigma_within_2_percent_of_monte_carlo(prototype_b):
+    # Issue 2 acceptance, over the whole 7 x 7 grid, force and position.
+    _, res = prototype_b
+    np.testing.assert_allclose(res.sigma_force_mc, res.sigma_force, rtol=0.02)
+    np.testing.assert_allclose(res.sigma_position_mc, res.sigma_position, rtol=0.02)
+    assert res.worst_ratio < 0.02
+    # Both estimates are unbiased to well within their spread (the means are not stored; the
+    # mean absolute error is, and for a Gaussian it is sqrt(2/pi) sigma -- MODEL.md section 3;
+    # 1.5 % covers its own sampling scatter, 0.3 %, and the x estimate's slight skew).
+    np.testing.assert_allclose(res.mean_abs_force_error * res.force, math.sqrt(2 / math.pi) * res.sigma_force,
+                               rtol=0.015)
+    np.testing.assert_allclose(res.mean_abs_position_error * res.position,
+                               math.sqrt(2 / math.pi) * res.sigma_position, rtol=0.015)
+
+
+def test_force_error_ignores_position_and_falls_with_load(prototype_b):
+    # Paper Fig. 16 and eq. 35: the force error does not depend on the position and is
+    # inversely proportional to the load. Rows: forces, columns: positions. Across a row the
+    # Monte Carlo sigma_F may differ by sampling only (0.22 % each; 1.5 % = 6.8 sigmas).
+    _, res = prototype_b
+    sf = res.sigma_force_mc.reshape(7, 7)
+    assert np.ptp(sf / sf.mean(), axis=None) < 1.5e-2
+    assert np.all(np.ptp(res.sigma_force.reshape(7, 7), axis=1) == 0)  # analytic: exactly constant
+    relative = res.mean_abs_force_error.reshape(7, 7)
+    forces = res.force.reshape(7, 7)[:, 0]
+    assert np.all(np.diff(relative.mean(axis=1)) < 0)
+    np.testing.assert_allclose(relative.mean(axis=1) * forces, (relative.mean(axis=1) * forces).mean(), rtol=0.015)
+
+
+def test_position_error_rises_with_position(prototype_b):
+    # Paper Fig. 17 and eq. 36: "Higher positions exhibited higher errors than lower positions",
+    # absolute and relative, at every load; sigma_x ~ sqrt((x-d1)^2 + (x-d2)^2)/F rises for
+    # x > (d1^2 + d2^2)/(d1 + d2) = 87 mm, and its relative form too. Adjacent grid columns
+    # differ by at least 8 % in theory, far above the 0.22 % sampling scatter.
+    _, res = prototype_b
+    sx = res.sigma_position_mc.reshape(7, 7)
+    rel = res.mean_abs_position_error.reshape(7, 7)
+    assert np.all(np.diff(sx, axis=1) > 0)
+    assert np.all(np.diff(rel, axis=1) > 0)
+    assert np.all(np.diff(sx, axis=0) < 0)  # and falls with the load
+    analytic = res.sigma_position.reshape(7, 7)
+    assert np.min(np.diff(analytic, axis=1) / analytic[:, :-1]) > 0.08
+
+
+def test_doubling_the_spacing_halves_the_force_error(examples, prototype_b):
+    # Paper Fig. 13 and section 4.3: delta = 40 mm (prototype-b-inner) against 80 mm.
+    # sigma_F = sqrt(2) sigma_V/(k delta): the Monte Carlo ratio is 2 up to sampling scatter
+    # of both runs (0.3 %); 2 % as in the acceptance. A different seed keeps the runs independent.
+    _, outer = prototype_b
+    spec, k, d, forces, positions = prototype(examples, "prototype-b-inner")
+    assert d[1] - d[0] == pytest.approx(0.040)
+    inner = simulate(k, d, spec.sigma_v, forces, positions, draws=DRAWS, seed=12)
+    np.testing.assert_allclose(inner.sigma_force_mc / outer.sigma_force_mc, 2.0, rtol=0.02)
+    assert np.all(inner.sigma_position_mc > 1.9 * outer.sigma_position_mc)
+
+
+@pytest.mark.parametrize("angle_deg", [30.0, 75.0])
+def test_biaxial_spreads_match_the_analytic_ones(examples, angle_deg):
+    # Prototype C (two half bridges per axis, Table 1). Per axis the force has sigma_F; the
+    # magnitude's spread is sigma_F, the angle's sigma_F/|F| and the position's that of one
+    # axis at F = |F| (linear propagation through |F| = hypot(Fy, Fz), theta = atan2,
+    # x = (Fy z1y + Fz z1z)/|F|^2). sigma_F/|F| is at most 2.9 % here, so the nonlinear terms
+    # stay below ~0.2 %; 3 % leaves 13 sampling sigmas. A 4 x 4 grid keeps the test fast.
+    spec, k, d, _, _ = prototype(examples, "prototype-c")
+    forces, positions = grid(spec.load.force_min, spec.load.force_max, spec.load.position_min,
+                             spec.load.position_max, 4, 4)
+    res = simulate(k, d, spec.sigma_v, forces, positions, draws=DRAWS, seed=5, angle=math.radians(angle_deg))
+    k1 = k[0]
+    delta = d[1] - d[0]
+    sigma_f = math.sqrt(2) * spec.sigma_v / (k1 * delta)  # MODEL.md section 3, two equal stations
+    sigma_x = spec.sigma_v * np.hypot(positions - d[0], positions - d[1]) / (k1 * delta * forces)
+    np.testing.assert_allclose(res.sigma_force, sigma_f, rtol=1e-12)
+    np.testing.assert_allclose(res.sigma_angle, sigma_f / forces, rtol=1e-12)
+    np.testing.assert_allclose(res.sigma_position, sigma_x, rtol=1e-12)
+    np.testing.assert_allclose(res.sigma_force_mc, sigma_f, rtol=0.03)
+    np.testing.assert_allclose(res.sigma_angle_mc, sigma_f / forces, rtol=0.03)
+    np.testing.assert_allclose(res.sigma_position_mc, sigma_x, rtol=0.03)
+    assert res.worst_ratio < 0.03
+
+
+def test_biaxial_estimate_recovers_magnitude_angle_and_position():
+    # Noise-free voltages on both axes: exact recovery (rel 1e-12, rounding).
+    k, d, c = np.array([0.5, 0.5]), np.array([0.02, 0.07]), np.array([0.001, -0.002])
+    F, theta, x = 7.0, math.radians(130.0), 0.15
+    vy = k * F * math.cos(theta) * (x - d) + c
+    vz = k * F * math.sin(theta) * (x - d) + c
+    mag, ang, pos = estimate_biaxial(vy, vz, k, d, c, c)
+    assert (float(mag), float(ang), float(pos)) == pytest.approx((F, theta, x), rel=1e-12)
+
+
+def test_the_same_seed_gives_the_same_answer(examples):
+    spec, k, d, forces, positions = prototype(examples, "prototype-b")
+    a = simulate(k, d, spec.sigma_v, forces[:3], positions[:3], draws=2000, seed=3)
+    b = simulate(k, d, spec.sigma_v, forces[:3], positions[:3], draws=2000, seed=3)
+    c = simulate(k, d, spec.sigma_v, forces[:3], positions[:3], draws=2000, seed=4)
+    np.testing.assert_array_equal(a.sigma_force_mc, b.sigma_force_mc)
+    assert not np.array_equal(a.sigma_force_mc, c.sigma_force_mc)
+
+
+def test_simulate_command_on_a_spec_and_on_design_json(examples, tmp_path, capsys):
+    # The command prints the grid table and the largest disagreement; with 20 000 draws the
+    # sampling scatter is 0.5 %, so every printed ratio lies within 0.95-1.05 (10 sigmas).
+    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "20000", "--grid", "3", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "180,000 draws" in out and "largest |MC/model - 1|" in out
+    rows = [[cell.strip() for cell in line.split("│")[1:-1]] for line in out.splitlines() if line.startswith("│")]
+    rows = [r for r in rows if r and r[0].replace(".", "").isdigit()]
+    assert len(rows) == 9
+    for r in rows:  # F, x, sigma_F MC, model, ratio, sigma_x MC, model, ratio, mean |eF|, mean |ex|
+        assert "…" not in "".join(r)  # every number printed in full, also into a pipe
+        assert float(r[4]) == pytest.approx(float(r[2]) / float(r[3]), abs=2e-3)
+        assert 0.95 < float(r[4]) < 1.05 and 0.95 < float(r[7]) < 1.05
+    out_dir = tmp_path / "c"
+    assert main(["evaluate", str(examples / "prototype-c.yaml"), "-o", str(out_dir), "--no-cad", "--no-plots"]) == 0
+    capsys.readouterr()
+    assert json.loads((out_dir / "design.json").read_text(encoding="utf-8"))["design"]["axes"] == 2
+    assert main(["simulate", str(out_dir / "design.json"), "--draws", "5000", "--grid", "2", "2",
+                 "--angle", "45"]) == 0
+    assert "biaxial at 45°" in capsys.readouterr().out
+
+
+def test_simulate_refuses_too_few_draws(examples, capsys):
+    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "10"]) == 2
+    assert "--draws: 10" in capsys.readouterr().err
