@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import catalogue, model
-from .errors import SolverError, SpecError, describe_allowed
+from .errors import InputError, SolverError, SpecError, describe_allowed
 from .evaluation import ROUNDING, Design, Evaluation, evaluate
 from .model import Geometry, MaterialParams
 
@@ -375,11 +375,12 @@ def _spread_stations(problem: FamilyProblem, x):
 
 # --------------------------------------------------------------------------- rounding and checking
 
-def round_and_check(design: Design, spec) -> Evaluation:
+def round_and_check(design: Design, spec) -> Evaluation | None:
     """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points.
 
     Every length is rounded down or up; the combinations (at most 2^8) are checked with the
-    numeric model and the best feasible one is kept (or the least violating if none is).
+    numeric model and the best feasible one is kept (or the least violating if none is);
+    None when no combination can be evaluated at all.
     """
     g = design.geometry
     fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
@@ -402,8 +403,11 @@ def round_and_check(design: Design, spec) -> Evaluation:
         st = tuple(combo[len(choices):])
         if any(b <= a for a, b in zip(st, st[1:])):
             continue
-        ev = evaluate(Design(design.material, replace(g, stations=st, length=round(float(g.length) / ROUNDING) * ROUNDING,
-                                                      **named)), spec)
+        rounded = replace(g, stations=st, length=round(float(g.length) / ROUNDING) * ROUNDING, **named)
+        try:
+            ev = evaluate(Design(design.material, rounded), spec)
+        except InputError:  # a degenerate point (e.g. two stations at one place): not a design
+            continue
         if best is None or _better(ev, best):
             best = ev
     return best
@@ -485,10 +489,9 @@ def solve_candidate(problem: FamilyProblem, material, method: str, warm=None) ->
         for i, x0 in enumerate(starts):
             s = problem.solve(m, params, x0)
             cand.solves.append(s)
-            try:
-                ev = round_and_check(problem.design(s.x, material), spec)
-            except (ValueError, ZeroDivisionError, FloatingPointError) as exc:
-                cand.fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({exc})")
+            ev = round_and_check(problem.design(s.x, material), spec)
+            if ev is None:
+                cand.fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
                 continue
             if not s.success:
                 cand.fallbacks.append(f"{m} start {i + 1}: {s.message}")
