@@ -53,7 +53,9 @@ def validate(record, source: str = "design.json") -> None:
     """Raise DesignFileError naming the first key that is missing or impossible."""
     if not isinstance(record, dict):
         raise DesignFileError(f"{source}: must be a JSON object with keys 'spec' and 'design'")
-    _get(record, "spec", "")
+    spec = _get(record, "spec", "")
+    if not isinstance(spec, dict):
+        raise DesignFileError(f"spec: {spec!r} must be an object (the normalised spec of SPEC.md)")
     design = _get(record, "design", "")
     material = _get(design, "material", "design")
     if not isinstance(material, str):
@@ -63,7 +65,7 @@ def validate(record, source: str = "design.json") -> None:
         _positive(props, key, "design.material_properties")
     section = _get(design, "section", "design")
     kind = _get(section, "kind", "design.section")
-    if kind not in SECTION_KEYS:
+    if not isinstance(kind, str) or kind not in SECTION_KEYS:
         raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; must be {describe_allowed(SECTION_KEYS)}")
     dims = {k: _positive(section, k, "design.section") for k in SECTION_KEYS[kind]}
     if kind == "tube" and not dims["wall"] < dims["diameter"] / 2:
@@ -72,7 +74,7 @@ def validate(record, source: str = "design.json") -> None:
     size = dims.get("height", dims.get("diameter"))
     feature = _get(design, "feature", "design")
     fkind = _get(feature, "kind", "design.feature")
-    if fkind not in FEATURE_KEYS:
+    if not isinstance(fkind, str) or fkind not in FEATURE_KEYS:
         raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; must be {describe_allowed(FEATURE_KEYS)}")
     fdims = {k: _positive(feature, k, "design.feature") for k in FEATURE_KEYS[fkind]}
     if fkind == "pocket":
@@ -114,8 +116,9 @@ def rebuild(record: dict):
     from .spec import Feature, Section, parse_spec
 
     raw_spec = dict(record["spec"])
-    raw_spec["electronics"] = {k: v for k, v in raw_spec.get("electronics", {}).items()
-                               if k != "noise_output" and v is not None}
+    if isinstance(raw_spec.get("electronics"), dict):  # anything else: parse_spec says what is wrong
+        raw_spec["electronics"] = {k: v for k, v in raw_spec["electronics"].items()
+                                   if k != "noise_output" and v is not None}
     raw_spec.pop("design", None)
     try:
         spec = parse_spec(raw_spec)

@@ -136,18 +136,24 @@ def run_optimize(args) -> int:
 
 
 def _design_record(path: str) -> dict:
-    if path.endswith(".json"):
-        from ..designfile import load_design
-
-        return load_design(path)
     from ..evaluation import evaluate, fixed_design
     from ..result import build_record
-    from ..spec import load_spec
 
-    spec = load_spec(path)
-    if spec.design is None:
-        raise SpecError(f"design: missing in {path}; simulate needs a fixed design (a design: block or a design.json)")
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    if path.endswith(".json"):
+        from ..designfile import load_design, rebuild
+
+        # Judge the design afresh from what the file describes: its "predicted" block may be
+        # stale, edited or absent (SPEC.md does not list every key simulate needs).
+        spec, design = rebuild(load_design(path))
+        ev = evaluate(design, spec)
+    else:
+        from ..spec import load_spec
+
+        spec = load_spec(path)
+        if spec.design is None:
+            raise SpecError(f"design: missing in {path}; simulate needs a fixed design (a design: block or a "
+                            "design.json)")
+        ev = evaluate(fixed_design(spec).rounded(), spec)
     return build_record("feasible" if ev.feasible else "infeasible", spec, ev)
 
 
