@@ -268,3 +268,53 @@ def test_materials_table_from_another_folder(tmp_path, monkeypatch, capsys):
     out = capsys.readouterr().out
     for name in [*REQUIRED_MATERIALS, "BF120-3AA", "BF350-3AA"]:
         assert name in out
+
+
+# ----------------------------------------------------------------- a damaged design.json
+# `fpdesign simulate design.json` rebuilds the design from the file (designfile.rebuild) and
+# evaluates it again; every damage below must stop it with exit 2 and a one-line message.
+
+BAD_RECORDS = {
+    # id: (change to Prototype B's design.json, words the message must contain)
+    "spec not an object": (lambda r: r.update(spec=["prototype-b"]), ["spec", "['prototype-b']", "object"]),
+    "electronics not a mapping": (lambda r: r["spec"].update(electronics="5 V"), ["spec.electronics", "5 V"]),
+    "section kind a list": (lambda r: r["design"]["section"].update(kind=["rectangle"]),
+                            ["design.section.kind", "['rectangle']", "rectangle"]),
+    "feature kind unknown": (lambda r: r["design"]["feature"].update(kind="slot"), ["design.feature.kind", "slot"]),
+    "length missing": (lambda r: r["design"].pop("length"), ["design.length", "missing"]),
+    "negative width": (lambda r: r["design"]["section"].update(width=-0.01), ["design.section.width", "-0.01"]),
+    "station off the beam": (lambda r: r["design"].update(stations=[0.02, 0.5]), ["design.stations[1]", "0.5"]),
+    "stations reversed": (lambda r: r["design"].update(stations=[0.1, 0.02]), ["design.stations", "increase"]),
+    "three axes": (lambda r: r["design"].update(axes=3), ["design.axes", "3"]),
+    "predictions missing": (lambda r: r.pop("predicted"), None),  # simulate re-evaluates: exit 0
+    "a reversed load in the spec": (lambda r: r["spec"]["load"].update(force=[19.6, 1.96]),
+                                    ["spec.load.force", "19.6", "reversed"]),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_RECORDS))
+def test_a_damaged_design_json_exits_2_with_a_one_line_message(case, prototype_b, tmp_path, capsys):
+    _, _, record, _ = prototype_b
+    damaged = json.loads(json.dumps(record))
+    change, words = BAD_RECORDS[case]
+    change(damaged)
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(damaged), encoding="utf-8")
+    code = main(["simulate", str(path), "--draws", "100", "--grid", "2", "2"])
+    err = capsys.readouterr().err
+    if words is None:
+        assert code == 0 and not err
+        return
+    assert code == 2, err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("fpdesign: error: ") and "Traceback" not in err
+    for word in words:
+        assert word in lines[0], f"{word!r} missing from: {lines[0]}"
+
+
+def test_a_design_json_that_is_not_json_exits_2(tmp_path, capsys):
+    path = tmp_path / "design.json"
+    path.write_text('{"version": 1,\n "spec": {', encoding="utf-8")
+    assert main(["simulate", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "not valid JSON at line 2" in err
