@@ -60,8 +60,11 @@ def _optional(module: str):
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None) -> None:
     """design.json, report.md and, when asked, the CAD model and the plots: all or nothing."""
     from .. import report
+    from ..errors import InputError
     from ..output import atomic_write_json, atomic_write_text, staged_directory
 
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
     with staged_directory(out_dir) as scratch:
         files = record.setdefault("files", {})
         if cad and (cad_module := _optional("designer.cad")) is not None:
