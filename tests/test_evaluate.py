@@ -318,3 +318,13 @@ def test_a_design_json_that_is_not_json_exits_2(tmp_path, capsys):
     assert main(["simulate", str(path)]) == 2
     err = capsys.readouterr().err
     assert "not valid JSON at line 2" in err
+
+
+def test_an_output_path_that_is_a_file_exits_2(examples, tmp_path, capsys):
+    target = tmp_path / "taken"
+    target.write_text("keep me", encoding="utf-8")
+    assert run_evaluate(examples / "prototype-b.yaml", target) == 2
+    err = capsys.readouterr().err
+    assert "-o" in err and str(target) in err and "not a folder" in err
+    assert target.read_text(encoding="utf-8") == "keep me"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["taken"]  # no scratch folder left behind
