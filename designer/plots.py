@@ -1031,6 +1031,7 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = FORMAT
         if name not in TRADEOFF_AXES:
             raise InputError(f"tradeoff.{key}: unknown front; must be {describe_allowed(TRADEOFF_AXES)}")
         if points:
+            _tradeoff_points(points, name)  # check every point before drawing anything
             fronts[name] = points
 
     makers = [("operating-region", lambda: plot_operating_region(design)),
