@@ -411,3 +411,20 @@ def test_predicted_covariance_is_sigma_squared_times_inverse_normal_matrix():
     grad = np.array([1 / force, -x / force])
     assert estimator.sigma_force(k, d, sigma_v) == pytest.approx(math.sqrt(cov[1, 1]), rel=1e-10)
     assert estimator.sigma_position(k, d, sigma_v, force, x) == pytest.approx(math.sqrt(grad @ cov @ grad), rel=1e-10)
+
+
+def test_prototype_b_strains_through_eq_4_then_eqs_11_12_give_the_load_back(examples):
+    # The whole forward chain of the package for Prototype B (Table 1): gauge strains from the
+    # beam model (eq. 3) at F_max, x_max, turned into volts by eq. 4 (V = V_s g G n eps / 4),
+    # then eqs. 11-12 with the model's k (eq. 7) and balanced bridges: F and x to rel 1e-9.
+    from designer.evaluation import evaluate, fixed_design
+    from designer.spec import load_spec
+
+    spec = load_spec(examples / "prototype-b.yaml")
+    ev = evaluate(fixed_design(spec).rounded(), spec)
+    a, e = ev.analysis, spec.electronics
+    V1, V2 = (e.excitation * e.gain * spec.gauge.factor * spec.bridge_factor * eps / 4 for eps in a.gauge_strain)
+    d1, d2 = ev.design.geometry.stations
+    k = a.sensitivity
+    assert eq_12_force(V1, V2, k, k, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.force_max, rel=1e-9)
+    assert eq_11_position(V1, V2, k, k, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.position_max, rel=1e-9)

@@ -173,3 +173,16 @@ def test_simulate_command_on_a_spec_and_on_design_json(examples, tmp_path, capsy
 def test_simulate_refuses_too_few_draws(examples, capsys):
     assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "10"]) == 2
     assert "--draws: 10" in capsys.readouterr().err
+
+
+def test_more_draws_than_one_batch(examples):
+    # simulation.CHUNK bounds memory; 300 000 draws span two batches that must be joined.
+    # Sampling scatter 1/sqrt(6e5) = 0.13 %; 1 % is 7.7 of those.
+    from designer import simulation
+
+    spec, k, d, _, _ = prototype(examples, "prototype-b")
+    draws = simulation.CHUNK + 50_000
+    res = simulate(k, d, spec.sigma_v, np.array([2.0]), np.array([0.3]), draws=draws, seed=9)
+    assert res.draws == draws
+    np.testing.assert_allclose(res.sigma_force_mc, res.sigma_force, rtol=0.01)
+    np.testing.assert_allclose(res.sigma_position_mc, res.sigma_position, rtol=0.01)
