@@ -550,6 +550,13 @@ def _cal_number(obj, key: str, where: str, optional: bool = False, positive: boo
     return float(value)
 
 
+def _cal_count(obj: dict, key: str, where: str) -> int:
+    value = obj.get(key, 0)
+    if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+        raise CalibrationFileError(f"{where + '.' if where else ''}{key}: {value!r} must be a whole number >= 0")
+    return value
+
+
 def _calibration_from_dict(record) -> Calibration:
     if not isinstance(record, dict) or not isinstance(record.get("bridges"), list) or not record["bridges"]:
         raise CalibrationFileError("bridges: missing; a calibration.json lists its bridges "
@@ -592,6 +599,9 @@ def _calibration_from_dict(record) -> Calibration:
                                    f"{[b.name for b in expected]} (every station, in order)")
     noise = record.get("noise") or {}
     span = record.get("span") or {}
+    for key, value in (("noise", noise), ("span", span)):
+        if not isinstance(value, dict):
+            raise CalibrationFileError(f"{key}: {value!r} must be an object")
 
     def span_pair(key):
         value = span.get(key)
@@ -604,11 +614,12 @@ def _calibration_from_dict(record) -> Calibration:
         raise CalibrationFileError(f"noise.source: {source!r} is not allowed; must be one of "
                                    "[residual, design, none]")
     return Calibration(
-        tuple(bridges), int(record.get("points", 0)),
+        tuple(bridges), _cal_count(record, "points", ""),
         _cal_number(noise, "sigma_v", "noise", True, True), source,
-        _cal_number(noise, "residual", "noise", True), int(noise.get("residual_dof", 0) or 0),
+        _cal_number(noise, "residual", "noise", True), _cal_count(noise, "residual_dof", "noise"),
         _cal_number(noise, "design", "noise", True, True), span_pair("force"), span_pair("position"),
-        record.get("design"), tuple(str(w) for w in record.get("warnings", [])), str(record.get("source", "")))
+        None if record.get("design") is None else str(record["design"]),
+        tuple(str(w) for w in record.get("warnings") or []), str(record.get("source", "")))
 
 
 def _mm(value: float) -> str:
@@ -856,6 +867,11 @@ def combine(z: dict, cov: dict) -> tuple:
     ``theta = atan2(F_z, F_y)``, ``x = (F_y z1_y + F_z z1_z) / F^2`` (the projection of the
     moments onto the force direction). theta and sigma_theta are None for one axis.
     """
+    with np.errstate(divide="ignore", invalid="ignore"):   # a row with no load has no position
+        return _combine(z, cov)
+
+
+def _combine(z: dict, cov: dict) -> tuple:
     if "" in z:
         z1, z2 = z[""]
         c11, c12, c22 = cov[""]

@@ -483,6 +483,23 @@ def test_commands_round_trip(tmp_path, capsys, key):
     # without -o the rows are printed
     assert main(["measure", str(cal_json), str(test_csv)]) == 0
     assert "mean absolute error" in capsys.readouterr().out
+    # --noise overrides the calibration's sigma_V: every 1-sigma scales with it
+    sigmas = []
+    for noise in ("1.3 mV", "2.6mV"):
+        assert main(["measure", str(cal_json), str(test_csv), "-o", str(results), "--noise", noise]) == 0
+        sigmas.append(np.array([float(line.split(",")[2]) for line in results.read_text().splitlines()[1:]]))
+    assert sigmas[1] == pytest.approx(2 * sigmas[0], rel=1e-5)   # 6 significant digits in the CSV
+
+
+def test_calibrate_prints_warnings(tmp_path, capsys):
+    rec = record("a")
+    three = rd.simulate_readings(rec, [2.0, 10.0, 19.0], [0.15, 0.65, 0.3], np.random.default_rng(1))
+    src = rd.write_readings(tmp_path / "three.csv", three)
+    out = tmp_path / "c.json"
+    assert main(["calibrate", str(src), "--design", str(DATA / "cal_prototype_a.json"), "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "warning: only 3 calibration points" in printed
+    assert json.loads(out.read_text())["warnings"][0].startswith("only 3 calibration points")
 
 
 def test_simulated_readings_are_reproducible_and_share_the_sensor_offsets(tmp_path):
@@ -614,6 +631,8 @@ def test_measure_with_bridges_that_do_not_match_the_calibration_exits_2(tmp_path
     (lambda d: d["bridges"][1].update(k="x"), "bridges[1].k: 'x' must be a finite number"),
     (lambda d: d["bridges"].pop(1), "bridges: ['V1', 'V3'] must be ['V1', 'V2', 'V3']"),
     (lambda d: d.update(version=7), "version: 7"),
+    (lambda d: d.update(points="nine"), "points: 'nine' must be a whole number"),
+    (lambda d: d.update(noise=[1]), "noise: [1] must be an object"),
 ])
 def test_bad_calibration_json_exits_2(tmp_path, capsys, mutate, expected):
     _, dc, r = _clean_b()

@@ -84,13 +84,16 @@ def _console():
 
 
 def _print_warnings(console, warnings) -> None:
+    from rich.markup import escape
+
     for w in warnings:
-        console.print(f"[yellow]warning:[/yellow] {w}", markup=True, soft_wrap=True)
+        console.print(f"[yellow]warning:[/yellow] {escape(w)}", soft_wrap=True)
 
 
 # --------------------------------------------------------------------- plan
 
 def run_plan(args) -> int:
+    from rich.markup import escape
     from rich.table import Table
 
     from .. import calibration, readings
@@ -101,7 +104,7 @@ def run_plan(args) -> int:
         readings.write_plan(args.output, result)
     console = _console()
     biaxial = design.axes == 2
-    table = Table(title=f"Calibration plan for {design.name} (sigma_V {design.noise * MV:.3g} mV, "
+    table = Table(title=f"Calibration plan for {escape(design.name)} (sigma_V {design.noise * MV:.3g} mV, "
                         f"{args.repeats} reading(s) per load)")
     for col in ("scheme", "loads", "σF/F worst", "σF/F + cal.", "σx worst", "σx + cal.") + (
             ("σθ worst", "σθ + cal.") if biaxial else ()):
@@ -135,6 +138,7 @@ def run_plan(args) -> int:
 # --------------------------------------------------------------------- calibrate
 
 def run_calibrate(args) -> int:
+    from rich.markup import escape
     from rich.table import Table
 
     from .. import calibration, readings
@@ -145,7 +149,7 @@ def run_calibrate(args) -> int:
     readings.write_calibration(args.output, result)
 
     console = _console()
-    table = Table(title=f"Calibration of {args.readings}: {result.points} points")
+    table = Table(title=f"Calibration of {escape(args.readings)}: {result.points} points")
     columns = ["bridge", "k (V/(N·m))", "d (mm)", "c (mV)", "R²", "residual RMS (mV)"]
     if design is not None:
         columns += ["design k", "design d (mm)"]
@@ -176,6 +180,7 @@ def run_calibrate(args) -> int:
 
 def run_measure(args) -> int:
     import numpy as np
+    from rich.markup import escape
     from rich.table import Table
 
     from .. import calibration, readings, units
@@ -189,7 +194,7 @@ def run_measure(args) -> int:
     console = _console()
     biaxial = m.angle is not None
     if not args.output:
-        table = Table(title=f"Measurements from {args.readings}")
+        table = Table(title=f"Measurements from {escape(args.readings)}")
         for col in ("row", "force (N)", "position (mm)") + (("angle (°)",) if biaxial else ()):
             table.add_column(col, justify="right")
         for i in range(len(m)):
@@ -199,13 +204,15 @@ def run_measure(args) -> int:
                 row.append(f"{math.degrees(m.angle[i]):.3g} ± {math.degrees(m.sigma_angle[i]):.2g}")
             table.add_row(*row)
         console.print(table)
-    if data.force is not None and data.position is not None:
-        ef = np.abs(m.force - data.force) / np.abs(data.force)
-        ex = np.abs(m.position - data.position) / data.position
-        text = (f"against the file's loads ({len(m)} rows): mean absolute error force {np.mean(ef):.2%}, "
-                f"position {np.mean(ex):.2%}")
+    loaded = None if data.force is None or data.position is None else np.abs(data.force) > 0
+    if loaded is not None and loaded.any():
+        # relative errors as the paper's Table 4 gives them, over the rows that carry a load
+        ef = np.abs(m.force - data.force)[loaded] / np.abs(data.force[loaded])
+        ex = np.abs(m.position - data.position)[loaded] / data.position[loaded]
+        text = (f"against the file's loads ({int(loaded.sum())} loaded rows): mean absolute error force "
+                f"{np.mean(ef):.2%}, position {np.mean(ex):.2%}")
         if biaxial and data.angle is not None:
-            ea = np.abs(np.degrees(m.angle - data.angle))
+            ea = np.abs(np.degrees(np.angle(np.exp(1j * (m.angle - data.angle)))))[loaded]
             text += f", angle {np.mean(ea):.3g}°"
         console.print(text)
     if cal.noise is None and noise is None:
