@@ -103,7 +103,8 @@ class FamilyProblem:
         epigraph = spec.objective == "error"
         self.size = n + (1 if epigraph else 0)
         x = ca.SX.sym("x", self.size)
-        par = ca.SX.sym("p", 3)  # E (GPa), allowable stress (MPa), density (kg/m^3)
+        # E (GPa), allowable stress (MPa), density (kg/m^3), cap on the primary objective
+        par = ca.SX.sym("p", 4)
         ops = model.casadi_ops()
         geometry = self.geometry([x[i] * MM for i in range(n)])
         mat = MaterialParams(par[0] * 1e9, par[1] * 1e6, par[2])
@@ -112,20 +113,25 @@ class FamilyProblem:
                 if lim.name not in BOUND_LIMITS]
         self.limit_names = [lim.name for lim in lims]
         g = [lim.normalised for lim in lims]
+        deflection, mass = a.deflection / MM, a.mass * 1e3
         if epigraph:
             e = x[n]
             g += [a.force_error / spec.targets.force_error - e, a.position_error / spec.targets.position_error - e]
-            f = e
+            f, secondary = e, deflection
         elif spec.objective == "deflection":
-            f = a.deflection / MM
+            f, secondary = deflection, mass
         else:
-            f = a.mass * 1e3
+            f, secondary = mass, deflection
+        # The tie rule (MODEL.md 5) as a second stage: the secondary objective with the
+        # primary capped inside the tie band. With a huge cap the constraint is idle.
+        g.append(f / par[3] - 1)
         self.epigraph = epigraph
         self.n_constraints = len(g)
         gv = ca.vertcat(*g)
         self.nlp = {"x": x, "p": par, "f": f, "g": gv}
+        self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
         self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
-        self._ipopt = None
+        self._ipopt = {}
 
     # variables --------------------------------------------------------------
     def _variables(self):
@@ -210,20 +216,22 @@ class FamilyProblem:
         return out
 
     # solvers ----------------------------------------------------------------
-    def ipopt(self):
-        if self._ipopt is None:
+    def ipopt(self, stage: str = "primary"):
+        if stage not in self._ipopt:
             import casadi as ca
 
             opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
                     "ipopt.tol": IPOPT_TOLERANCE, "ipopt.constr_viol_tol": 1e-9,
                     "ipopt.max_iter": IPOPT_MAX_ITER, "ipopt.mu_strategy": "adaptive", "error_on_fail": False}
-            self._ipopt = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}", "ipopt", self.nlp, opts)
-        return self._ipopt
+            nlp = self.nlp if stage == "primary" else self.nlp_secondary
+            self._ipopt[stage] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_{stage}", "ipopt",
+                                           nlp, opts)
+        return self._ipopt[stage]
 
-    def solve(self, method: str, params, x0) -> Solve:
+    def solve(self, method: str, params, x0, stage: str = "primary") -> Solve:
         lo, hi = self.bounds()
         if method == "ipopt":
-            solver = self.ipopt()
+            solver = self.ipopt(stage)
             try:
                 sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=0.0)
             except RuntimeError as exc:
@@ -395,7 +403,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
     # Stations other than the first and last are rounded to nearest: their limits are linear with slack.
     for i in range(1, len(stations) - 1):
         station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
-    best = None
+    checked = []
     for combo in itertools.product(*[c for _, c in choices], *station_choices):
         named = dict(zip([f for f, _ in choices], combo[: len(choices)]))
         if g.axes == 2 and g.section == "rectangle":
@@ -408,24 +416,23 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
             ev = evaluate(Design(design.material, rounded), spec)
         except InputError:  # a degenerate point (e.g. two stations at one place): not a design
             continue
-        if best is None or _better(ev, best):
-            best = ev
-    return best
+        checked.append(ev)
+    return pick(checked)
+
+
+def pick(evaluations: list) -> Evaluation | None:
+    """The best of several checked designs: the first by ``rank`` among the feasible ones,
+    else the least violating. Ties are anchored on the best objective, never chained."""
+    feasible = [ev for ev in evaluations if ev.feasible]
+    if feasible:
+        return rank(feasible)[0]
+    return min(evaluations, key=lambda ev: ev.worst_violation, default=None)
 
 
 def _floor_ceil(v: float) -> tuple:
     lo = math.floor(v / ROUNDING + 1e-9) * ROUNDING
     hi = math.ceil(v / ROUNDING - 1e-9) * ROUNDING
     return (round(lo, 8),) if abs(hi - lo) < 1e-12 else (round(lo, 8), round(hi, 8))
-
-
-def _better(a: Evaluation, b: Evaluation) -> bool:
-    """Feasible beats infeasible; the less violating of two infeasible; else ``ranks_before``."""
-    if a.feasible != b.feasible:
-        return a.feasible
-    if not a.feasible:
-        return a.worst_violation < b.worst_violation
-    return ranks_before(a, b)
 
 
 def ranks_before(a: Evaluation, b: Evaluation) -> bool:
@@ -470,18 +477,22 @@ class Outcome:
     plot_data: dict = field(default_factory=dict)
 
 
-def material_params(material, spec) -> list[float]:
+NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
+
+
+def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
     return [material.E / 1e9, material.allowable_stress(spec.limits.safety_factor, spec.limits.fatigue) / 1e6,
-            material.density]
+            material.density, cap]
 
 
-def solve_candidate(problem: FamilyProblem, material, method: str, warm=None) -> Candidate:
+def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
     """Solve one material x family from several starts; fall back to another method when no
     start gives a verified design. Every answer is rounded and checked."""
     spec = problem.spec
     params = material_params(material, spec)
     cand = Candidate(material.name, problem.family, None, "failed")
-    starts = ([warm] if warm is not None else []) + problem.starts()
+    starts = problem.starts()
+    checked = []
     if method in ("grid", "isres", "direct"):
         starts = starts[:1]  # global methods do not depend on the start
     methods = [method, FALLBACK.get(method, "ipopt")]
@@ -498,8 +509,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str, warm=None) ->
             elif not ev.feasible and ev.violations and not _only_targets(ev):
                 cand.fallbacks.append(f"{m} start {i + 1}: reported success but violates "
                                       + ", ".join(v.name for v in ev.violations))
-            if cand.evaluation is None or _better(ev, cand.evaluation):
-                cand.evaluation = ev
+            checked.append(ev)
+            cand.evaluation = pick(checked)
         if cand.evaluation is not None and cand.evaluation.feasible:
             break
         if m != method or method == "grid":
@@ -523,21 +534,21 @@ def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None
     mats = [catalogue.material(m, "search.materials") for m in (materials or spec.search.materials)]
     fams = families(spec)
     candidates: list[Candidate] = []
+    problems: dict[Family, FamilyProblem] = {}
     bar = _progress(len(mats) * len(fams)) if progress else None
     try:
         for fam in fams:
             problem = FamilyProblem(spec, fam)
-            warm = None
+            problems[fam] = problem
             for mat in mats:
-                cand = solve_candidate(problem, mat, method, warm)
-                candidates.append(cand)
-                if cand.evaluation is not None and cand.evaluation.feasible:
-                    warm = _warm_start(problem, cand.evaluation)
+                candidates.append(solve_candidate(problem, mat, method))
                 if bar:
                     bar.advance()
     finally:
         if bar:
             bar.stop()
+    if method == "ipopt":  # the other methods are compared as they are (``fpdesign bench``)
+        break_ties(candidates, problems)
     seconds = time.perf_counter() - t0
     evaluations = sum(s.evaluations for c in candidates for s in c.solves)
     feasible = rank([c.evaluation for c in candidates if c.evaluation is not None and c.evaluation.feasible])
@@ -567,13 +578,44 @@ def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None
     return Outcome(best.feasible, message, record, best, candidates, seconds, evaluations)
 
 
-def _warm_start(problem: FamilyProblem, ev: Evaluation):
+def _start_from(problem: FamilyProblem, ev: Evaluation):
+    """The NLP's variables (mm) at a checked design."""
     g = ev.design.geometry
     values = {"width": g.width, "height": g.height, "side": g.width, "diameter": g.diameter, "wall": g.wall,
               "depth": g.depth, "hole": g.hole}
     values.update({f"station_{i + 1}": s for i, s in enumerate(g.stations)})
     x = np.clip([float(values[n]) / MM for n in problem.names], problem.lower, problem.upper)
-    return np.append(x, ev.error_ratio) if problem.epigraph else x
+    return np.append(x, ev.objective) if problem.epigraph else x
+
+
+def break_ties(candidates: list, problems: dict) -> None:
+    """The tie rule as a second stage (MODEL.md section 5).
+
+    Near the optimum the objective is often flat (a strain-limited design has a sensitivity
+    that does not depend on the material), so many designs lie within 0.1 % of the best. Each
+    candidate inside that band is re-solved for the secondary objective (deflection, or mass
+    when deflection is the objective) with its primary objective capped inside the band; the
+    answer is kept only if it checks out and ranks before the candidate's first answer.
+    """
+    feasible = [c for c in candidates if c.evaluation is not None and c.evaluation.feasible]
+    if not feasible:
+        return
+    lead = min(c.evaluation.objective for c in feasible)
+    cap = lead * (1 + TIE_TOLERANCE / 2)
+    for cand in feasible:
+        if cand.evaluation.objective > lead * (1 + TIE_TOLERANCE):
+            continue
+        problem = problems[cand.family]
+        material = cand.evaluation.design.material
+        x0 = _start_from(problem, cand.evaluation)
+        if problem.epigraph:
+            x0[-1] = min(x0[-1], cap)
+        s = problem.solve("ipopt", material_params(material, problem.spec, cap), x0, stage="secondary")
+        cand.solves.append(s)
+        ev = round_and_check(problem.design(s.x, material), problem.spec)
+        if ev is not None and ev.feasible and ev.objective <= lead * (1 + TIE_TOLERANCE) and \
+                ranks_before(ev, cand.evaluation):
+            cand.evaluation = ev
 
 
 def _progress(total: int):

@@ -15,7 +15,7 @@ import numpy as np
 from . import model
 from .evaluation import Design, Evaluation
 from .model import MaterialParams
-from .optimize import MM, Family, FamilyProblem, _better, material_params, round_and_check
+from .optimize import MM, Family, FamilyProblem, material_params, pick, round_and_check
 
 POLISH_STARTS = 6
 
@@ -32,13 +32,13 @@ def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluat
     f, viol = _evaluate(problem, mat, x)
     order = np.lexsort((f, viol > 0))
     starts = x[order[:POLISH_STARTS]]
-    best = None
+    checked = []
     for x0 in starts:
         for candidate in (x0, _polish(problem, mat, x0)):
             ev = round_and_check(problem.design(candidate, material), spec)
-            if ev is not None and (best is None or _better(ev, best)):
-                best = ev
-    return best
+            if ev is not None:
+                checked.append(ev)
+    return pick(checked)
 
 
 def _grid(problem: FamilyProblem, levels: int) -> np.ndarray:
@@ -116,10 +116,6 @@ def reference_best(spec, materials=None, levels: int = 9) -> Evaluation | None:
     from . import catalogue
     from .optimize import families
 
-    best = None
-    for fam in families(spec):
-        for name in materials or spec.search.materials:
-            ev = reference_search(spec, fam, catalogue.material(name), levels)
-            if ev is not None and (best is None or _better(ev, best)):
-                best = ev
-    return best
+    found = [reference_search(spec, fam, catalogue.material(name), levels)
+             for fam in families(spec) for name in materials or spec.search.materials]
+    return pick([ev for ev in found if ev is not None])
