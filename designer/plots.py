@@ -606,8 +606,8 @@ def plot_voltage_isolines(design: Mapping, ax=None, load=None):
                 xytext=(12, 12), textcoords="offset points", fontsize=9, zorder=8,
                 bbox=dict(boxstyle="round,pad=0.3", facecolor="white", edgecolor="#999999"))
     handles.append(Line2D([], [], color="black", linewidth=1.6, label="operating region"))
-    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.11), ncol=2, fontsize=8,
-              frameon=False)
+    ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.11), ncol=len(shown) + 1,
+              fontsize=8, frameon=False)  # one column per bridge
 
     _log_force_axis(ax, f_lo, f_hi)
     ax.set_xlim(x_lo * 1e3, x_hi * 1e3)
@@ -637,7 +637,7 @@ def plot_error_maps(design: Mapping, fig=None):
     need_f = fe_min * s.force_min / s.force_target if s.force_target else math.inf
     need_x = pe_min * s.force_min / s.position_target if s.position_target else math.inf
     f_lo = min(s.force_min / 1.6, 0.75 * min(need_f, need_x))
-    f_lo = max(f_lo, s.force_min / 10)
+    f_lo = max(f_lo, s.force_min / 2)  # the operating region keeps most of the panel
     force = np.geomspace(f_lo, s.force_max, 121)
     position = np.linspace(s.position_min, s.position_max, 91)
     emap = error_map(design, force=force, position=position)
@@ -676,7 +676,7 @@ def _error_panel(fig, ax, s: SensorData, xg, fg, z, title, unit, target, worst, 
 
     if s.force_min > f_lo:  # fade the loads below F_min: outside the operating region
         ax.add_patch(Rectangle((xg.min(), f_lo), xg.max() - xg.min(), s.force_min - f_lo,
-                               facecolor="white", alpha=0.6, edgecolor="#9a9a9a", hatch="//",
+                               facecolor="white", alpha=0.7, edgecolor="#a0a0a0", hatch="//",
                                linewidth=0, zorder=3))
     _region_outline(ax, s, label=None, zorder=5)
 
@@ -859,7 +859,7 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
         raise InputError(f"by: {by!r} is not allowed; must be {describe_allowed(TRADEOFF_GROUPS)}")
     pts = _tradeoff_points(points, x)
     label, scale, _ = TRADEOFF_AXES[x]
-    fig, ax = _axes(ax, (8.5, 5.6))
+    fig, ax = _axes(ax, (10.5, 5.6))
     from matplotlib.lines import Line2D
 
     groups = _tradeoff_groups(pts, by)
@@ -923,8 +923,8 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
         else:
             ax.set_ylim(0.0, max(top, 1.0) * 1.12)
     ax.axhline(1.0, color="black", linestyle="--", linewidth=1.1, zorder=2)
-    ax.text(0.99, 1.0, "e = 1: targets met below ", transform=ax.get_yaxis_transform(),
-            ha="right", va="bottom", fontsize=8)
+    ax.text(0.01, 1.0, " e = 1: targets met below", transform=ax.get_yaxis_transform(),
+            ha="left", va="bottom", fontsize=8)
     from matplotlib.ticker import FuncFormatter, LogLocator
 
     if ax.get_yscale() == "log":
@@ -937,7 +937,7 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
     ax.set_title(f"Accuracy against {what}: best design per "
                  f"{'material and section' if by == 'both' else by}", fontsize=11)
     ax.grid(True, which="major", color=_C_GRID, linewidth=0.6, zorder=0)
-    ax.legend(handles=handles, loc="best", fontsize=7.5, framealpha=0.95, ncol=2 if len(handles) > 12 else 1)
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
     return fig
 
 
@@ -990,7 +990,7 @@ def _tradeoff_groups(pts: list[dict], by: str) -> dict:
     buckets: dict = {}
     for p in pts:
         buckets.setdefault(name_of(p), {}).setdefault(p["x"], []).append(p)
-    return {name: [_best(at[xv]) for xv in sorted(at)] for name, at in buckets.items()}
+    return {name: [_best(at[xv]) for xv in sorted(at)] for name, at in sorted(buckets.items())}
 
 
 def _front(pts: list[dict]) -> list[tuple[float, float]]:
