@@ -209,11 +209,12 @@ PAPER_TABLE2 = {
 }
 
 
-def _number(value, key: str, positive: bool = False) -> float:
+def _number(value, key: str, positive: bool = False, error: type = DesignFileError) -> float:
+    """``value`` as a float, or ``error`` naming ``key`` (a design.json or calibration.json key)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise DesignFileError(f"{key}: {value!r} must be a finite number (SI units)")
+        raise error(f"{key}: {value!r} must be a finite number (SI units)")
     if positive and value <= 0:
-        raise DesignFileError(f"{key}: {value!r} must be positive")
+        raise error(f"{key}: {value!r} must be positive")
     return float(value)
 
 
@@ -543,11 +544,7 @@ def _cal_number(obj, key: str, where: str, optional: bool = False, positive: boo
         if optional:
             return None
         raise CalibrationFileError(f"{where}.{key}: missing; it is required")
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise CalibrationFileError(f"{where}.{key}: {value!r} must be a finite number (SI units)")
-    if positive and value <= 0:
-        raise CalibrationFileError(f"{where}.{key}: {value!r} must be positive")
-    return float(value)
+    return _number(value, f"{where}.{key}", positive, CalibrationFileError)
 
 
 def _cal_count(obj: dict, key: str, where: str) -> int:
@@ -607,7 +604,7 @@ def _calibration_from_dict(record) -> Calibration:
         value = span.get(key)
         if not isinstance(value, list) or len(value) != 2:
             raise CalibrationFileError(f"span.{key}: {value!r} must be a pair [min, max] (SI)")
-        return tuple(_cal_number({"v": v}, "v", f"span.{key}[{j}]") for j, v in enumerate(value))
+        return tuple(_number(v, f"span.{key}[{j}]", error=CalibrationFileError) for j, v in enumerate(value))
 
     source = noise.get("source", "none")
     if source not in ("residual", "design", "none"):

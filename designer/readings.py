@@ -248,34 +248,25 @@ def read_design(path) -> dict:
     try:
         from .designfile import load_design
     except ImportError:  # the design-file reader is optional for calibration
-        load_design = _read_json_design
+        return _read_json(path, DesignFileError)
     return load_design(path)
 
 
-def _read_json_design(path) -> dict:
+def _read_json(path, error: type):
+    """The JSON in ``path``; a missing, unreadable or malformed file raises ``error``."""
     path = Path(path)
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
+        return json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError as exc:
-        raise DesignFileError(f"{path}: no such file") from exc
+        raise error(f"{path}: no such file") from exc
     except (OSError, UnicodeDecodeError) as exc:
-        raise DesignFileError(f"{path}: cannot be read ({exc})") from exc
+        raise error(f"{path}: cannot be read ({exc})") from exc
     except json.JSONDecodeError as exc:
-        raise DesignFileError(f"{path}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
-    return record
+        raise error(f"{path}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
 
 
 def read_calibration(path) -> Calibration:
-    path = Path(path)
-    try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError as exc:
-        raise CalibrationFileError(f"{path}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CalibrationFileError(f"{path}: cannot be read ({exc})") from exc
-    except json.JSONDecodeError as exc:
-        raise CalibrationFileError(f"{path}: not valid JSON at line {exc.lineno}, column {exc.colno}: "
-                                   f"{exc.msg}") from exc
+    record = _read_json(path, CalibrationFileError)
     try:
         return Calibration.from_dict(record)
     except CalibrationFileError as exc:

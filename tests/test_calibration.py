@@ -633,6 +633,8 @@ def test_measure_with_bridges_that_do_not_match_the_calibration_exits_2(tmp_path
     (lambda d: d.update(version=7), "version: 7"),
     (lambda d: d.update(points="nine"), "points: 'nine' must be a whole number"),
     (lambda d: d.update(noise=[1]), "noise: [1] must be an object"),
+    (lambda d: d["span"].update(force=[1, "x"]), "span.force[1]: 'x' must be a finite number"),
+    (lambda d: d.clear(), "bridges: missing"),
 ])
 def test_bad_calibration_json_exits_2(tmp_path, capsys, mutate, expected):
     _, dc, r = _clean_b()
@@ -644,6 +646,17 @@ def test_bad_calibration_json_exits_2(tmp_path, capsys, mutate, expected):
     src.write_text(_csv("V1,V2,V3", "1.3,0.9,0.5"))
     assert main(["measure", str(path), str(src)]) == 2
     assert expected in capsys.readouterr().err
+
+
+def test_malformed_calibration_json_exits_2(tmp_path, capsys):
+    path = tmp_path / "c.json"
+    path.write_text("{\n  \"bridges\": [\n")
+    src = tmp_path / "readings.csv"
+    src.write_text(_csv("V1,V2", "1.3,0.9"))
+    assert main(["measure", str(path), str(src)]) == 2
+    assert "not valid JSON at line 3" in capsys.readouterr().err
+    assert main(["measure", str(tmp_path / "none.json"), str(src)]) == 2
+    assert "no such file" in capsys.readouterr().err
 
 
 def test_bad_design_for_calibration_exits_2(tmp_path, capsys):
