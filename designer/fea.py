@@ -209,7 +209,8 @@ class VerifyResult:
     def passed(self) -> bool:
         return all(c.satisfied for c in self.limits)
 
-    def to_dict(self) -> dict:
+    def as_dict(self) -> dict:
+        """Every figure as plain JSON types (verify.json, design.json's ``verification``)."""
         return {
             "name": self.name, "mesh": self.mesh, "passed": self.passed, "converged": self.converged,
             "load": {"force": self.force, "position": self.position}, "free_length": self.free_length,
@@ -905,7 +906,7 @@ def write_outputs(result: VerifyResult, out_dir: Path) -> dict[str, Path]:
     names = {"report": "verify.md", "json": "verify.json", "plot": "surface-strain.png"}
     with staged_directory(out_dir) as scratch:
         atomic_write_text(scratch / names["report"], report_markdown(result))
-        atomic_write_json(scratch / names["json"], result.to_dict())
+        atomic_write_json(scratch / names["json"], result.as_dict())
         fig = plot_surface_strain(result)
         fig.savefig(scratch / names["plot"], dpi=130)
     return {k: out_dir / v for k, v in names.items()}
