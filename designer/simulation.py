@@ -54,8 +54,10 @@ def simulate(k, d, sigma_v, forces, positions, draws=100_000, seed=0, angle=None
     zeros = np.zeros_like(k)
     n = len(forces)
     out = {name: np.empty(n) for name in ("sf", "sx", "ef", "ex", "sa")}
+    # Noise buffers reused at every grid point (two axes need two).
+    buffers = np.empty((1 if angle is None else 2, min(CHUNK, draws), len(k)))
     for i, (F, x) in enumerate(zip(forces, positions)):
-        f_hat, x_hat, a_hat = _draw(rng, k, d, zeros, sigma_v, F, x, draws, angle)
+        f_hat, x_hat, a_hat = _draw(rng, k, d, zeros, sigma_v, F, x, draws, angle, buffers)
         out["sf"][i] = f_hat.std()
         out["sx"][i] = x_hat.std()
         out["ef"][i] = np.mean(np.abs(f_hat - F)) / F
@@ -70,23 +72,36 @@ def simulate(k, d, sigma_v, forces, positions, draws=100_000, seed=0, angle=None
                             sigma_f / np.asarray(forces) if biaxial else None)
 
 
-def _draw(rng, k, d, c, sigma_v, F, x, draws, angle):
+def _noisy(rng, out, sigma_v, clean):
+    """``clean`` outputs plus Gaussian noise of ``sigma_v``, written into ``out``.
+
+    The same numbers as ``clean + rng.normal(0, sigma_v, out.shape)``, without its temporaries.
+    """
+    rng.standard_normal(out=out)
+    out *= sigma_v
+    out += clean
+    return out
+
+
+def _draw(rng, k, d, c, sigma_v, F, x, draws, angle, buffers):
     f_parts, x_parts, a_parts = [], [], []
     for start in range(0, draws, CHUNK):
         m = min(CHUNK, draws - start)
         if angle is None:
-            v = estimator.bridge_voltages(k, d, c, F, x) + rng.normal(0.0, sigma_v, (m, len(k)))
+            v = _noisy(rng, buffers[0, :m], sigma_v, estimator.bridge_voltages(k, d, c, F, x))
             f_hat, x_hat = estimator.estimate(v, k, d, c)
             f_parts.append(f_hat)
             x_parts.append(x_hat)
             continue
         fy, fz = F * np.cos(angle), F * np.sin(angle)
-        vy = estimator.bridge_voltages(k, d, c, fy, x) + rng.normal(0.0, sigma_v, (m, len(k)))
-        vz = estimator.bridge_voltages(k, d, c, fz, x) + rng.normal(0.0, sigma_v, (m, len(k)))
+        vy = _noisy(rng, buffers[0, :m], sigma_v, estimator.bridge_voltages(k, d, c, fy, x))
+        vz = _noisy(rng, buffers[1, :m], sigma_v, estimator.bridge_voltages(k, d, c, fz, x))
         f_mag, a_hat, x_hat = estimate_biaxial(vy, vz, k, d, c, c)
         f_parts.append(f_mag)
         x_parts.append(x_hat)
         a_parts.append(a_hat)
+    if len(f_parts) == 1:
+        return f_parts[0], x_parts[0], a_parts[0] if a_parts else None
     a = np.concatenate(a_parts) if a_parts else None
     return np.concatenate(f_parts), np.concatenate(x_parts), a
 
