@@ -66,8 +66,9 @@ def test_analytic_sigma_within_2_percent_of_monte_carlo(prototype_b):
 
 def test_force_error_ignores_position_and_falls_with_load(prototype_b):
     # Paper Fig. 16 and eq. 35: the force error does not depend on the position and is
-    # inversely proportional to the load. Rows: forces, columns: positions. Across a row the
-    # Monte Carlo sigma_F may differ by sampling only (0.22 % each; 1.5 % = 6.8 sigmas).
+    # inversely proportional to the load. Rows: forces, columns: positions. sigma_F is the same
+    # at all 49 points, so the Monte Carlo values may differ by sampling only (0.22 % each; a
+    # spread of 1.5 % is 6.8 of those).
     _, res = prototype_b
     sf = res.sigma_force_mc.reshape(7, 7)
     assert np.ptp(sf / sf.mean(), axis=None) < 1.5e-2
