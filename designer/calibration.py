@@ -670,36 +670,15 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     rss_total = sum(float(np.sum(fit.rss)) for _, fit in fits.values())
     residual_noise = math.sqrt(rss_total / dof_total) if dof_total > 0 else None
     design_noise = design.noise if design is not None else None
-    warnings: list[str] = []
-    if noise == "residual":
-        if residual_noise is None:
-            raise CsvError(f"{readings.source}: {n} rows leave no residual to estimate the noise from; "
-                           "add calibration points or choose the design's noise")
-        sigma, source = residual_noise, "residual"
-    elif noise == "design":
-        if design is None:
-            raise InputError("noise: 'design' needs a design (--design design.json)")
-        sigma, source = design_noise, "design"
-    elif residual_noise is not None and dof_total >= MIN_NOISE_DOF:
-        sigma, source = residual_noise, "residual"
-    elif design is not None:
-        sigma, source = design_noise, "design"
-    elif residual_noise is not None:
-        sigma, source = residual_noise, "residual"
-        warnings.append(f"the noise estimate ({_mv(residual_noise)}) rests on only {dof_total} residual degrees of "
-                        f"freedom; standard errors are rough (give --design, or use {MIN_NOISE_DOF}+ residual dof)")
-    else:
-        sigma, source = None, "none"
-        warnings.append(f"{n} rows fit exactly: no noise estimate, so no standard errors; give --design or "
-                        "calibrate with more points")
+    sigma, source, warnings = _choose_noise(noise, residual_noise, dof_total, design_noise, n, readings.source)
 
     results: dict[int, BridgeCalibration] = {}
     for axis, (cols, fit) in fits.items():
         se = fit.standard_errors(sigma) if sigma is not None else (None, None, None)
         for j, col in enumerate(cols):
             bridge = readings.bridges[col]
-            dk = design.bridge_k()[col] if design is not None else None
-            dd = design.bridge_d()[col] if design is not None else None
+            dk = float(design.bridge_k()[col]) if design is not None else None
+            dd = float(design.bridge_d()[col]) if design is not None else None
             results[col] = BridgeCalibration(
                 bridge, float(fit.k[j]), float(fit.d[j]), float(fit.c[j]),
                 *(None if s is None else float(s[j]) for s in se),
@@ -718,6 +697,29 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     return Calibration(bridges, n, sigma, source, residual_noise, dof_total, design_noise, force_span,
                        position_span, design.name if design is not None else None, tuple(warnings),
                        readings.source)
+
+
+def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, source: str):
+    """``(sigma_V or None, its source, warnings)`` for the noise ``choice`` (see ``calibrate``)."""
+    if choice == "residual":
+        if residual_noise is None:
+            raise CsvError(f"{source}: {n} rows leave no residual to estimate the noise from; add calibration "
+                           "points or choose the design's noise")
+        return residual_noise, "residual", []
+    if choice == "design":
+        if design_noise is None:
+            raise InputError("noise: 'design' needs a design (--design design.json)")
+        return design_noise, "design", []
+    if residual_noise is not None and dof >= MIN_NOISE_DOF:
+        return residual_noise, "residual", []
+    if design_noise is not None:
+        return design_noise, "design", []
+    if residual_noise is not None:
+        return residual_noise, "residual", [
+            f"the noise estimate ({_mv(residual_noise)}) rests on only {dof} residual degrees of freedom; "
+            f"standard errors are rough (give --design, or use {MIN_NOISE_DOF}+ residual dof)"]
+    return None, "none", [f"{n} rows fit exactly: no noise estimate, so no standard errors; give --design or "
+                          "calibrate with more points"]
 
 
 def _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, design, force_span,

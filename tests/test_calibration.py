@@ -23,6 +23,7 @@ from designer import calibration as cal
 from designer import estimator
 from designer import readings as rd
 from designer.cli import main
+from designer.errors import CsvError, InputError
 
 DATA = Path(__file__).parent / "data"
 PROTOTYPES = ("a", "b", "c")
@@ -415,6 +416,19 @@ def test_noise_choice_auto_uses_the_residuals_only_with_enough_dof():
     assert c.noise_source == "residual" and any("degrees of" in w for w in c.warnings)
 
 
+def test_noise_choices_that_cannot_be_met_are_errors():
+    rec, dc = record("a"), constants("a")
+    three = rd.simulate_readings(rec, [2.0, 10.0, 19.0], [0.15, 0.65, 0.3], np.random.default_rng(1))
+    with pytest.raises(CsvError, match="no residual to estimate the noise"):
+        cal.calibrate(three, dc, noise="residual")
+    with pytest.raises(InputError, match="'design' needs a design"):
+        cal.calibrate(three, None, noise="design")
+    c = cal.calibrate(three)
+    assert c.noise is None and c.bridges[0].se_k is None and any("fit exactly" in w for w in c.warnings)
+    m = cal.measure(c, three.voltages)
+    assert np.all(np.isnan(m.sigma_force)) and m.force == pytest.approx(three.force, rel=1e-9)
+
+
 # --------------------------------------------------------------------- plan
 
 def test_plan_worst_cases_match_the_design_and_grow_with_calibration_uncertainty():
@@ -580,6 +594,9 @@ BAD_CALIBRATION_CSVS = {
     "both force and mass": (_csv("force_N,mass_g,position_mm,V1,V2,V3", "1,20,150,1,2,3"), ["not both"]),
     "wrong bridges for the design": (_csv("mass_g,position_mm,V1,V2", "20,150,1,2", "3000,150,1,2",
                                           "3000,450,3,2"), ["header", "['V1', 'V2']", "['V1', 'V2', 'V3']"]),
+    "biaxial, z axis never loaded": (_csv("mass_g,position_mm,angle_deg,V1y,V1z,V2y,V2z", "250,100,0,1,0,2,0",
+                                          "2000,100,0,9,0,8,0", "250,200,0,2,0,1,0", "2000,200,0,7,0,6,0"),
+                                     ["column mass_g for the z axis", "no row loads the beam"]),
     "biaxial without angle": (_csv("mass_g,position_mm,V1y,V1z,V2y,V2z", "250,100,1,2,3,4"),
                               ["column angle_deg missing"]),
 }
