@@ -428,3 +428,16 @@ def test_prototype_b_strains_through_eq_4_then_eqs_11_12_give_the_load_back(exam
     k = a.sensitivity
     assert eq_12_force(V1, V2, k, k, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.force_max, rel=1e-9)
     assert eq_11_position(V1, V2, k, k, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.position_max, rel=1e-9)
+
+
+def test_one_calibration_for_all_readings_or_one_per_reading_give_the_same_estimate():
+    # estimate() has a fast path (matrix products) for one calibration and a general one for
+    # calibrations that vary per reading; on the same numbers they must agree (rel 1e-12).
+    rng = np.random.default_rng(4)
+    k, d, c = np.array([0.3, 0.33, 0.35]), np.array([0.02, 0.06, 0.10]), np.array([0.01, 0.0, -0.02])
+    v = estimator.bridge_voltages(k, d, c, 4.0, 0.25) + rng.normal(0, 0.01, (50, 3))
+    fast = estimator.estimate(v, k, d, c)
+    general = estimator.estimate(v, np.tile(k, (50, 1)), np.tile(d, (50, 1)), np.tile(c, (50, 1)))
+    np.testing.assert_allclose(fast, general, rtol=1e-12)
+    scalar_offset = estimator.estimate(v - c, k, d, 0.0)
+    np.testing.assert_allclose(fast, scalar_offset, rtol=1e-12)
