@@ -39,6 +39,7 @@ def _allowed_columns() -> str:
 
 
 def _bridge_columns(names: list[str], where: str) -> tuple[Bridge, ...]:
+    """The bridges that the columns ``names`` hold, in column order (V1, V2 ... or V1y, V1z ...)."""
     found = []
     for name in names:
         m = _BRIDGE_COLUMN.fullmatch(name)
@@ -46,18 +47,17 @@ def _bridge_columns(names: list[str], where: str) -> tuple[Bridge, ...]:
     if not found:
         raise CsvError(f"{where}: no bridge columns; expected V1, V2, ... (biaxial V1y, V1z, V2y, ...) in volts")
     axes = {b.axis for b in found}
-    if axes != {""} and "" in axes:
+    biaxial = "" not in axes
+    if not biaxial and axes != {""}:
         raise CsvError(f"{where}: bridge columns {names} mix one-axis (V1) and biaxial (V1y) names")
-    expected = bridges_for(max(b.station for b in found), 1 if axes == {""} else 2)
-    if tuple(found) != expected:
-        raise CsvError(f"{where}: bridge columns {names} must be "
-                       f"{[b.name for b in expected]}: every station from the clamp, in order, "
-                       "without gaps" + (", with a y and a z bridge at each" if len(expected) > len(set(
-                           b.station for b in expected)) else ""))
-    if len(expected) // (1 if axes == {""} else 2) < 2:
+    expected = bridges_for(max(b.station for b in found), 2 if biaxial else 1)
+    if set(found) != set(expected):
+        raise CsvError(f"{where}: bridge columns {names} must be {[b.name for b in expected]}: every station "
+                       "from the clamp without gaps" + (", with a y and a z bridge at each" if biaxial else ""))
+    if expected[-1].station < 2:
         raise CsvError(f"{where}: bridge columns {names}: a sensor needs at least 2 stations "
                        "(V1, V2) to tell force from position")
-    return tuple(found)
+    return expected   # in column order whatever the file's order
 
 
 def parse_readings(text: str, source: str = "readings.csv", need_loads: bool = False) -> Readings:

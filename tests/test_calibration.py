@@ -546,6 +546,9 @@ def test_readings_csv_round_trip_keeps_the_numbers():
     assert back.angle == pytest.approx(r.angle, rel=1e-9, abs=1e-12)
     forces = rd.parse_readings("force_N,position_mm,V1,V2\n2.5,150,0.1,0.05\n", need_loads=True)
     assert forces.force[0] == 2.5 and not forces.mass
+    swapped = rd.parse_readings("# a comment\nV2, V1\n\n0.05, 0.1\n")    # any column order, spaces, blank lines
+    assert [b.name for b in swapped.bridges] == ["V1", "V2"] and swapped.voltages.tolist() == [[0.1, 0.05]]
+    assert swapped.lines == (4,)
 
 
 def test_calibration_json_round_trip(tmp_path):
