@@ -112,7 +112,9 @@ class SensorData:
             raise DesignFileError(f"design.stations: the last station ({stations[-1] * 1e3:g} mm) must lie "
                                   f"before the operating region, which starts at {x_min * 1e3:g} mm")
         k = _numbers(_key(pred, "sensitivity", "predicted"), "predicted.sensitivity")
-        axes = int(body.get("axes", 1) or 1)
+        axes = body.get("axes", 1)
+        if axes not in (1, 2):
+            raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")
         if len(k) == axes * len(stations) and axes > 1:
             k = k[:len(stations)]  # one axis of a biaxial sensor; both axes are alike
         if len(k) != len(stations):

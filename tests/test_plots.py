@@ -145,6 +145,35 @@ def test_stress_governs_when_the_allowable_is_low(proto_b):
     assert "does NOT fit" in " ".join(t.get_text() for t in fig.axes[0].texts)
 
 
+def test_stress_limit_from_max_stress_alone(proto_b):
+    """A record with only predicted.max_stress: the stress isoline is the root moment scaled by
+    stress_allowable / max_stress, exact at x_max and conservative nearer the clamp."""
+    design = copy.deepcopy(proto_b)
+    for key in ("stress_root", "stress_feature"):
+        del design["predicted"][key]
+    limits = {lim.name: lim for lim in plots.operating_region(design).upper}
+    assert set(limits) == {"gauge_strain", "stress_root"}
+    pred, (f_max, x_max) = design["predicted"], (2.0 * G0, 0.45)
+    assert limits["stress_root"].force(x_max) == pytest.approx(
+        f_max * pred["stress_allowable"] / pred["max_stress"], rel=1e-12)
+    exact = plots.operating_region(proto_b).upper[2]   # the hole-edge limit it stands in for
+    assert exact.name == "stress_feature"
+    assert np.all(limits["stress_root"].force(np.array([0.15, 0.3])) < exact.force(np.array([0.15, 0.3])))
+
+
+def test_noise_and_biaxial_sensitivity_fallbacks(proto_b, proto_c):
+    design = copy.deepcopy(proto_b)
+    del design["predicted"]["noise_voltage"]            # read from spec.electronics instead
+    assert plots.SensorData.from_design(design).noise == pytest.approx(1.3e-3)
+    biaxial = copy.deepcopy(proto_c)
+    k = biaxial["predicted"]["sensitivity"]
+    biaxial["predicted"]["sensitivity"] = k + k          # one k_i per station and axis
+    assert plots.SensorData.from_design(biaxial).sensitivity == tuple(k)
+    biaxial["design"]["axes"] = 3
+    with pytest.raises(DesignFileError, match=r"design.axes: 3 is not allowed"):
+        plots.SensorData.from_design(biaxial)
+
+
 def test_operating_region_plot_draws_the_computed_isolines(proto_b):
     fig = plots.plot_operating_region(proto_b)
     ax = fig.axes[0]
