@@ -4,7 +4,7 @@ Fixtures ``tests/data/cal_prototype_{a,b,c}.json`` are the paper's Prototypes A,
 (Noh et al. 2025, Table 1; loads of Table 2) with k_i from MODEL.md section 3. The paper does
 not give their electronics; assumed (as in examples/prototype-*.yaml): 5 V excitation,
 sigma_V = 1.3 mV RMS per channel (measured on Prototype B, section 4.3) and gain 100 (A, full
-bridges), 1000 (B, half bridges), 500 (C, half bridges, two axes).
+bridges), 1000 (B, half bridges at all three stations) and 1000 (C, half bridges, two axes).
 
 Monte Carlo references use fixed seeds; their tolerances are set from the sampling error of
 the statistic (stated at each test), so that they fail when the model is wrong, not by chance.
@@ -61,6 +61,18 @@ def test_fixture_sensitivities_follow_model_section_3():
     a = constants("a")
     sigma_f = math.sqrt(2) * a.noise / (a.sensitivity[0] * (a.stations[1] - a.stations[0]))
     assert record("a")["predicted"]["force_error"] == pytest.approx(sigma_f / a.force_range[0], rel=1e-12)
+
+
+@pytest.mark.parametrize("key", PROTOTYPES)
+def test_fixtures_agree_with_the_design_model(key):
+    """The hand-written fixtures are what `fpdesign evaluate` would predict for the same beam."""
+    from designer import designfile, evaluation
+
+    rec = designfile.load_design(DATA / f"cal_prototype_{key}.json")
+    spec, design = designfile.rebuild(rec)
+    predicted = evaluation.evaluate(design, spec).predicted()
+    for name in ("sensitivity", "noise_voltage", "force_error", "position_error"):
+        assert rec["predicted"][name] == pytest.approx(predicted[name], rel=1e-12), name
 
 
 def test_prototypes_are_recognised_and_table_2_loads_used():
