@@ -46,7 +46,6 @@ _C_STRAIN = "#c0392b"      # gauge strain limit (maximum moment)
 _C_STRESS = "#8e44ad"      # stress limits
 _C_SIGNAL = "#1f5fa8"      # minimum detectable signal (minimum moment)
 _C_REGION = "#cfe2f3"      # operating region fill
-_C_REGION_EDGE = "#1f5fa8"
 _C_GAUGE = "#d4a017"       # gauge stations (gold, as in the paper's figures)
 _C_GRID = "#d9d9d9"
 _C_BRIDGES = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
@@ -359,20 +358,16 @@ def _range(obj, key: str, where: str) -> tuple[float, float]:
 
 
 def _noise(pred, spec) -> float:
-    """sigma_V, V: as predicted, else from the electronics (MODEL.md section 3)."""
+    """sigma_V, V: as predicted, else the output noise the normalised spec records."""
     value = _positive(pred, "noise_voltage", "predicted", required=False)
-    if value is not None:
-        return value
     el = spec.get("electronics") or {}
     for key in ("noise_output", "noise"):
-        value = _positive(el, key, "spec.electronics", required=False)
-        if value is not None:
-            return value
-    rti = _positive(el, "noise_rti", "spec.electronics", required=False)
-    if rti is not None:
-        return (_positive(el, "gain", "spec.electronics", required=False) or 1.0) * rti
-    raise DesignFileError("predicted.noise_voltage: missing, and spec.electronics gives no output "
-                          "noise; the error maps need sigma_V")
+        if value is None:
+            value = _positive(el, key, "spec.electronics", required=False)
+    if value is None:
+        raise DesignFileError("predicted.noise_voltage: missing, and spec.electronics gives no output "
+                              "noise; the error maps need sigma_V")
+    return value
 
 
 def _max_strain(body, spec) -> float:
@@ -500,7 +495,7 @@ def plot_operating_region(design: Mapping, ax=None):
         colour, style = styles[lim.name]
         xs = x[x > lim.pivot + 1e-9]
         ax.plot(xs * 1e3, lim.force(xs), color=colour, linestyle=style, linewidth=2, zorder=6,
-                label=f"{lim.label}:  {_moment_text(lim, s)} = {_fmt(lim.moment)} N·m")
+                label=f"{lim.label}:  {_moment_text(lim)} = {_fmt(lim.moment)} N·m")
     xs = x[beyond]
     ax.plot(xs * 1e3, region.lower.force(xs), color=_C_SIGNAL, linewidth=2, zorder=6,
             label=f"{region.lower.label}:  F·(x − d{len(s.stations)}) = {_fmt(region.lower.moment)} N·m")
@@ -557,7 +552,7 @@ def plot_operating_region(design: Mapping, ax=None):
     return fig
 
 
-def _moment_text(lim: MomentLimit, s: SensorData) -> str:
+def _moment_text(lim: MomentLimit) -> str:
     if lim.name == "gauge_strain":
         return "F·(x − d1)"
     if lim.name == "stress_root":
@@ -812,13 +807,12 @@ def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
     return rank_candidates(rows)
 
 
-TIE_TOLERANCE = 1e-3  # objectives within 0.1 % rank as ties (MODEL.md section 5)
-
-
 def rank_candidates(rows: Sequence[Mapping]) -> list:
     """Order candidates as MODEL.md section 5 ranks designs: the ones that meet every limit by
     objective, where objectives within 0.1 % tie and the lower deflection, then the lower mass,
     goes first; then the infeasible ones, least violating first; then those without a design."""
+    from .optimize import TIE_TOLERANCE  # the search's own tie rule
+
     def number(row, key):
         value = row.get(key)
         return math.inf if value is None else float(value)
