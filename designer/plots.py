@@ -919,8 +919,7 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
         else:
             ax.set_ylim(0.0, max(top, 1.0) * 1.12)
     ax.axhline(1.0, color="black", linestyle="--", linewidth=1.1, zorder=2)
-    ax.text(0.01, 1.0, " e = 1: targets met below", transform=ax.get_yaxis_transform(),
-            ha="left", va="bottom", fontsize=8)
+    handles.append(Line2D([], [], color="black", linestyle="--", linewidth=1.1, label="e = 1: targets met below"))
     from matplotlib.ticker import FuncFormatter, LogLocator
 
     if ax.get_yscale() == "log":
