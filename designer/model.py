@@ -276,11 +276,16 @@ class Limit:
         return gap / scale
 
     def record(self) -> dict:
-        margin = -float(self.normalised)
-        return {"name": self.name, "value": float(self.value), "limit": float(self.limit),
+        """As written to design.json: ``margin`` is the slack as a fraction of the limit
+        (``1 - value/limit`` for an upper bound), whatever scale the optimiser uses; a limit
+        of zero reports the slack itself. ``satisfied`` is judged on the normalised form."""
+        value, limit = float(self.value), float(self.limit)
+        slack = (limit - value) if self.upper else (value - limit)
+        margin = slack / abs(limit) if limit != 0 else slack
+        return {"name": self.name, "value": value, "limit": limit,
                 "sense": "<=" if self.upper else ">=", "margin": margin,
-                "active": bool(abs(margin) <= ACTIVE_TOLERANCE), "satisfied": bool(margin >= -1e-9),
-                "unit": self.unit}
+                "active": bool(abs(margin) <= ACTIVE_TOLERANCE),
+                "satisfied": bool(float(self.normalised) <= 1e-9), "unit": self.unit}
 
 
 def limits(g: Geometry, a: Analysis, m: MaterialParams, spec, include_targets: bool = True,

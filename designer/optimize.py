@@ -31,6 +31,8 @@ NLOPT_MAX_EVAL = {"slsqp": 500, "mma": 2000, "ccsaq": 2000, "cobyla": 4000, "isr
 GRID_LEVELS = 9               # points per section variable in the grid method
 EPIGRAPH_UPPER = 1e6
 NAN_PENALTY = 1e6
+ALL_STARTS = False  # True: every start point even after a verified answer
+FEASIBILITY_TOLERANCE = 1e-9  # as evaluation.Evaluation.violations
 NLOPT_MAX_SECONDS = {"slsqp": 0.2, "mma": 0.2, "ccsaq": 0.2, "cobyla": 0.2, "isres": 0.5, "direct": 0.5}
 # (per nlopt run: a stalled method must not stall the search)
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -386,38 +388,54 @@ def _spread_stations(problem: FamilyProblem, x):
 def round_and_check(design: Design, spec) -> Evaluation | None:
     """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points.
 
-    Every length is rounded down or up; the combinations (at most 2^8) are checked with the
-    numeric model and the best feasible one is kept (or the least violating if none is);
-    None when no combination can be evaluated at all.
+    Every length is rounded down or up (inner stations to the nearest); all combinations are
+    checked at once with the numeric model over numpy arrays, the best is chosen as ``pick``
+    chooses, and that one design is evaluated again on its own and returned. None when no
+    combination can be evaluated at all.
     """
     g = design.geometry
     fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
-    if g.feature == "pocket":
-        fields_.append("depth")
-    if g.feature == "hole":
-        fields_.append("hole")
-    values = {f: float(getattr(g, f)) for f in fields_}
+    if g.axes == 2 and g.section == "rectangle":
+        fields_.remove("height")  # a biaxial rectangle is square
+    fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
     stations = [float(s) for s in g.stations]
-    choices = [(f, _floor_ceil(v)) for f, v in values.items()]
+    choices = [_floor_ceil(float(getattr(g, f))) for f in fields_]
     station_choices = [_floor_ceil(s) for s in stations]
-    # Stations other than the first and last are rounded to nearest: their limits are linear with slack.
-    for i in range(1, len(stations) - 1):
+    for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
         station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
-    checked = []
-    for combo in itertools.product(*[c for _, c in choices], *station_choices):
-        named = dict(zip([f for f, _ in choices], combo[: len(choices)]))
-        if g.axes == 2 and g.section == "rectangle":
-            named["height"] = named["width"]
-        st = tuple(combo[len(choices):])
-        if any(b <= a for a, b in zip(st, st[1:])):
-            continue
-        rounded = replace(g, stations=st, length=round(float(g.length) / ROUNDING) * ROUNDING, **named)
-        try:
-            ev = evaluate(Design(design.material, rounded), spec)
-        except InputError:  # a degenerate point (e.g. two stations at one place): not a design
-            continue
-        checked.append(ev)
-    return pick(checked)
+    combos = np.array(list(itertools.product(*choices, *station_choices)))
+    named = {f: combos[:, i] for i, f in enumerate(fields_)}
+    if g.axes == 2 and g.section == "rectangle":
+        named["height"] = named["width"]
+    st = combos[:, len(fields_):]
+    trial = replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
+                    length=round(float(g.length) / ROUNDING) * ROUNDING, **named)
+    params = design.material_params(spec)
+    with np.errstate(all="ignore"):
+        a = model.analyse(trial, params, spec)
+        lims = model.limits(trial, a, params, spec)
+        viol = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(combos),))
+                                for lim in lims]), axis=0)
+        objective = np.broadcast_to(np.asarray(_objective_array(a, spec), dtype=float), (len(combos),))
+        deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
+        mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))
+    valid = np.isfinite(viol) & np.isfinite(objective) & np.all(np.diff(st, axis=1) > 0, axis=1)
+    if not valid.any():
+        return None
+    feasible = valid & (viol <= FEASIBILITY_TOLERANCE)
+    if feasible.any():
+        lead = objective[feasible].min()
+        band = feasible & (objective - lead <= TIE_TOLERANCE * abs(lead))
+        idx = np.flatnonzero(band)
+        best = idx[np.lexsort((objective[idx], mass[idx], deflection[idx]))[0]]
+    else:
+        best = int(np.argmin(np.where(valid, viol, np.inf)))
+    chosen = replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
+                     **{f: float(v[best]) for f, v in named.items()})
+    try:
+        return evaluate(Design(design.material, chosen), spec)
+    except InputError:
+        return None
 
 
 def pick(evaluations: list) -> Evaluation | None:
@@ -427,6 +445,14 @@ def pick(evaluations: list) -> Evaluation | None:
     if feasible:
         return rank(feasible)[0]
     return min(evaluations, key=lambda ev: ev.worst_violation, default=None)
+
+
+def _objective_array(a, spec):
+    if spec.objective == "deflection":
+        return a.deflection
+    if spec.objective == "mass":
+        return a.mass
+    return np.maximum(a.force_error / spec.targets.force_error, a.position_error / spec.targets.position_error)
 
 
 def _floor_ceil(v: float) -> tuple:
@@ -511,6 +537,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
                                       + ", ".join(v.name for v in ev.violations))
             checked.append(ev)
             cand.evaluation = pick(checked)
+            if s.success and ev.feasible and not ALL_STARTS:
+                break  # a verified answer: the other starts are kept for failures
         if cand.evaluation is not None and cand.evaluation.feasible:
             break
         if m != method or method == "grid":

@@ -16,6 +16,11 @@ def display(value: float, unit: str, name: str = "") -> str:
     return f"{value * factor:.4g} {label}".strip()
 
 
+def percent(fraction: float) -> str:
+    """A signed percentage that never shows -0.00 %."""
+    return f"{0.0 if abs(fraction) < 5e-5 else fraction:+.2%}"
+
+
 def section_text(section: dict) -> str:
     mm = 1e3
     if section["kind"] == "rectangle":
@@ -78,7 +83,7 @@ def markdown(record: dict) -> str:
     for c in record["constraints"]:
         flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
         lines.append(f"| {c['name']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
-                     f"{display(c['limit'], c['unit'], c['name'])} | {c['margin']:+.2%} | {flag} |")
+                     f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
     if record.get("candidates"):
         lines += ["", "## Candidates", "", "| rank | material | section | status | objective | deflection | mass |",
                   "|---|---|---|---|---|---|---|"]
@@ -126,7 +131,7 @@ def print_summary(record: dict, console=None) -> None:
         for c in binding:
             lim.add_row(c["name"], display(c["value"], c["unit"], c["name"]),
                         f"{c['sense']} {display(c['limit'], c['unit'], c['name'])}",
-                        f"[{'red' if not c['satisfied'] else 'yellow'}]{c['margin']:+.2%}[/]")
+                        f"[{'red' if not c['satisfied'] else 'yellow'}]{percent(c['margin'])}[/]")
         console.print(lim)
     if record.get("candidates"):
         cand = Table(title="runners-up")

@@ -1,0 +1,65 @@
+"""Speed and accuracy of `fpdesign optimize` on every optimiser example (issue 3).
+
+Prints, per example: the median compute time of a full search (all materials x three
+families, after start-up, in this process), the objective against the exhaustive reference
+search (reference.reference_best: a dense grid polished by scipy, no casadi), and the
+start-up time of the command (`fpdesign --help` and the imports an optimise run needs),
+measured separately. Run by hand:  python benchmarks/bench_optimize.py [--repeat 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+NAMES = ["gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"]
+
+
+def startup_seconds(repeat: int) -> tuple[float, float]:
+    """Median wall time of `fpdesign --help`, and of importing what an optimise run loads."""
+    help_runs, import_runs = [], []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-m", "designer.cli", "--help"], check=True, capture_output=True)
+        help_runs.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        subprocess.run([sys.executable, "-c", "import designer.optimize, casadi, nlopt, designer.units as u; u.registry()"],
+                       check=True, capture_output=True)
+        import_runs.append(time.perf_counter() - t)
+    return statistics.median(help_runs), statistics.median(import_runs)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--levels", type=int, default=7, help="grid levels of the reference search")
+    args = parser.parse_args()
+
+    from designer import optimize, reference
+    from designer.spec import load_spec
+
+    print(f"{'example':24} {'candidates':>10} {'median s':>9} {'min s':>7} {'objective':>11} "
+          f"{'reference':>11} {'gap':>8}  chosen")
+    for name in NAMES:
+        spec = load_spec(EXAMPLES / f"{name}.yaml")
+        optimize.optimize(spec)  # warm: casadi and IPOPT loaded, as after start-up
+        times = []
+        for _ in range(args.repeat):
+            outcome = optimize.optimize(spec)
+            times.append(outcome.seconds)
+        ref = reference.reference_best(spec, levels=args.levels)
+        gap = outcome.best.objective / ref.objective - 1
+        print(f"{name:24} {len(outcome.candidates):>10} {statistics.median(times):>9.3f} {min(times):>7.3f} "
+              f"{outcome.best.objective:>11.6g} {ref.objective:>11.6g} {gap:>+8.3%}  {outcome.best.design.label()}")
+    help_s, import_s = startup_seconds(args.repeat)
+    print(f"start-up: `fpdesign --help` {help_s:.3f} s; importing the optimiser, casadi, nlopt and pint {import_s:.3f} s "
+          "(medians)")
+
+
+if __name__ == "__main__":
+    main()
