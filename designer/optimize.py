@@ -500,7 +500,6 @@ class Outcome:
     candidates: list
     seconds: float
     evaluations: int
-    plot_data: dict = field(default_factory=dict)
 
 
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
@@ -552,7 +551,8 @@ def _only_targets(ev: Evaluation) -> bool:
     return all(v.name in ("force_error", "position_error") for v in ev.violations)
 
 
-def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None) -> Outcome:
+def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None,
+             tie_break: bool = True) -> Outcome:
     """Search every allowed material and section family; return the verified best design."""
     from .result import build_record
 
@@ -575,7 +575,7 @@ def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None
     finally:
         if bar:
             bar.stop()
-    if method == "ipopt":  # the other methods are compared as they are (``fpdesign bench``)
+    if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         break_ties(candidates, problems)
     seconds = time.perf_counter() - t0
     evaluations = sum(s.evaluations for c in candidates for s in c.solves)

@@ -131,8 +131,12 @@ def run_optimize(args) -> int:
             if not getattr(verdict, "passed", True):
                 record["messages"].append("the 3-D check finds limits the beam model missed: " +
                                           "; ".join(getattr(verdict, "messages", [])))
-    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots,
-                  extra_plots=outcome.plot_data)
+    extra = None
+    if not args.no_plots and outcome.success and spec.objective == "error":
+        from ..tradeoff import fronts
+
+        extra = {"tradeoff": fronts(spec, outcome)}
+    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra)
     report.print_summary(record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if record["status"] == "optimal" else 1
