@@ -1,0 +1,195 @@
+"""The 3-D check (designer.fea, `fpdesign verify`) against closed forms, and its verdicts.
+
+References:
+- Cantilever under a point load F at x, free length l (Gere & Goodno, Mechanics of
+  Materials, 8th ed., Appendix H, cases 1 and 5): surface strain F (x - s) (h/2)/(E I),
+  free-end deflection F x^2 (3l - x)/(6 E I).
+- Timoshenko shear deflection of the loaded span F x/(kappa G A), with Cowper's (1966)
+  kappa = 10 (1 + nu)/(12 + 11 nu) for a rectangle.
+- Prototype B (Noh et al. 2025, Table 1): 2024-T3, 12.7 mm square, 9.5 mm holes. Its
+  converged 3-D gauge-strain ratio, 0.612, comes from this module's fine mesh (301 110
+  unknowns; normal 0.613, coarse 0.62): the self-convergence study in the final report.
+
+Meshes are coarse to keep the suite fast; each tolerance says why it suffices.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from designer import fea
+from designer.cli import main
+from designer.errors import DesignFileError, InputError
+from designer.evaluation import evaluate, fixed_design
+from designer.result import build_record
+from designer.spec import parse_spec
+
+MM = 1e-3
+E_2024, NU_2024 = 73.1e9, 0.33   # the catalogue's 2024-T3
+
+
+def record(design: dict, load: dict, **extra) -> dict:
+    raw = {"name": "fea-test", "load": load, "electronics": {"excitation": "5 V", "gain": 1000, "noise": "1.3 mV"},
+           "bridge": "half", "limits": {"fatigue": False}, "design": design}
+    raw.update(extra)
+    spec = parse_spec(raw)
+    ev = evaluate(fixed_design(spec).rounded(), spec)
+    return json.loads(json.dumps(build_record("feasible" if ev.feasible else "infeasible", spec, ev)))
+
+
+def bar(length_mm: float, position_mm: tuple, size_mm: float = 10.0, feature=None, stations=(30, 50)) -> dict:
+    return record({"material": "2024-T3",
+                   "section": {"kind": "rectangle", "width": f"{size_mm} mm", "height": f"{size_mm} mm"},
+                   "stations": [f"{s} mm" for s in stations], "feature": feature or {"kind": "none"},
+                   "length": f"{length_mm} mm"},
+                  {"force": ["2 N", "20 N"], "position": [f"{p} mm" for p in position_mm]},
+                  targets={"force_error": "20 %", "position_error": "10 %"})
+
+
+# ----------------------------------------------------------------- closed forms
+
+@pytest.fixture(scope="module")
+def slender():
+    """A 10 mm square bar, 20 N at 300 mm of 310 mm: l/h = 31, so shear adds 0.1 % and the
+    clamp's restraint of warping and Poisson contraction changes the deflection by about 0.3 %."""
+    return fea.verify_design(bar(310, (60, 300)), mesh="coarse")
+
+
+def test_plain_cantilever_gauge_strain_is_beam_theory(slender):
+    I = 10 * MM * (10 * MM) ** 3 / 12
+    for g, d in zip(slender.gauges, (0.030, 0.050)):
+        closed = 20 * (0.300 - d) * 5 * MM / (E_2024 * I)
+        # 3 and 5 section depths from the clamp: Saint-Venant effects are long gone; the grid
+        # mean of a linear strain field is the centre value; P2 elements carry it exactly.
+        assert g.fea_strain == pytest.approx(closed, rel=0.01)
+        assert g.model_strain == pytest.approx(closed, rel=1e-9)
+        assert g.ratio == pytest.approx(1.0, abs=0.01)
+
+
+def test_plain_cantilever_surface_strain_along_the_beam(slender):
+    x = np.asarray(slender.profile_x)
+    I = 10 * MM * (10 * MM) ** 3 / 12
+    closed = 20 * (0.300 - x) * 5 * MM / (E_2024 * I)
+    away = (x > 2 * 10 * MM) & (x < slender.cut - 2 * 10 * MM)   # two depths from either end
+    assert away.sum() > 100
+    assert np.asarray(slender.profile_fea)[away] == pytest.approx(closed[away], rel=0.01)
+    # near the fully fixed clamp face the 3-D strain departs from beam theory
+    near = x < 3 * MM
+    assert np.max(np.abs(np.asarray(slender.profile_fea)[near] / closed[near] - 1)) > 0.02
+
+
+def test_plain_cantilever_tip_deflection_is_beam_theory(slender):
+    I = 10 * MM * (10 * MM) ** 3 / 12
+    F, x, ell = 20.0, 0.300, 0.310
+    closed = F * x ** 2 * (3 * ell - x) / (6 * E_2024 * I)
+    assert slender.deflection_model == pytest.approx(closed, rel=1e-9)
+    # l/h = 31: shear (+0.1 %) and clamp restraint (about -0.3 %) stay well inside 1 %
+    assert slender.deflection_fea == pytest.approx(closed, rel=0.01)
+    # the mesh is cut after the stations, the rest carried on by beam theory
+    assert slender.cut == pytest.approx(0.050 + 0.0069 / 2 + 2 * 0.010)
+
+
+def test_stubby_cantilever_meshed_to_the_load_lies_between_bernoulli_and_timoshenko():
+    # x = 70 mm on a 10 mm bar (x/h = 7): the cut falls on the load, which enters as pure shear.
+    r = fea.verify_design(bar(75, (60, 70)), mesh="coarse")
+    assert r.cut == pytest.approx(0.070)
+    I, A = (10 * MM) ** 4 / 12, (10 * MM) ** 2
+    F, x, ell = 20.0, 0.070, 0.075
+    bernoulli = F * x ** 2 * (3 * ell - x) / (6 * E_2024 * I)
+    kappa = 10 * (1 + NU_2024) / (12 + 11 * NU_2024)
+    timoshenko = bernoulli + F * x / (kappa * E_2024 / (2 * (1 + NU_2024)) * A)
+    assert timoshenko / bernoulli > 1.012   # shear matters here (1.4 %) ...
+    # ... but the fully fixed clamp face also stops warping and Poisson contraction, which
+    # stiffens the root: the 3-D answer lies between the two theories (1 % for the mesh).
+    assert 0.99 * bernoulli < r.deflection_fea < 1.01 * timoshenko
+    for g in r.gauges:
+        assert g.ratio == pytest.approx(1.0, abs=0.01)
+
+
+# ----------------------------------------------------------------- features
+
+@pytest.fixture(scope="module")
+def prototype_b():
+    return record({"material": "2024-T3", "section": {"kind": "rectangle", "width": "12.7 mm", "height": "12.7 mm"},
+                   "stations": ["20 mm", "100 mm"], "feature": {"kind": "hole", "diameter": "9.5 mm"},
+                   "length": "450 mm"}, {"force": ["200 gf", "2000 gf"], "position": ["150 mm", "450 mm"]})
+
+
+def test_prototype_b_hole_net_section_over_predicts_the_gauge_strain(prototype_b):
+    r = fea.verify_design(prototype_b, mesh="coarse")
+    for g in r.gauges:
+        # converged value 0.612 (fine mesh); the coarse mesh is within 2 %
+        assert g.ratio == pytest.approx(0.612, rel=0.02)
+        assert g.mesh_change < 0.03
+    # the hole barely changes the beam's deflection: 1 % with the coarse mesh
+    assert r.deflection_fea / r.deflection_model == pytest.approx(1.0, abs=0.01)
+    # the peak stress sits at a hole and exceeds the net-section estimate at its edge
+    assert r.stress_peak.where.startswith("hole at station 1")
+    assert r.stress_peak.value > r.stress_model
+    text = " ".join(r.messages)
+    assert "over-predicts this gauge's strain by 6" in text
+    # the sensitivities fall with the strain: the re-checked accuracy targets fail
+    checks = {c.name: c for c in r.limits}
+    assert checks["force_error"].fea_value == pytest.approx(checks["force_error"].model_value / 0.612, rel=0.03)
+    assert not r.passed and "force_error" in text
+
+
+def test_slot_pockets_agree_with_beam_theory_within_a_few_percent():
+    r = fea.verify_design(bar(310, (100, 300), size_mm=8.0, feature={"kind": "pocket", "depth": "1.5 mm"},
+                              stations=(20, 60)), mesh="coarse")
+    for g in r.gauges:
+        # the issue's "within a few percent": 4 % here; 6 % bounds it
+        assert abs(g.ratio - 1) < 0.06
+    # the pocket's sharp inside corners concentrate stress well beyond the net section
+    assert r.stress_peak.where.startswith("pocket at station 1")
+    assert r.stress_peak.value > 1.2 * r.stress_model
+
+
+# ----------------------------------------------------------------- the command
+
+def test_verify_command_writes_the_report_json_and_plot(tmp_path, capsys):
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(bar(310, (60, 300))), encoding="utf-8")
+    out = tmp_path / "check"
+    code = main(["verify", str(path), "--mesh", "coarse", "-o", str(out)])
+    assert code == 0, capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == ["surface-strain.png", "verify.json", "verify.md"]
+    data = json.loads((out / "verify.json").read_text())
+    assert data["passed"] and data["converged"]
+    assert [g["ratio"] for g in data["gauges"]] == pytest.approx([1.0, 1.0], abs=0.01)
+    assert len(data["meshes"]) == 2 and data["meshes"][0]["elements"] > data["meshes"][1]["elements"]
+    report = (out / "verify.md").read_text()
+    assert "| 30.0 |" in report and "mesh convergence" in report and "converged" in report
+    assert (out / "surface-strain.png").read_bytes()[:4] == b"\x89PNG"
+    assert "3-D / model" in capsys.readouterr().out
+
+
+def test_verify_refuses_bad_input_without_a_traceback(tmp_path, capsys):
+    missing = tmp_path / "none.json"
+    assert main(["verify", str(missing), "-o", str(tmp_path / "o")]) == 2
+    assert "no such file" in capsys.readouterr().err
+    good = bar(310, (60, 300))
+    broken = json.loads(json.dumps(good))
+    del broken["design"]["gauge"]["grid_length"]
+    path = tmp_path / "broken.json"
+    path.write_text(json.dumps(broken), encoding="utf-8")
+    assert main(["verify", str(path), "-o", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "design.gauge" in err and "grid_length" in err and "Traceback" not in err
+    assert not (tmp_path / "o").exists()        # nothing half-written
+    afile = tmp_path / "file"
+    afile.write_text("x")
+    path.write_text(json.dumps(good), encoding="utf-8")
+    assert main(["verify", str(path), "-o", str(afile)]) == 2
+    assert "is a file" in capsys.readouterr().err
+
+
+def test_library_refuses_an_unknown_mesh_level():
+    with pytest.raises(InputError, match=r"mesh: 'medium' is not allowed; must be one of \[coarse, normal, fine\]"):
+        fea.verify_design(bar(310, (60, 300)), mesh="medium")
+    with pytest.raises(DesignFileError, match="design"):
+        fea.verify_design({"spec": {}}, mesh="coarse")
