@@ -732,13 +732,21 @@ def cylinders(solid, axis: str, radius_mm: float, tol_mm: float = 1e-4) -> list[
     return sorted(out)
 
 
-def tessellate(solid, tolerance_mm: float, angular_tolerance: float = 0.3):
-    """Triangles of ``solid``: ``(vertices (n, 3) mm, triangles (m, 3) indices)`` as numpy arrays."""
+def tessellate(solid, tolerance_mm: float, angular_tolerance: float = 0.2) -> dict:
+    """The solid for a picture: ``{"vertices": (n, 3), "triangles": (m, 3), "edges": [(k, 3), ...]}``
+    in mm: its triangles and its B-rep edges as polylines."""
     import numpy as np
 
     vertices, triangles = solid.tessellate(tolerance_mm, angular_tolerance)
-    return (np.array([v.toTuple() for v in vertices], dtype=float).reshape(-1, 3),
-            np.array(triangles, dtype=int).reshape(-1, 3))
+    edges = []
+    for edge in solid.Edges():
+        if edge.geomType() == "LINE":
+            count = 2
+        else:
+            count = max(24, min(96, int(math.ceil(edge.Length() / max(tolerance_mm * 10, 1e-3)))))
+        edges.append(np.array([v.toTuple() for v in edge.positions(np.linspace(0.0, 1.0, count))]))
+    return {"vertices": np.array([v.toTuple() for v in vertices], dtype=float).reshape(-1, 3),
+            "triangles": np.array(triangles, dtype=int).reshape(-1, 3), "edges": edges}
 
 
 def clipped(solid, x_max_mm: float):
@@ -833,11 +841,11 @@ def _write_one(kind: str, beam: BeamCad, solid, path: Path) -> None:
 
 
 def model_meshes(beam: BeamCad, solid) -> dict:
-    """Triangle meshes for the 3-D picture: the whole part and a close-up of the gauge region."""
+    """Meshes for the 3-D picture: the whole part, and a close-up of the clamp block and the
+    gauge stations when they take up only part of a long beam."""
     size = max(beam.width, beam.height) / MM
-    whole = tessellate(solid, tolerance_mm=max(0.02, size / 200))
-    meshes = {"whole": whole}
-    reach = beam.stations[-1] + beam.feature_length / 2 + max(beam.width, beam.height)
+    meshes = {"whole": tessellate(solid, tolerance_mm=max(0.02, size / 150))}
+    reach = beam.stations[-1] + beam.feature_length / 2 + 0.75 * max(beam.width, beam.height)
     if reach < 0.6 * beam.length:
-        meshes["detail"] = tessellate(clipped(solid, reach / MM), tolerance_mm=max(0.01, size / 400))
+        meshes["detail"] = tessellate(clipped(solid, reach / MM), tolerance_mm=max(0.01, size / 300))
     return meshes
