@@ -667,12 +667,20 @@ def write_stl(solid, path: str | os.PathLike) -> Path:
     return path
 
 
+def _file_mode() -> int:
+    """The permissions an ordinary new file gets (temporary files are private until moved)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 @contextlib.contextmanager
 def _temporary_sibling(path: Path):
     """A temporary file name next to ``path``; removed again unless it was moved into place."""
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
+    os.chmod(tmp, _file_mode())
     try:
         yield Path(tmp)
     finally:
@@ -812,7 +820,9 @@ def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]
             os.close(fd)
             staged.append((Path(tmp), target))
             _write_one(kind, beam, solid, Path(tmp))
+        mode = _file_mode()
         for tmp, target in staged:
+            os.chmod(tmp, mode)
             os.replace(tmp, target)
     finally:
         for tmp, _ in staged:

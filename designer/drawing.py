@@ -136,9 +136,11 @@ class _Pen:
                      dash_capstyle="butt", zorder=zorder)
 
     def text(self, x, y, s, size=DIM_PT, ha="center", va="bottom", rotation=0, color=INK, weight="normal",
-             zorder=5):
+             zorder=5, mask=False):
+        """Text; ``mask`` blanks the lines behind it, as dimension figures do."""
+        box = {"facecolor": "white", "edgecolor": "none", "pad": 0.4} if mask else None
         self.ax.text(x, y, s, fontsize=size, ha=ha, va=va, rotation=rotation, color=color, weight=weight,
-                     zorder=zorder, rotation_mode="anchor")
+                     zorder=zorder, rotation_mode="anchor", bbox=box)
 
     @staticmethod
     def text_width(s: str, size=DIM_PT) -> float:
@@ -173,12 +175,12 @@ class _Pen:
             self.line([lo, hi], [y, y], "thin")
             self.arrow((lo, y), (-1, 0))
             self.arrow((hi, y), (1, 0))
-            self.text((lo + hi) / 2, ty, text, va=va)
+            self.text((lo + hi) / 2, ty, text, va=va, mask=True)
         else:  # arrows outside, text beyond the right arrow
             self.line([lo - ARROW - 2.0, hi + ARROW + 1.0], [y, y], "thin")
             self.arrow((lo, y), (1, 0))
             self.arrow((hi, y), (-1, 0))
-            self.text(hi + ARROW + 1.5, ty, text, ha="left", va=va)
+            self.text(hi + ARROW + 1.5, ty, text, ha="left", va=va, mask=True)
 
     def dim_v(self, y0, y1, x, text, feet=(None, None), side="left"):
         """A vertical dimension at ``x`` between ``y0`` and ``y1`` (text reads from below)."""
@@ -195,13 +197,13 @@ class _Pen:
             self.line([x, x], [lo, hi], "thin")
             self.arrow((x, lo), (0, -1))
             self.arrow((x, hi), (0, 1))
-            self.text(tx, (lo + hi) / 2, text, rotation=90, va="bottom", ha="center")
+            self.text(tx, (lo + hi) / 2, text, rotation=90, va="bottom", ha="center", mask=True)
         else:  # arrows outside, text beside the line
             self.line([x, x], [lo - ARROW - 1.5, hi + ARROW + 1.5], "thin")
             self.arrow((x, lo), (0, 1))
             self.arrow((x, hi), (0, -1))
             ha = "right" if side == "left" else "left"
-            self.text(x - 1.2 if side == "left" else x + 1.2, (lo + hi) / 2, text, ha=ha, va="center")
+            self.text(x - 1.2 if side == "left" else x + 1.2, (lo + hi) / 2, text, ha=ha, va="center", mask=True)
 
     def dim_diameter(self, cx, cy, r, angle_deg, text):
         """A diameter dimension through the centre of a circle, at ``angle_deg``, text along it."""
@@ -212,7 +214,7 @@ class _Pen:
         self.arrow(b, u)
         n = np.array([-u[1], u[0]])
         at = np.array([cx, cy]) + 0.5 * r * u + 0.7 * n
-        self.text(at[0], at[1], text, rotation=angle_deg, ha="center", va="bottom")
+        self.text(at[0], at[1], text, rotation=angle_deg, ha="center", va="bottom", mask=True)
 
     def leader(self, target, anchor, text, ha="left", va="center"):
         """A note at ``anchor`` with a leader line ending in an arrow at ``target``."""
@@ -514,9 +516,15 @@ def _draw_section(pen: _Pen, beam: BeamCad, cx: float, cy: float) -> tuple[float
                   side="right")
         bottom = cy - h / 2 - 7 - DIM_PT * PT - 1
     else:
-        pen.dim_h(cx - b / 2, cx + b / 2, cy - h / 2 - 7, "Ø" + fmt_mm(beam.width),
-                  feet=(cy, cy), side="below")
-        bottom = cy - h / 2 - 7 - DIM_PT * PT - 1
+        if "+y" in beam.cut_faces:  # flats all round: the diameter remains only on the diagonals
+            u = np.array([-1.0, -1.0]) / math.sqrt(2)
+            target = np.array([cx, cy]) + b / 2 * u
+            pen.leader(tuple(target), (cx - b / 2 - 6, cy - h / 2 - 5), "Ø" + fmt_mm(beam.width), ha="right")
+            bottom = cy - h / 2 - 6
+        else:
+            pen.dim_h(cx - b / 2, cx + b / 2, cy - h / 2 - 7, "Ø" + fmt_mm(beam.width),
+                      feet=(cy, cy), side="below")
+            bottom = cy - h / 2 - 7 - DIM_PT * PT - 1
         if beam.section == "tube":
             ri = (beam.radius - beam.wall) / MM * k
             pen.dim_diameter(cx, cy, ri, 35.0, "Ø" + fmt_mm(beam.width - 2 * beam.wall))
@@ -532,7 +540,8 @@ def _draw_section(pen: _Pen, beam: BeamCad, cx: float, cy: float) -> tuple[float
         else:
             hc = beam.flat_half_chord / MM * k
             pen.dim_h(cx - hc, cx + hc, top + 6, f"({fmt_mm(2 * beam.flat_half_chord)})", feet=(top - p, top - p))
-            pen.dim_v(top - p, top, cx + b / 2 + 8, fmt_mm(beam.pocket_depth), feet=(cx + hc, cx), side="right")
+            across = beam.width - 2 * beam.pocket_depth     # what the machinist measures
+            pen.dim_v(cy - h / 2 + p, top - p, cx + b / 2 + 8, fmt_mm(across), feet=(cx + hc, cx + hc), side="right")
     elif beam.feature == "hole":
         r = beam.hole_diameter / 2 / MM * k
         pen.dim_v(cy - r, cy + r, cx - b / 2 - 6, "Ø" + fmt_mm(beam.hole_diameter), feet=(cx - b / 2, cx - b / 2),
@@ -687,8 +696,8 @@ def _callouts(pen, beam: BeamCad, X, YS, YT, y) -> None:
     elif beam.feature == "pocket":
         faces = "ALL 4 SIDES" if beam.axes == 2 else "TOP AND BOTTOM"
         items.append(((X(d0 + beam.pocket_length / 4), YT(beam.flat_half_chord)),
-                      f"FLAT {fmt_mm(beam.pocket_length)} LONG x {fmt_mm(beam.pocket_depth)} DEEP, {faces}, "
-                      f"EACH STATION"))
+                      f"FLAT {fmt_mm(beam.pocket_length)} LONG x {fmt_mm(beam.pocket_depth)} DEEP "
+                      f"({fmt_mm(beam.width - 2 * beam.pocket_depth)} ACROSS FLATS), {faces}, EACH STATION"))
     elif beam.feature == "hole":
         r = beam.hole_diameter / 2
         items.append(((X(d0 + r * 0.70710678), YS(-r * 0.70710678)),
@@ -1047,11 +1056,12 @@ def plot_model(meshes: dict, beam: BeamCad, ax=None):
 # ----------------------------------------------------------------- files
 
 def save_figure(fig, path: str | os.PathLike, fmt: str, dpi: int = 150) -> Path:
-    """Write ``fig`` as ``fmt`` (svg or png) atomically; SVG keeps its text as text."""
+    """Write ``fig`` as ``fmt`` (svg or png) atomically; SVG text is drawn as outlines, so it looks
+    the same in every viewer."""
     import matplotlib
 
     buf = io.BytesIO()
-    with matplotlib.rc_context({"svg.fonttype": "none", "svg.hashsalt": "fpdesign"}):
+    with matplotlib.rc_context({"svg.fonttype": "path", "svg.hashsalt": "fpdesign"}):
         fig.savefig(buf, format=fmt, dpi=dpi, metadata={"Date": None} if fmt == "svg" else None,
                     facecolor="white")
     return atomic_write_bytes(path, buf.getvalue())

@@ -14,6 +14,9 @@ from __future__ import annotations
 import copy
 import json
 import math
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -178,3 +181,252 @@ def test_prototype_c_tube_is_hollow_with_bore_to_clamp_face(exported):
     assert len(cad.cylinders(solid, "x", bore_mm)) == 1
     # the bore ends in a flat bottom at the clamp face
     assert cad.planar_faces(solid, "x", 0.0)
+
+
+# ----------------------------------------------------------------- defaults and overrides
+
+def test_defaults_for_prototype_b_follow_the_documented_rules():
+    beam = cad.resolve(record("prototype_b"))
+    c = beam.clamp
+    # largest default bolt with 3 d <= 12.7 mm is M4; ISO 273 medium clearance for M4 is 4.5 mm
+    assert c.bolt_diameter == pytest.approx(0.004)
+    assert c.bolt_clearance == pytest.approx(0.0045)
+    # clamp: max(1.5 x 12.7, 6 x 4) = 24 mm, rounded up to 5 mm; holes at L/4 and 3L/4
+    assert c.length == pytest.approx(0.025)
+    assert sorted(c.bolt_positions) == pytest.approx([-0.01875, -0.00625])
+    assert beam.channels is None and beam.grooves is None  # no pockets; grooves off by default
+
+
+def test_defaults_for_slot_pockets():
+    beam = cad.resolve(record("rect_pockets"))
+    # largest standard end mill <= 0.6 x 5.5 mm = 3.3 mm is 3 mm; the 6.9 x 3.5 gauge clears its corners
+    assert beam.end_mill == pytest.approx(0.003)
+    assert beam.channels.width == pytest.approx(0.0015)
+    assert beam.channels.depth == pytest.approx(0.0005)
+    # default grooves at x_min, mid and x_max of the load range [80, 145] mm
+    assert beam.grooves.positions == pytest.approx((0.08, 0.1125, 0.145))
+    assert beam.grooves.depth == pytest.approx(0.0003)
+
+
+def test_spec_cad_keys_override_the_defaults():
+    beam = cad.resolve(record("round_flats"))
+    assert beam.clamp.length == pytest.approx(0.030)
+    assert beam.clamp.bolt_diameter == pytest.approx(0.005)
+    assert beam.clamp.bolt_clearance == pytest.approx(0.0055)   # ISO 273 medium, M5
+    assert beam.grooves.positions == pytest.approx((0.07, 0.10))
+    assert beam.grooves.depth == pytest.approx(0.0004)
+    rec = record("rect_pockets")
+    rec["spec"]["cad"].update(wire_channels=False, load_grooves=False, end_mill_diameter=0.002)
+    beam = cad.resolve(rec)
+    assert beam.channels is None and beam.grooves is None and beam.end_mill == pytest.approx(0.002)
+
+
+def test_non_standard_bolt_gets_a_rounded_up_clearance():
+    assert cad.bolt_clearance(0.0035) == pytest.approx(0.0040)  # 1.12 x 3.5 = 3.92 -> 4.0 mm
+
+
+# ----------------------------------------------------------------- the export command and its files
+
+def read_stl(path: Path):
+    import numpy as np
+
+    data = path.read_bytes()
+    count = int.from_bytes(data[80:84], "little")
+    assert len(data) == 84 + 50 * count
+    records = np.frombuffer(data[84:], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    return records["v"].reshape(-1, 3)
+
+
+def test_export_writes_every_requested_file(tmp_path):
+    out = tmp_path / "out"
+    files = {"--step": out / "beam.step", "--stl": out / "beam.stl", "--svg": out / "drawing.svg",
+             "--drawing-png": out / "drawing.png", "--png": out / "picture.png"}
+    argv = ["export", str(DATA / "cad_rect_pockets.json")]
+    for flag, path in files.items():
+        argv += [flag, str(path)]
+    assert main(argv) == 0
+    assert sorted(p.name for p in out.iterdir()) == sorted(p.name for p in files.values())  # no temporary files
+    # STL in mm: its vertices span the design's bounding box (20 x 8 mm bar, 150 mm + 40 mm clamp)
+    v = read_stl(files["--stl"])
+    assert v.min(axis=0) == pytest.approx([-40.0, -10.0, -4.0], abs=POSITION_TOL_MM)
+    assert v.max(axis=0) == pytest.approx([150.0, 10.0, 4.0], abs=POSITION_TOL_MM)
+    for key in ("--drawing-png", "--png"):
+        assert files[key].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    import xml.etree.ElementTree as ET
+
+    root = ET.parse(files["--svg"]).getroot()
+    assert root.get("width").startswith("1190.")  # A3 landscape: 420 mm = 1190.55 pt
+
+
+def test_write_cad_outputs_names_files_after_the_design(tmp_path):
+    written = cad.write_cad_outputs(record("prototype_c"), tmp_path)
+    assert {k: p.name for k, p in written.items()} == {
+        "step": "prototype-c.step", "model_png": "prototype-c-model.png",
+        "drawing_svg": "prototype-c-drawing.svg", "drawing_png": "prototype-c-drawing.png"}
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written.values())
+    assert cad.step_product_names(written["step"]) == ["prototype-c"]
+
+
+def test_outputs_are_readable_like_ordinary_files(tmp_path):
+    written = cad.write_cad_outputs(record("prototype_a"), tmp_path)
+    mask = os.umask(0)
+    os.umask(mask)
+    for path in written.values():
+        assert path.stat().st_mode & 0o777 == 0o666 & ~mask
+
+
+# ----------------------------------------------------------------- the drawing states the design
+
+def drawing_texts(name: str) -> str:
+    from designer import drawing
+
+    fig = drawing.plot_drawing(cad.resolve(record(name)))
+    return "\n".join(t.get_text() for t in fig.axes[0].texts)
+
+
+def test_drawing_of_prototype_b_gives_stations_lengths_holes_material_and_name():
+    texts = drawing_texts("prototype_b").splitlines()
+    for expected in ["20", "60", "100",            # stations from the clamp face
+                     "450", "475", "25",           # free length, overall, clamp block
+                     "12.7", "Ø9.5",               # section, hole in the section view
+                     "3x Ø9.5 THRU", "2x Ø4.5 THRU (M4 CLEARANCE)", "6.25", "12.5",
+                     "2024-T3", "prototype-b"]:
+        assert expected in texts, expected
+
+
+def test_drawing_of_slot_pockets_gives_pocket_length_width_depth_and_tool():
+    texts = drawing_texts("rect_pockets")
+    lines = texts.splitlines()
+    for expected in ["8.9", "5.5", "1", "20", "8", "80", "112.5", "145"]:
+        assert expected in lines, expected
+    assert "SLOT 8.9 x 5.5 x 1 DEEP, R1.5 CORNERS (Ø3 END MILL)" in texts
+    assert "WIRE CHANNEL 1.5 WIDE x 0.5 DEEP" in texts
+    assert "3x LOAD GROOVE 0.5 WIDE x 0.3 DEEP ALL AROUND" in texts
+
+
+def test_drawing_of_flats_gives_across_flats_and_bore():
+    lines = drawing_texts("tube_flats").splitlines()
+    for expected in ["18", "Ø15", "Ø20", "(8.72)", "20", "50", "80", "200"]:
+        assert expected in lines, expected   # 20 - 2 x 1 across flats; chord 2 sqrt(10^2 - 9^2) = 8.72
+
+
+def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
+    from designer import drawing
+
+    a = drawing._length_axis(cad.resolve(record("prototype_a")))
+    assert len(a.gaps) == 1                                  # 123 -> 800 mm shortened
+    assert a(0.02) < a(0.12) < a(0.5) < a(0.8)
+    p = drawing._length_axis(cad.resolve(record("rect_pockets")))
+    assert p.gaps == ()                                      # short runs stay to scale
+    assert p(0.1) - p(0.0) == pytest.approx(100 * p.scale)
+
+
+def test_depth_buffer_keeps_the_nearer_triangle():
+    import numpy as np
+
+    from designer import drawing
+
+    # two triangles over the same 10 x 10 pixel square at depths 1 and 2 (larger is nearer)
+    square = np.array([[0, 0], [10, 0], [0, 10]], float)
+    xy = np.stack([square, square])
+    depth = np.array([[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]])
+    z = drawing._zbuffer(xy, depth, np.zeros(2), 1.0, (12, 12))
+    covered = np.isfinite(z)
+    assert np.all(z[covered] == 2.0)
+    # the lower-left half of the square: pixel centres with x + y < 10 -> 45 pixels (+ 10 on the diagonal)
+    assert 45 <= covered.sum() <= 55
+    assert not covered[11, 11]
+
+
+def test_model_picture_draws_both_panels():
+    from designer import drawing
+
+    beam = cad.resolve(record("prototype_b"))
+    fig = drawing.plot_model(cad.model_meshes(beam, cad.build_solid(beam)), beam)
+    assert len(fig.axes) == 2                                 # whole beam and the close-up
+    assert all(ax.collections for ax in fig.axes)
+
+
+# ----------------------------------------------------------------- bad input
+
+def mutate(name: str, change) -> dict:
+    rec = copy.deepcopy(record(name))
+    change(rec)
+    return rec
+
+
+BAD = {
+    "missing section": ("prototype_b", lambda r: r["design"].pop("section"), "design.section"),
+    "negative width": ("prototype_b", lambda r: r["design"]["section"].update(width=-0.0127),
+                       "design.section.width"),
+    "flat deeper than the wall": ("prototype_c_flats", lambda r: r["design"]["feature"].update(depth=0.002),
+                                  "design.feature.depth"),
+    "pocket deeper than half": ("rect_pockets", lambda r: r["design"]["feature"].update(depth=0.004),
+                                "design.feature.depth"),
+    "station off the beam": ("prototype_b", lambda r: r["design"].update(stations=[0.02, 0.06, 0.46]),
+                             "design.stations[2]"),
+    "pocket over the clamp face": ("rect_pockets", lambda r: r["design"].update(stations=[0.003, 0.06]),
+                                   "design.stations[0]"),
+    "holes overlapping": ("prototype_b", lambda r: r["design"].update(stations=[0.02, 0.025, 0.1]),
+                          "design.stations[1]"),
+    "clamp too short": ("prototype_b", lambda r: r["spec"]["cad"].update(clamp_length=0.01),
+                        "spec.cad.clamp_length"),
+    "end mill wider than the slot": ("rect_pockets", lambda r: r["spec"]["cad"].update(end_mill_diameter=0.006),
+                                     "spec.cad.end_mill_diameter"),
+    "groove off the beam": ("round_flats", lambda r: r["spec"]["cad"].update(groove_positions=[0.07, 0.125]),
+                            "spec.cad.groove_positions"),
+    "default groove at the free end": ("prototype_b", lambda r: r["spec"]["cad"].update(load_grooves=True),
+                                       "spec.cad.load_grooves"),
+    "channel deeper than the pocket": ("rect_pockets", lambda r: r["spec"]["cad"].update(channel_depth=0.0015),
+                                       "spec.cad.channel_depth"),
+    "unknown feature": ("prototype_b", lambda r: r["design"]["feature"].update(kind="slot"),
+                        "design.feature.kind"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_design_exits_2_names_the_key_and_writes_nothing(tmp_path, capsys, case):
+    name, change, key = BAD[case]
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(mutate(name, change)))
+    out = tmp_path / "out"
+    rc = main(["export", str(path), "--step", str(out / "b.step"), "--stl", str(out / "b.stl"),
+               "--svg", str(out / "d.svg"), "--png", str(out / "p.png")])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert key in err, err
+    assert "Traceback" not in err
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_messages_give_the_value_and_the_allowed_range():
+    with pytest.raises(cad.DesignFileError) as info:
+        cad.resolve(mutate("rect_pockets", lambda r: r["design"].update(stations=[0.02, 0.149])))
+    assert str(info.value) == ("design.stations[1]: 0.149 m (149 mm) is off the beam: with its 8.9 mm pocket it "
+                               "must lie between 4.45 mm and 145.55 mm from the clamp face (free length 150 mm)")
+
+
+def test_not_json_and_no_outputs_exit_2(tmp_path, capsys):
+    path = tmp_path / "design.json"
+    path.write_text("{not json")
+    assert main(["export", str(path), "--step", str(tmp_path / "b.step")]) == 2
+    assert main(["export", str(DATA / "cad_prototype_b.json")]) == 2
+    assert "at least one of --step" in capsys.readouterr().err
+    assert not (tmp_path / "b.step").exists()
+
+
+def test_cad_modules_import_without_cadquery_or_matplotlib():
+    code = ("import sys, designer.commands.cad, designer.cad, designer.drawing; "
+            "print('cadquery' in sys.modules, 'matplotlib' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                            cwd=Path(__file__).parent.parent)
+    assert result.stdout.split() == ["False", "False"]
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_cad_checks_its_own_needs_without_the_file_reader(case):
+    """The same bad designs rejected by ``cad.resolve`` alone (a record built in memory)."""
+    name, change, key = BAD[case]
+    with pytest.raises(cad.DesignFileError) as info:
+        cad.resolve(mutate(name, change))
+    assert key in str(info.value)
