@@ -37,7 +37,6 @@ cadquery and matplotlib are imported only inside the functions that need them.
 
 from __future__ import annotations
 
-import math
 import tempfile
 import time
 from dataclasses import asdict, dataclass

@@ -16,7 +16,6 @@ Meshes are coarse to keep the suite fast; each tolerance says why it suffices.
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 import pytest
