@@ -90,8 +90,10 @@ PLOT_HEADROOM = 1.6
 CG_TOLERANCE = 1e-10
 CG_MAX_ITERATIONS = 3000
 SMOOTHER_DAMPING = 1.5
-# Convergence: relative change between the two meshes that counts as converged.
-CONVERGED_STRAIN = 0.01
+# Convergence: relative change between the two meshes that counts as converged. For a
+# second-order rate the finer mesh's error is at most 0.8 x the change (1 / (1.5^2 - 1)) and in
+# practice far less (Prototype B: 1.8 % coarse to normal, then 0.2 % normal to fine).
+CONVERGED_STRAIN = 0.02
 CONVERGED_DEFLECTION = 0.01
 CONVERGED_STRESS = 0.05
 # A gauge-strain ratio further than this from 1 is worth a sentence in the report.
