@@ -272,7 +272,7 @@ def nlopt_solve(problem: FamilyProblem, method: str, params, x0) -> Solve:
         f, df, _, _ = fn(x, params)
         if grad.size > 0:
             grad[:] = np.nan_to_num(np.asarray(df).ravel(), nan=0.0)
-        return float(_finite(f))
+        return float(_finite(f).item())  # a 1x1 DM: float() of a 2-D array fails on numpy >= 2.4
 
     def constraints(result, x, grad):
         _, _, g, dg = fn(x, params)
