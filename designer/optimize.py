@@ -33,6 +33,10 @@ EPIGRAPH_UPPER = 1e6
 NAN_PENALTY = 1e6
 ALL_STARTS = False  # True: every start point even after a verified answer
 FEASIBILITY_TOLERANCE = 1e-9  # as evaluation.Evaluation.violations
+# When rounding to 0.01 mm breaks a limit that IPOPT's answer met (several limits active at
+# once, rounding each way breaks one), IPOPT solves again with every constraint tightened by
+# these normalised margins in turn until the rounded design checks out.
+ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)
 NLOPT_MAX_SECONDS = {"slsqp": 0.2, "mma": 0.2, "ccsaq": 0.2, "cobyla": 0.2, "isres": 0.5, "direct": 0.5}
 # (per nlopt run: a stalled method must not stall the search)
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -230,12 +234,13 @@ class FamilyProblem:
                                            nlp, opts)
         return self._ipopt[stage]
 
-    def solve(self, method: str, params, x0, stage: str = "primary") -> Solve:
+    def solve(self, method: str, params, x0, stage: str = "primary", margin: float = 0.0) -> Solve:
+        """One run; ``margin`` (IPOPT only) tightens every constraint to ``g <= -margin``."""
         lo, hi = self.bounds()
         if method == "ipopt":
             solver = self.ipopt(stage)
             try:
-                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=0.0)
+                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
             except RuntimeError as exc:
                 return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, method)
             stats = solver.stats()
@@ -534,6 +539,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
             elif not ev.feasible and ev.violations and not _only_targets(ev):
                 cand.fallbacks.append(f"{m} start {i + 1}: reported success but violates "
                                       + ", ".join(v.name for v in ev.violations))
+                if m == "ipopt":
+                    s, ev = _back_off(problem, params, material, s, ev, cand, f"{m} start {i + 1}")
             checked.append(ev)
             cand.evaluation = pick(checked)
             if s.success and ev.feasible and not ALL_STARTS:
@@ -545,6 +552,20 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
     if cand.evaluation is not None:
         cand.status = "optimal" if cand.evaluation.feasible else "infeasible"
     return cand
+
+
+def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, cand: Candidate, where: str):
+    """Rounding broke a limit: re-solve from the answer with the constraints tightened by each of
+    ROUNDING_MARGINS in turn; the first answer that rounds to a verified design replaces it."""
+    for margin in ROUNDING_MARGINS:
+        s2 = problem.solve("ipopt", params, s.x, margin=margin)
+        cand.solves.append(s2)
+        ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
+        if ev2 is not None and ev2.feasible:
+            cand.fallbacks.append(f"{where}: re-solved with every limit tightened by {margin:.0e}; "
+                                  "the rounded design meets every limit")
+            return s2, ev2
+    return s, ev
 
 
 def _only_targets(ev: Evaluation) -> bool:
