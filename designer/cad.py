@@ -287,7 +287,8 @@ def resolve(record: dict) -> BeamCad:
     section = _mapping(d.get("section"), "design.section")
     kind = section.get("kind")
     if kind not in SECTION_KINDS:
-        raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; must be {describe_allowed(SECTION_KINDS)}")
+        raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; "
+                              f"must be {describe_allowed(SECTION_KINDS)}")
     wall = None
     if kind == "rectangle":
         width = _length(section, "width", "design.section")
@@ -316,7 +317,8 @@ def resolve(record: dict) -> BeamCad:
     feature = _mapping(d.get("feature"), "design.feature")
     fkind = feature.get("kind")
     if fkind not in FEATURE_KINDS:
-        raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; must be {describe_allowed(FEATURE_KINDS)}")
+        raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; "
+                              f"must be {describe_allowed(FEATURE_KINDS)}")
     depth = p_len = p_wid = hole = 0.0
     if fkind == "pocket":
         depth = _length(feature, "depth", "design.feature")
@@ -855,7 +857,11 @@ def model_meshes(beam: BeamCad, solid) -> dict:
     gauge stations when they take up only part of a long beam."""
     size = max(beam.width, beam.height) / MM
     meshes = {"whole": tessellate(solid, tolerance_mm=max(0.02, size / 150))}
-    reach = beam.stations[-1] + beam.feature_length / 2 + 0.75 * max(beam.width, beam.height)
+    last = beam.stations[-1] + beam.feature_length / 2
+    reach = last + 0.75 * max(beam.width, beam.height)
+    if beam.grooves is not None:  # do not cut through a load groove
+        first = beam.grooves.positions[0] - beam.grooves.width
+        reach = max(min(reach, first), (last + beam.grooves.positions[0]) / 2)
     if reach < 0.6 * beam.length:
         meshes["detail"] = tessellate(clipped(solid, reach / MM), tolerance_mm=max(0.01, size / 300))
     return meshes

@@ -3,9 +3,11 @@
 ``plot_drawing(beam)`` draws an A3 sheet in first-angle projection: a side view (``X``-``Z``)
 above a top view (``X``-``Y``), an enlarged section through the first station, callouts for
 every machined feature, notes and a title block. Long plain runs of the beam are shortened
-with break lines and slender sections are drawn taller than their length scale; the
-dimensions, all from the clamp face, give the true sizes. ``plot_model(meshes, beam)`` renders
-the tessellated solid with simple lighting. Both take ``ax=None`` and return the figure.
+with break lines and a slender section is drawn deeper than the length scale (the view says
+so); the dimensions, along the beam all from the clamp face, give the true sizes.
+``plot_model(meshes, beam)`` renders the tessellated solid in orthographic projection: shaded
+triangles painted far to near, and the solid's edges with hidden parts removed against a depth
+buffer. Both take ``ax=None`` and return the figure; neither touches pyplot or rcParams.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .cad import MM, BeamCad, bolt_clearance, fmt_mm  # noqa: F401  (bolt_clearance: re-exported for notes)
+from .cad import MM, BeamCad, fmt_mm
 from .output import atomic_write_bytes
 
 # ----------------------------------------------------------------- sheet conventions
@@ -37,11 +39,12 @@ EXT_GAP = 1.0                 # gap between a feature and its extension line, mm
 EXT_OVER = 1.5                # extension line beyond the dimension line, mm
 BREAK_PAPER = 18.0            # paper length of a shortened plain run, mm
 BREAK_SHARE = 0.25            # a plain run is shortened when longer than this share of the rest ...
-BREAK_MIN_SIZES = 4.0         # ... and longer than this many section sizes
+BREAK_MIN_SIZES = 6.0         # ... and longer than this many section sizes
 BREAK_HALF_GAP = 1.6          # half the gap between the two break lines, mm
 VIEW_LEFT = 24.0              # left end of the main views, mm
 VIEW_WIDTH = 268.0            # paper length available to the main views, mm
-MIN_VIEW_DEPTH = 9.0          # a view is drawn at least this deep (mm), exaggerating if needed
+MIN_VIEW_DEPTH = 9.0          # a view is drawn at least this deep (mm), exaggerating if needed ...
+MIN_EXAGGERATION = 1.5        # ... by at least this factor (a thinner view is left true to scale)
 MAX_VIEW_DEPTH = 60.0         # the length scale is reduced so that no view is deeper (mm)
 MAX_LENGTH_SCALE = 4.0        # paper mm per model mm along the beam, at most
 CALLOUT_BAND = 13.0           # height of the band of feature notes between the views, mm
@@ -572,8 +575,8 @@ def plot_drawing(beam: BeamCad, ax=None):
     c = beam.clamp
     grooves = beam.grooves.positions if beam.grooves is not None else ()
     # across the beam the views keep the length scale, unless a slender section needs more
-    side_k = max(X.scale, MIN_VIEW_DEPTH / (c.height / MM))
-    top_k = max(X.scale, MIN_VIEW_DEPTH / (max(c.width, beam.width) / MM))
+    side_k = _depth_scale(X.scale, c.height)
+    top_k = _depth_scale(X.scale, max(c.width, beam.width))
     sh, th = c.height / 2, max(c.width, beam.width) / 2
     side_depth, top_depth = 2 * sh / MM * side_k, 2 * th / MM * top_k
 
@@ -671,6 +674,13 @@ def plot_drawing(beam: BeamCad, ax=None):
     return fig
 
 
+def _depth_scale(length_scale: float, size: float) -> float:
+    """The scale across the beam in a view: the length scale, unless the view would be thinner
+    than MIN_VIEW_DEPTH; small exaggerations (under MIN_EXAGGERATION) are not worth the distortion."""
+    needed = MIN_VIEW_DEPTH / (size / MM)
+    return needed if needed > MIN_EXAGGERATION * length_scale else length_scale
+
+
 def _scale_text(k: float) -> str:
     if k >= 1:
         return f"{k:g}:1"
@@ -682,7 +692,7 @@ def _callouts(pen, beam: BeamCad, X, YS, YT, y) -> None:
     c = beam.clamp
     items = []  # (target, text)
     bolt = f"M{fmt_mm(c.bolt_diameter)}"
-    items.append(((X(c.bolt_positions[1]), YT(0) + c.bolt_clearance / 2 / MM * _k(YT)),
+    items.append(((X(c.bolt_positions[1]), YT(c.bolt_clearance / 2)),
                   f"2x Ø{fmt_mm(c.bolt_clearance)} THRU ({bolt} CLEARANCE)"))
     d0 = beam.stations[0]
     if beam.feature == "pocket" and beam.section == "rectangle":
@@ -769,16 +779,12 @@ def _place_callouts(pen, items: list, y: float) -> None:
         pen.arrow(target, np.subtract(target, knee))
 
 
-def _k(Yfun) -> float:
-    """Paper mm per model mm of a view's transverse mapping."""
-    return (Yfun(MM) - Yfun(0.0))
-
-
 def _notes(pen, beam: BeamCad, X) -> None:
     lines = ["NOTES",
              "1. Dimensions in mm. Positions along the beam are from the clamp face (X = 0).",
-             "2. General tolerances ISO 2768-m. Break sharp edges, except at the gauge pockets' floors.",
-             "3. Gauge faces and pocket floors: flat, Ra 1.6 or better, free of burrs (strain gauges are bonded there).",
+             "2. General tolerances ISO 2768-m. Break sharp edges 0.2 max.",
+             "3. Gauge faces and pocket floors: flat, Ra 1.6 or better, free of burrs "
+             "(strain gauges are bonded there).",
              ]
     if beam.feature == "pocket":
         where = "all four faces" if beam.axes == 2 else "top and bottom faces"

@@ -23,6 +23,7 @@ import pytest
 
 from designer import cad
 from designer.cli import main
+from designer.errors import DesignFileError
 
 DATA = Path(__file__).parent / "data"
 MM = 1e-3
@@ -400,7 +401,7 @@ def test_bad_design_exits_2_names_the_key_and_writes_nothing(tmp_path, capsys, c
 
 
 def test_messages_give_the_value_and_the_allowed_range():
-    with pytest.raises(cad.DesignFileError) as info:
+    with pytest.raises(DesignFileError) as info:
         cad.resolve(mutate("rect_pockets", lambda r: r["design"].update(stations=[0.02, 0.149])))
     assert str(info.value) == ("design.stations[1]: 0.149 m (149 mm) is off the beam: with its 8.9 mm pocket it "
                                "must lie between 4.45 mm and 145.55 mm from the clamp face (free length 150 mm)")
@@ -427,6 +428,6 @@ def test_cad_modules_import_without_cadquery_or_matplotlib():
 def test_cad_checks_its_own_needs_without_the_file_reader(case):
     """The same bad designs rejected by ``cad.resolve`` alone (a record built in memory)."""
     name, change, key = BAD[case]
-    with pytest.raises(cad.DesignFileError) as info:
+    with pytest.raises(DesignFileError) as info:
         cad.resolve(mutate(name, change))
     assert key in str(info.value)
