@@ -27,7 +27,9 @@ TIE_TOLERANCE = 1e-3          # objectives within 0.1 % tie (MODEL.md section 5)
 IPOPT_TOLERANCE = 1e-9
 IPOPT_MAX_ITER = 300
 NLOPT_XTOL = 1e-8
-NLOPT_MAX_EVAL = {"slsqp": 500, "mma": 2000, "ccsaq": 2000, "cobyla": 4000, "isres": 20000, "direct": 20000}
+# Evaluation budgets per nlopt run: deterministic, unlike a wall-clock limit (CCSAQ's inner
+# solves make each of its evaluations about 10x dearer, hence its smaller budget).
+NLOPT_MAX_EVAL = {"slsqp": 500, "mma": 1000, "ccsaq": 200, "cobyla": 2000, "isres": 4000, "direct": 2000}
 GRID_LEVELS = 9               # points per section variable in the grid method
 EPIGRAPH_UPPER = 1e6
 NAN_PENALTY = 1e6
@@ -37,8 +39,11 @@ FEASIBILITY_TOLERANCE = 1e-9  # as evaluation.Evaluation.violations
 # once, rounding each way breaks one), IPOPT solves again with every constraint tightened by
 # these normalised margins in turn until the rounded design checks out.
 ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)
-NLOPT_MAX_SECONDS = {"slsqp": 0.2, "mma": 0.2, "ccsaq": 0.2, "cobyla": 0.2, "isres": 0.5, "direct": 0.5}
-# (per nlopt run: a stalled method must not stall the search)
+# MMA/CCSAQ inner iterations per outer step, and evaluations of their dual subproblem: both are
+# unbounded by default, and the dual solve alone can spin for seconds on these problems.
+CCSA_INNER_MAX_EVAL = 50
+CCSA_DUAL_MAX_EVAL = 100
+NLOPT_SAFETY_SECONDS = 5.0    # a stalled run must not stall the search; budgets end runs first
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
 BOUND_LIMITS = {"width_min", "width_max", "height_min", "height_max", "diameter_min", "diameter_max",
                 "wall_min", "pocket_depth_min", "hole_min"}
@@ -300,7 +305,10 @@ def nlopt_solve(problem: FamilyProblem, method: str, params, x0) -> Solve:
     opt.add_inequality_mconstraint(constraints, np.full(problem.n_constraints, 1e-10))
     opt.set_xtol_rel(NLOPT_XTOL)
     opt.set_maxeval(NLOPT_MAX_EVAL[method])
-    opt.set_maxtime(NLOPT_MAX_SECONDS[method])
+    opt.set_maxtime(NLOPT_SAFETY_SECONDS)
+    if method in ("mma", "ccsaq"):
+        opt.set_param("inner_maxeval", CCSA_INNER_MAX_EVAL)
+        opt.set_param("dual_maxeval", CCSA_DUAL_MAX_EVAL)
     if method == "isres":
         opt.set_population(20 * (n + 1))
         seed = 12345

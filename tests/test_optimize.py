@@ -172,8 +172,11 @@ def test_every_method_returns_a_verified_result(method):
     # whatever the method said, what is reported was checked
     assert outcome.best.feasible == all(c["satisfied"] for c in outcome.record["constraints"])
     assert outcome.success
-    ref = optimize.optimize(spec).best.objective
-    assert outcome.best.objective <= ref * 1.5  # a fallback to IPOPT is allowed and recorded
+    if method in ("slsqp", "mma", "cobyla"):
+        # local methods from the same start points reach IPOPT's answer or fall back to it;
+        # the global ones (DIRECT, grid) are measured, not bounded, by `fpdesign bench`
+        ref = optimize.optimize(spec).best.objective
+        assert outcome.best.objective <= ref * 1.01
 
 
 def test_unknown_method_is_bad_input(capsys):
