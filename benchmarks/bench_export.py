@@ -41,6 +41,7 @@ def main(argv=None) -> int:
     import matplotlib.figure  # noqa: F401
     t_mpl = time.perf_counter() - t0
     from designer import cad, drawing
+    from designer.designfile import load_design
 
     print(f"import cadquery {t_cq:.2f} s, matplotlib {t_mpl:.2f} s (once per process, not below)")
     print(f"median of {args.repeat} runs, seconds")
@@ -50,10 +51,10 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp)
         # warm up: fonts, OCCT statics
-        record = cad.load_record(paths[0])
+        record = load_design(paths[0])
         cad.export(record, step=out / "w.step", svg=out / "w.svg", png=out / "w.png")
         for path in paths:
-            record = cad.load_record(path)
+            record = load_design(path)
             beam = cad.resolve(record)
             solid = cad.build_solid(beam)
             t_solid = median_time(lambda: cad.build_solid(cad.resolve(record)), args.repeat)

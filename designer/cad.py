@@ -12,8 +12,8 @@ It carries, besides the section of the design:
   when biaxial): a slot pocket with corner radii equal to the end mill's radius on a
   rectangle, a flat on a round or tube, a through-hole along ``Y`` for ``hole``;
 - a shallow wire channel on each pocketed face, along its centre line from the farthest
-  pocket to the clamp face (it runs through the nearer pockets and ends at the clamp face in
-  the end mill's half circle);
+  pocket to the clamp face (it runs through the nearer pockets and ends in a half circle of
+  its own width centred on the clamp face, as its cutter leaves it);
 - optionally shallow load-position grooves all around the beam at the calibration positions.
 
 ``resolve(record)`` turns a design.json record into a validated ``BeamCad`` (SI, every
@@ -25,7 +25,6 @@ left behind. cadquery is imported only inside the functions that need it.
 from __future__ import annotations
 
 import contextlib
-import json
 import math
 import os
 import re
@@ -206,27 +205,6 @@ def _mm(value_m: float) -> str:
 
 
 # ----------------------------------------------------------------- reading and checking
-
-def load_record(path: str | os.PathLike) -> dict:
-    """Read design.json; the core reader validates the keys every command shares."""
-    try:
-        from .designfile import load_design
-    except ImportError:  # pragma: no cover - only before designer.designfile exists
-        return _read_json(path)
-    return load_design(path)
-
-
-def _read_json(path: str | os.PathLike) -> dict:
-    path = Path(path)
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError as exc:
-        raise DesignFileError(f"{path}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise DesignFileError(f"{path}: cannot be read ({exc})") from exc
-    except json.JSONDecodeError as exc:
-        raise DesignFileError(f"{path}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
-
 
 def _mapping(obj: Any, where: str) -> dict:
     if not isinstance(obj, dict):
@@ -630,13 +608,29 @@ def step_name(name: str) -> str:
 
 def write_step(solid, path: str | os.PathLike, name: str) -> Path:
     """Write ``solid`` (mm) as STEP AP214 in millimetres with one product named ``name``."""
+    path = Path(path)
+    with _temporary_sibling(path) as tmp:
+        _step_file(solid, tmp, name)
+        os.replace(tmp, path)
+    return path
+
+
+def write_stl(solid, path: str | os.PathLike) -> Path:
+    """Write ``solid`` (mm) as binary STL, 0.01 mm chordal tolerance."""
+    path = Path(path)
+    with _temporary_sibling(path) as tmp:
+        _stl_file(solid, tmp)
+        os.replace(tmp, path)
+    return path
+
+
+def _step_file(solid, path: Path, name: str) -> None:
     from OCP.IFSelect import IFSelect_ReturnStatus
     from OCP.Interface import Interface_Static
     from OCP.STEPControl import STEPControl_StepModelType, STEPControl_Writer
     from OCP.StepBasic import StepBasic_Product
     from OCP.TCollection import TCollection_HAsciiString
 
-    path = Path(path)
     writer = STEPControl_Writer()
     # The writer's unit settings are global to OCCT; cadquery's own exporter sets them the same way.
     Interface_Static.SetCVal_s("xstep.cascade.unit", "MM")
@@ -649,24 +643,16 @@ def write_step(solid, path: str | os.PathLike, name: str) -> Path:
         if isinstance(entity, StepBasic_Product):
             entity.SetName(TCollection_HAsciiString(label))
             entity.SetId(TCollection_HAsciiString(label))
-    with _temporary_sibling(path) as tmp:
-        status = writer.Write(str(tmp))
-        if status != IFSelect_ReturnStatus.IFSelect_RetDone:
-            raise FpdError(f"{path}: the STEP file could not be written ({status})")
-        os.replace(tmp, path)
-    return path
+    status = writer.Write(str(path))
+    if status != IFSelect_ReturnStatus.IFSelect_RetDone:
+        raise FpdError(f"{path}: the STEP file could not be written ({status})")
 
 
-def write_stl(solid, path: str | os.PathLike) -> Path:
-    """Write ``solid`` (mm) as binary STL, 0.01 mm chordal tolerance."""
-    path = Path(path)
-    with _temporary_sibling(path) as tmp:
-        ok = solid.exportStl(str(tmp), tolerance=STL_TOLERANCE_MM, angularTolerance=STL_ANGULAR_TOLERANCE,
-                             ascii=False, relative=False)
-        if not ok:
-            raise FpdError(f"{path}: the STL file could not be written")
-        os.replace(tmp, path)
-    return path
+def _stl_file(solid, path: Path) -> None:
+    ok = solid.exportStl(str(path), tolerance=STL_TOLERANCE_MM, angularTolerance=STL_ANGULAR_TOLERANCE,
+                         ascii=False, relative=False)
+    if not ok:
+        raise FpdError(f"{path}: the STL file could not be written")
 
 
 def _file_mode() -> int:
@@ -773,12 +759,6 @@ def clipped(solid, x_max_mm: float):
 
 # ----------------------------------------------------------------- writing everything
 
-@dataclass(frozen=True)
-class _Output:
-    kind: str    # step | stl | svg | png | drawing_png
-    path: Path
-
-
 def export(record: dict, step=None, stl=None, svg=None, png=None, drawing_png=None) -> dict[str, Path]:
     """Write the requested files for a design.json record; returns ``{kind: path}``.
 
@@ -814,14 +794,29 @@ def write_cad_outputs(design: dict, out_dir: str | os.PathLike) -> dict[str, Pat
 
 
 def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]:
+    """Make every file in a temporary file beside its target; move them all into place only
+    when all succeeded. The drawing is drawn once for both of its formats."""
     staged: list[tuple[Path, Path]] = []
+    sheet = None
     try:
         for kind, target in wanted.items():
             target.parent.mkdir(parents=True, exist_ok=True)
             fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
             os.close(fd)
-            staged.append((Path(tmp), target))
-            _write_one(kind, beam, solid, Path(tmp))
+            tmp = Path(tmp)
+            staged.append((tmp, target))
+            if kind == "step":
+                _step_file(solid, tmp, beam.name)
+            elif kind == "stl":
+                _stl_file(solid, tmp)
+            else:
+                from . import drawing
+
+                if kind == "png":
+                    tmp.write_bytes(drawing.figure_bytes(drawing.plot_model(model_meshes(beam, solid), beam), "png"))
+                else:
+                    sheet = sheet or drawing.plot_drawing(beam)
+                    tmp.write_bytes(drawing.figure_bytes(sheet, "svg" if kind == "svg" else "png"))
         mode = _file_mode()
         for tmp, target in staged:
             os.chmod(tmp, mode)
@@ -831,25 +826,6 @@ def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(tmp)
     return dict(wanted)
-
-
-def _write_one(kind: str, beam: BeamCad, solid, path: Path) -> None:
-    if kind == "step":
-        write_step(solid, path, beam.name)
-    elif kind == "stl":
-        write_stl(solid, path)
-    elif kind in ("svg", "drawing_png"):
-        from . import drawing
-
-        fig = drawing.plot_drawing(beam)
-        drawing.save_figure(fig, path, "svg" if kind == "svg" else "png")
-    elif kind == "png":
-        from . import drawing
-
-        fig = drawing.plot_model(model_meshes(beam, solid), beam)
-        drawing.save_figure(fig, path, "png")
-    else:  # pragma: no cover - the callers above name the kinds
-        raise ValueError(kind)
 
 
 def model_meshes(beam: BeamCad, solid) -> dict:

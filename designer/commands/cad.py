@@ -23,11 +23,12 @@ def register(subparsers) -> None:
 
 def run_export(args) -> int:
     from .. import cad
+    from ..designfile import load_design
 
     outputs = {"step": args.step, "stl": args.stl, "svg": args.svg, "png": args.png, "drawing_png": args.drawing_png}
     if not any(outputs.values()):
         raise InputError("export: nothing to write; give at least one of --step, --stl, --svg, --drawing-png, --png")
-    record = cad.load_record(args.design)
+    record = load_design(args.design)
     written = cad.export(record, **outputs)
     for kind, path in written.items():
         print(f"wrote {path}")
