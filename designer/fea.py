@@ -127,6 +127,9 @@ class GaugeCheck:
         return abs(self.fea_strain - self.coarse_strain) / abs(self.fea_strain)
 
 
+LIMIT_TOLERANCE = 1e-9  # as evaluation.Evaluation.violations
+
+
 @dataclass(frozen=True)
 class LimitCheck:
     """A limit of MODEL.md section 4 with the beam model's value and the value the 3-D check gives."""
@@ -138,14 +141,21 @@ class LimitCheck:
     upper: bool
     source: str             # how fea_value was obtained
     unit: str = ""
+    scale: float | None = None  # as model.Limit: the normalising scale (None: the limit itself)
+
+    def _holds(self, value: float) -> bool:
+        """The model's rule: the normalised violation at most 1e-9 (model.Limit, evaluation)."""
+        gap = value - self.limit if self.upper else self.limit - value
+        scale = self.scale if self.scale is not None else abs(self.limit)
+        return gap / (scale or 1.0) <= LIMIT_TOLERANCE
 
     @property
     def satisfied(self) -> bool:
-        return self.fea_value <= self.limit if self.upper else self.fea_value >= self.limit
+        return self._holds(self.fea_value)
 
     @property
     def model_satisfied(self) -> bool:
-        return self.model_value <= self.limit if self.upper else self.model_value >= self.limit
+        return self._holds(self.model_value)
 
 
 @dataclass(frozen=True)
@@ -763,7 +773,9 @@ def _recheck(ev, spec, gauges, main: _Figures, a) -> tuple:
     out = []
     for lim in ev.limits:
         value, source = fea.get(lim.name, (float(lim.value), "geometry: as the model"))
-        out.append(LimitCheck(lim.name, float(lim.value), value, float(lim.limit), lim.upper, source, lim.unit))
+        scale = None if lim.scale is None else float(lim.scale)
+        out.append(LimitCheck(lim.name, float(lim.value), value, float(lim.limit), lim.upper, source, lim.unit,
+                              scale))
     out.append(LimitCheck("stress_peak", float(a.max_stress), main.peak.value, float(ev.limits[0].limit), True,
                           f"3-D peak von Mises stress ({main.peak.where})", "Pa"))
     return tuple(out)

@@ -204,3 +204,21 @@ def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     assert g[-3] + x[-1] == pytest.approx(float(ev.analysis.force_error) / spec.targets.force_error)
     assert g[-2] + x[-1] == pytest.approx(float(ev.analysis.position_error) / spec.targets.position_error)
     assert e == pytest.approx(ev.error_ratio)
+
+
+def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
+    # The probe's optimum sits on the stress limit at the pocket edge by beam theory; the 3-D
+    # model adds the concentration at the pocket corners (fea.py), so --verify must report it.
+    out = tmp_path / "out"
+    code = main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(out), "--no-plots", "--no-cad", "--quiet",
+                 "--verify", "--verify-mesh", "coarse"])
+    text = capsys.readouterr().out
+    record = json.loads((out / "design.json").read_text())
+    verification = record["verification"]
+    assert {"gauges", "deflection", "stress", "limits"} <= set(verification)
+    failed = [c["name"] for c in verification["limits"] if not c["satisfied"]]
+    assert "stress_peak" in failed
+    assert all(c["model_satisfied"] for c in verification["limits"])  # the beam model passed it
+    assert code == 1 and record["status"] == "infeasible"
+    assert "3-D check" in " ".join(record["messages"]) and "FAILS" in text
+    assert (out / "verify.md").exists() and (out / "surface-strain.png").exists()

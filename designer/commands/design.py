@@ -19,6 +19,8 @@ def register(sub) -> None:
     p.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
     p.add_argument("--no-plots", action="store_true", help="do not write the plots")
     p.add_argument("--verify", action="store_true", help="check the chosen design with a 3-D finite-element model")
+    p.add_argument("--verify-mesh", choices=("coarse", "normal", "fine"), default="normal",
+                   help="mesh of the 3-D check [normal]")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run_optimize)
 
@@ -57,8 +59,10 @@ def _optional(module: str):
         raise
 
 
-def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None) -> None:
-    """design.json, report.md and, when asked, the CAD model and the plots: all or nothing."""
+def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
+                  writers=()) -> None:
+    """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
+    ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing."""
     from .. import report
     from ..errors import InputError
     from ..output import atomic_write_json, atomic_write_text, staged_directory
@@ -73,6 +77,8 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         if plots and (plot_module := _optional("designer.plots")) is not None:
             written = plot_module.write_design_plots(record, scratch, **(extra_plots or {}))
             files["plots"] = sorted(Path(p).name for p in written)
+        for write in writers:
+            files.update({k: Path(v).name for k, v in write(scratch).items()})
         files["report"] = "report.md"
         atomic_write_text(scratch / "report.md", report.markdown(record))
         atomic_write_json(scratch / "design.json", record)
@@ -123,23 +129,34 @@ def run_optimize(args) -> int:
     outcome = optimize.optimize(spec, method=args.method, progress=not args.quiet and sys.stderr.isatty())
     record = outcome.record
     _large_deflection(record)
-    if args.verify:
-        fea = _optional("designer.fea")
-        if fea is not None:
-            verdict = fea.verify_design(record, out_dir=None)
-            record["verification"] = verdict.as_dict() if hasattr(verdict, "as_dict") else dict(vars(verdict))
-            if not getattr(verdict, "passed", True):
-                record["messages"].append("the 3-D check finds limits the beam model missed: " +
-                                          "; ".join(getattr(verdict, "messages", [])))
+    writers = [_verify(record, args.verify_mesh)] if args.verify and record["status"] == "optimal" else []
     extra = None
     if not args.no_plots and outcome.success and spec.objective == "error":
         from ..tradeoff import fronts
 
         extra = {"tradeoff": fronts(spec, outcome)}
-    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra)
+    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
+                  writers=writers)
     report.print_summary(record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if record["status"] == "optimal" else 1
+
+
+def _verify(record: dict, mesh: str = "normal"):
+    """Check the chosen design in 3-D; a design that fails is reported, never shipped silently."""
+    from .. import fea
+
+    verdict = fea.verify_design(record, mesh=mesh)
+    summary = verdict.as_dict()
+    summary.pop("profile", None)  # the strain profile goes to verify.json only
+    record["verification"] = summary
+    if not verdict.passed:
+        failed = [c.name for c in verdict.limits if not c.satisfied]
+        record["status"] = "infeasible"
+        record["messages"].append("the 3-D check (fpdesign verify) finds limits the beam model missed: "
+                                  + ", ".join(failed) + "; see verify.md")
+    record["messages"].extend(m for m in verdict.messages if m not in record["messages"])
+    return lambda scratch: fea.write_outputs(verdict, scratch)
 
 
 def _design_record(path: str) -> dict:
