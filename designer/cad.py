@@ -733,9 +733,15 @@ def tessellate(solid, tolerance_mm: float, angular_tolerance: float = 0.2) -> di
     in mm: its triangles and its B-rep edges as polylines."""
     import numpy as np
 
+    from OCP.BRep import BRep_Tool
+
     vertices, triangles = solid.tessellate(tolerance_mm, angular_tolerance)
+    # seam edges close a periodic surface (a cylinder) on itself: not edges anyone sees
+    seams = [e for f in solid.Faces() for e in f.Edges() if BRep_Tool.IsClosed_s(e.wrapped, f.wrapped)]
     edges = []
     for edge in solid.Edges():
+        if any(edge.isSame(seam) for seam in seams):
+            continue
         if edge.geomType() == "LINE":
             count = 2
         else:
