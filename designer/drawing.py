@@ -787,9 +787,9 @@ def _notes(pen, beam: BeamCad, X) -> None:
              "(strain gauges are bonded there).",
              ]
     if beam.feature == "pocket":
-        where = "all four faces" if beam.axes == 2 else "top and bottom faces"
+        where = "all four faces" if beam.axes == 2 else "the top and bottom faces"
         what = "slot pockets" if beam.section == "rectangle" else "flats"
-        lines.append(f"4. Identical {what} at every station, on the {where}, centred on the gauge stations.")
+        lines.append(f"4. Identical {what} at every station, on {where}, centred on the gauge stations.")
     elif beam.feature == "hole":
         lines.append("4. Through-holes on the beam's axis at every station, square to the gauge faces.")
     else:
