@@ -16,18 +16,24 @@ SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube"
 FEATURE_KEYS = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "none": ()}
 
 
-def load_design(path: str | Path) -> dict:
+def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
+    """The JSON in ``path``; a missing, unreadable or malformed file raises ``error`` (an InputError)."""
     path = Path(path)
+    where = f"{what} {path}".strip()
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError as exc:
-        raise DesignFileError(f"{path}: no such file") from exc
+        raise error(f"{where}: no such file") from exc
     except (OSError, UnicodeDecodeError) as exc:
-        raise DesignFileError(f"{path}: cannot be read ({exc})") from exc
+        raise error(f"{where}: cannot be read ({exc})") from exc
     try:
-        record = json.loads(text)
+        return json.loads(text)
     except json.JSONDecodeError as exc:
-        raise DesignFileError(f"{path}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
+        raise error(f"{where}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
+
+
+def load_design(path: str | Path) -> dict:
+    record = read_json(path)
     validate(record, source=str(path))
     return record
 

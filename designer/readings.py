@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import re
 from pathlib import Path
@@ -20,7 +19,8 @@ import numpy as np
 
 from .calibration import (STANDARD_GRAVITY, Bridge, Calibration, CalibrationFileError, LoadSet, Measurement,
                           Readings, bridges_for, design_constants, scheme_loads, axis_force, SCHEMES)
-from .errors import CsvError, DesignFileError, InputError
+from .designfile import load_design, read_json
+from .errors import CsvError, InputError
 from .output import atomic_write_json, atomic_write_text
 
 LOAD_COLUMNS = ("force_N", "mass_g", "position_mm", "angle_deg")
@@ -244,29 +244,12 @@ def write_plan(path, plan) -> Path:
 # --------------------------------------------------------------------- design.json, calibration.json
 
 def read_design(path) -> dict:
-    """A design.json record (SPEC.md), through ``designer.designfile`` where it is available."""
-    try:
-        from .designfile import load_design
-    except ImportError:  # the design-file reader is optional for calibration
-        return _read_json(path, DesignFileError)
+    """A validated design.json record (SPEC.md)."""
     return load_design(path)
 
 
-def _read_json(path, error: type):
-    """The JSON in ``path``; a missing, unreadable or malformed file raises ``error``."""
-    path = Path(path)
-    try:
-        return json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError as exc:
-        raise error(f"{path}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise error(f"{path}: cannot be read ({exc})") from exc
-    except json.JSONDecodeError as exc:
-        raise error(f"{path}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
-
-
 def read_calibration(path) -> Calibration:
-    record = _read_json(path, CalibrationFileError)
+    record = read_json(path, CalibrationFileError)
     try:
         return Calibration.from_dict(record)
     except CalibrationFileError as exc:
