@@ -8,7 +8,7 @@ expressions therefore drive the solver and the check of its answer.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Callable
 
 import numpy as np

@@ -8,12 +8,11 @@ thorough: the yardstick the optimiser's answers are measured against (tests, ``b
 
 from __future__ import annotations
 
-from dataclasses import replace
 
 import numpy as np
 
 from . import model
-from .evaluation import Design, Evaluation
+from .evaluation import Evaluation
 from .model import MaterialParams
 from .optimize import MM, Family, FamilyProblem, material_params, pick, round_and_check
 
