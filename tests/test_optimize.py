@@ -222,3 +222,18 @@ def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
     assert code == 1 and record["status"] == "infeasible"
     assert "3-D check" in " ".join(record["messages"]) and "FAILS" in text
     assert (out / "verify.md").exists() and (out / "surface-strain.png").exists()
+
+
+def test_infeasible_design_with_cad_still_writes_design_json(tmp_path, capsys):
+    # No room for the stations: the least-infeasible design has overlapping features, which the
+    # CAD module refuses to build; the run must still report it (exit 1), not fail as bad input.
+    path = tmp_path / "spec.yaml"
+    path.write_text(_spec_text(load="  force: [1 N, 20 N]\n  position: [20 mm, 150 mm]"))
+    out = tmp_path / "out"
+    code = main(["optimize", str(path), "-o", str(out), "--no-plots", "--quiet"])
+    text = capsys.readouterr()
+    assert code == 1, text.err
+    record = json.loads((out / "design.json").read_text())
+    assert record["status"] == "infeasible"
+    step = list(out.glob("*.step"))
+    assert step or any("no CAD model" in m for m in record["messages"])

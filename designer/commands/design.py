@@ -7,7 +7,7 @@ import math
 import sys
 from pathlib import Path
 
-from ..errors import SpecError
+from ..errors import DesignFileError, SpecError
 
 
 def register(sub) -> None:
@@ -72,8 +72,15 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
     with staged_directory(out_dir) as scratch:
         files = record.setdefault("files", {})
         if cad and (cad_module := _optional("designer.cad")) is not None:
-            written = cad_module.write_cad_outputs(record, scratch)
-            files.update({k: Path(v).name for k, v in written.items()})
+            try:
+                written = cad_module.write_cad_outputs(record, scratch)
+            except DesignFileError as exc:
+                if record["status"] != "infeasible":
+                    raise
+                # the least-infeasible design may not be buildable (features overlapping)
+                record["messages"].append(f"no CAD model for this infeasible design: {exc}")
+            else:
+                files.update({k: Path(v).name for k, v in written.items()})
         if plots and (plot_module := _optional("designer.plots")) is not None:
             written = plot_module.write_design_plots(record, scratch, **(extra_plots or {}))
             files["plots"] = sorted(Path(p).name for p in written)
