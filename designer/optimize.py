@@ -544,7 +544,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
                 continue
             if not s.success:
                 cand.fallbacks.append(f"{m} start {i + 1}: {s.message}")
-            elif not ev.feasible and ev.violations and not _only_targets(ev):
+            elif not ev.feasible and ev.violations and not (problem.epigraph and _only_targets(ev)):
                 cand.fallbacks.append(f"{m} start {i + 1}: reported success but violates "
                                       + ", ".join(v.name for v in ev.violations))
                 if m == "ipopt":
