@@ -667,7 +667,9 @@ def break_ties(candidates: list, problems: dict) -> None:
         x0 = _start_from(problem, cand.evaluation)
         if problem.epigraph:
             x0[-1] = min(x0[-1], cap)
-        s = problem.solve("ipopt", material_params(material, problem.spec, cap), x0, stage="secondary")
+        # the NLP's primary objective is in mm (deflection) or g (mass), Evaluation.objective in SI
+        nlp_cap = cap * {"deflection": 1 / MM, "mass": 1e3}.get(problem.spec.objective, 1.0)
+        s = problem.solve("ipopt", material_params(material, problem.spec, nlp_cap), x0, stage="secondary")
         cand.solves.append(s)
         ev = round_and_check(problem.design(s.x, material), problem.spec)
         if ev is not None and ev.feasible and ev.objective <= lead * (1 + TIE_TOLERANCE) and \
