@@ -1,0 +1,191 @@
+"""fpdesign bench (issue 5): the generated suite, the verdicts, the files and the command."""
+
+from __future__ import annotations
+
+import csv
+import math
+
+import pytest
+
+from designer import bench, optimize
+from designer.cli import main
+from designer.errors import InputError
+from designer.spec import parse_spec_text
+
+TINY_METHODS = ("ipopt", "slsqp", "grid")
+
+
+@pytest.fixture(scope="module")
+def tiny():
+    """Three generated specs (one of them infeasible by construction) and three methods."""
+    suite = bench.generate_suite(3, seed=7, kinds=["millinewton", "infeasible-room", "short-beam"])
+    return bench.run_bench(suite, TINY_METHODS, levels=4, seed=7)
+
+
+def test_suite_is_reproducible_from_its_seed_and_a_short_suite_starts_a_long_one():
+    a = bench.generate_suite(len(bench.KINDS), seed=3)
+    b = bench.generate_suite(len(bench.KINDS), seed=3)
+    assert [s.text for s in a] == [s.text for s in b]
+    assert [s.text for s in bench.generate_suite(4, seed=3)] == [s.text for s in a[:4]]
+    other = bench.generate_suite(len(bench.KINDS), seed=4)
+    assert all(x.text != y.text for x, y in zip(a, other))
+
+
+def test_suite_holds_every_kind_and_each_spec_reads_back_through_the_spec_reader():
+    suite = bench.generate_suite(len(bench.KINDS), seed=0)
+    assert [s.kind for s in suite] == list(bench.KINDS)
+    for item in suite:
+        assert parse_spec_text(item.text) == item.spec
+    specs = {s.kind: s.spec for s in suite}
+    assert specs["millinewton"].load.force_min < 0.01          # N
+    assert specs["kilonewton"].load.force_max >= 1000
+    assert specs["short-beam"].load.position_max < 0.02        # m
+    assert specs["long-beam"].load.position_max >= 0.5
+    imperial = next(s for s in suite if s.kind == "imperial")
+    assert " in" in imperial.text and "lbf" in imperial.text and "mm" not in imperial.text
+    tight, loose = specs["tight-limits"], specs["loose-limits"]
+    assert tight.limits.max_deflection is not None and tight.limits.min_frequency is not None
+    assert loose.limits.max_deflection is None
+    expected = {s.kind: s.expected for s in suite}
+    assert {k for k, v in expected.items() if v == "infeasible"} == set(bench.INFEASIBLE_KINDS)
+    assert expected["nearly-infeasible"] == "feasible"
+
+
+def test_unknown_kind_is_bad_input():
+    with pytest.raises(InputError, match="kind 'huge' is not allowed"):
+        bench.generate_suite(1, kinds=["huge"])
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("kind", bench.INFEASIBLE_KINDS)
+def test_specs_built_infeasible_are_reported_infeasible(kind, seed):
+    # Each is built on a proof (a lower bound on the force error, the room the stations need, or
+    # the deflection of the stiffest beam allowed), so no method may find a design.
+    (item,) = bench.generate_suite(1, seed=seed, kinds=[kind])
+    assert item.expected == "infeasible"
+    run = bench.run_method(item, "ipopt")
+    assert run.status == "infeasible" and not run.error
+    assert not run.feasible and run.violated
+    truth = bench.establish_truth(item, [run], levels=3)
+    assert not truth.feasible and not truth.reference_feasible
+
+
+def test_nearly_infeasible_spec_is_feasible_with_little_to_spare():
+    (item,) = bench.generate_suite(1, seed=0, kinds=["nearly-infeasible"])
+    outcome = optimize.optimize(item.spec)
+    assert outcome.success
+    assert 0.9 < outcome.best.objective <= 1.0
+
+
+def test_tiny_bench_verdicts_and_failures(tiny):
+    truths = tiny.truths
+    assert len(tiny.runs) == 3 * len(TINY_METHODS)
+    infeasible = [t for t in truths.values() if t.expected == "infeasible"]
+    assert infeasible and all(not t.feasible for t in infeasible)
+    assert not bench.construction_mismatches(tiny)
+    for run in tiny.runs:
+        truth = tiny.truth(run)
+        assert not run.error
+        if truth.feasible:
+            g = bench.gap(run, truth)
+            assert g is not None and g >= 0
+        else:
+            assert run.status == "infeasible" and bench.gap(run, truth) is None
+    ipopt = next(r for r in bench.method_summary(tiny) if r["method"] == "ipopt")
+    assert ipopt["violating"] == 0 and ipopt["missed"] == 0 and ipopt["exception"] == 0
+
+
+def test_tiny_bench_writes_chart_tables_and_summary(tiny, tmp_path):
+    paths = bench.write_bench(tiny, tmp_path / "out")
+    names = {p.relative_to(tmp_path / "out").as_posix() for p in paths}
+    assert {"bench.md", "bench.png", "stability.md", "stability.csv", "runs.csv", "specs.csv"} <= names
+    assert {f"suite/{s.name}.yaml" for s in tiny.suite} <= names
+    out = tmp_path / "out"
+    assert (out / "bench.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    md = (out / "bench.md").read_text()
+    assert "![Solve time against objective gap](bench.png)" in md
+    for m in TINY_METHODS:
+        assert f"| {m} |" in md
+    rows = list(csv.DictReader((out / "stability.csv").open()))
+    assert {(r["method"], r["kind"]) for r in rows} == {(m, k) for m in TINY_METHODS
+                                                         for k in ("millinewton", "infeasible-room", "short-beam")}
+    runs = list(csv.DictReader((out / "runs.csv").open()))
+    assert len(runs) == 9
+    assert not list(out.parent.glob(".out.*"))  # no scratch folder left behind
+
+
+def test_chart_takes_an_axes_and_returns_its_figure(tiny):
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    ax = fig.add_subplot()
+    assert bench.chart(bench.chart_data(tiny), ax=ax) is fig
+    assert ax.get_xscale() == "log" and ax.get_yscale() == "symlog"
+    assert "s (log scale)" in ax.get_xlabel() and "%" in ax.get_ylabel()
+
+
+def test_gap_counts_the_tie_band_as_zero_and_a_missing_design_as_infinite():
+    truth = bench.Truth("s", "k", None, True, 2.0, 2.0, "ipopt", 2.0, True, 0.0, "error")
+    run = bench.Run("s", "k", "grid", 0.1, status="optimal", objective=2.0 * (1 + 0.0009), worst_violation=0.0)
+    assert bench.gap(run, truth) == 0
+    run.objective = 2.2
+    assert bench.gap(run, truth) == pytest.approx(0.1)
+    run.status, run.worst_violation = "infeasible", 0.3
+    assert math.isinf(bench.gap(run, truth))
+    assert bench.failures(run, truth) == {"exception": 0, "violating": 0, "missed": 1, "unreadable": 0}
+    run.status = "optimal"
+    assert bench.failures(run, truth)["violating"] == 1
+
+
+def test_pareto_front():
+    points = [(1.0, 0.0), (0.5, 0.0), (0.1, 0.2), (0.2, 0.3), (2.0, math.inf)]
+    assert bench.pareto_front(points) == {1, 2}
+
+
+def test_a_method_that_raises_is_recorded_not_raised(monkeypatch):
+    (item,) = bench.generate_suite(1, seed=0, kinds=["millinewton"])
+
+    def broken(*args, **kwargs):
+        raise optimize.SolverError("no solver returned a design that could be evaluated")
+
+    monkeypatch.setattr(optimize, "optimize", broken)
+    run = bench.run_method(item, "mma")
+    assert run.error.startswith("SolverError: no solver returned")
+    truth = bench.Truth(item.name, item.kind, None, True, 1.0, 1.0, "reference", 1.0, True, 0.0, "error")
+    assert bench.failures(run, truth)["exception"] == 1
+
+
+def test_bench_command_writes_its_files_and_prints_the_table(tmp_path, capsys):
+    specs = tmp_path / "specs"
+    specs.mkdir()
+    out = tmp_path / "out"
+    code = main(["bench", "--specs", str(specs), "--count", "2", "--methods", "ipopt,grid", "--levels", "3",
+                 "-o", str(out), "--quiet"])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert (out / "bench.md").is_file() and (out / "bench.png").is_file()
+    assert "ipopt" in text and "grid" in text and "median" in text
+
+
+def test_bench_leaves_fixed_designs_out_of_the_examples(examples):
+    suite, skipped = bench.example_suite(examples)
+    assert {s.name for s in suite} >= {"gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"}
+    assert "prototype-a.yaml" in skipped
+    assert all(s.spec.design is None and s.kind == "example" for s in suite)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--methods", "ipopt,newton"], "--methods: 'newton' is not a method"),
+    (["--count", "-1"], "--count: -1 must be 0 or more"),
+    (["--specs", "no-such-folder"], "--specs: no-such-folder is not a folder"),
+    (["--count", "0", "--specs", "EMPTY"], "nothing to run"),
+])
+def test_bench_bad_input_exits_2_with_a_message(argv, message, tmp_path, capsys):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    argv = [str(empty) if a == "EMPTY" else a for a in argv]
+    code = main(["bench", *argv, "-o", str(tmp_path / "out"), "--quiet"])
+    err = capsys.readouterr().err
+    assert code == 2
+    assert message in err and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
