@@ -1228,8 +1228,9 @@ def chart(data: dict, ax=None):
         xerr = [[t - r["seconds_low"]], [r["seconds_high"] - t]]
         yerr = [[y(g) - y(r["gap_low"])], [y(r["gap_high"]) - y(g)]]
         c = colours[r["method"]]
-        ax.errorbar(t, y(g), xerr=xerr, yerr=yerr, fmt="o", ms=9, color=c, mec="black", mew=0.8,
-                    elinewidth=1.4, capsize=3, zorder=3)
+        default = r["method"] == "ipopt"  # a diamond on top: no other point hides it
+        ax.errorbar(t, y(g), xerr=xerr, yerr=yerr, fmt="D" if default else "o", ms=8 if default else 9, color=c,
+                    mec="black", mew=1.4 if default else 0.8, elinewidth=1.4, capsize=3, zorder=5 if default else 3)
         label = r["method"] + (" (default)" if r["method"] == "ipopt" else "")
         ax.annotate(label, (t, y(g)), xytext=offset, textcoords="offset points", fontsize=9,
                     fontweight="bold" if r["method"] == "ipopt" else "normal", color=c, zorder=4)
@@ -1250,7 +1251,8 @@ def chart(data: dict, ax=None):
     ax.set_title(f"Speed against accuracy: {len(methods)} methods on {data['feasible_specs']} feasible specs "
                  f"(of {data['specs']})", fontsize=11)
     ax.grid(True, which="major", alpha=0.3)
-    handles = [Line2D([], [], marker="o", ls="", color=colours[r["method"]], mec="black", ms=8, label=r["method"])
+    handles = [Line2D([], [], marker="D" if r["method"] == "ipopt" else "o", ls="", color=colours[r["method"]],
+                      mec="black", ms=7 if r["method"] == "ipopt" else 8, label=r["method"])
                for r in methods]
     handles += [Line2D([], [], marker="o", ls="", color="0.5", alpha=0.3, ms=5, label="one spec"),
                 Line2D([], [], marker="x", ls="", color="0.5", ms=5, label="one spec, no design"),
@@ -1271,7 +1273,8 @@ def _label_offsets(points) -> list:
         if t is None or g is None:
             continue
         stack = [j for j in stack if points[j][1] == g and t / points[j][0] < 4]
-        out[i] = (7, 7 + 12 * len(stack))
+        used = {out[j] for j in stack}
+        out[i] = next(o for o in ((7, 7 + 12 * k) for k in range(len(points) + 1)) if o not in used)
         stack.append(i)
     return out
 
