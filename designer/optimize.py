@@ -17,7 +17,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from . import catalogue, model
-from .errors import InputError, SolverError, SpecError, describe_allowed
+from .designfile import validate
+from .errors import DesignFileError, InputError, SolverError, SpecError, describe_allowed
 from .evaluation import ROUNDING, Design, Evaluation, evaluate
 from .model import Geometry, MaterialParams
 
@@ -360,6 +361,8 @@ def grid_solve(problem: FamilyProblem, params) -> Solve:
         lims = model.limits(g, a, material, problem.spec, include_targets=not problem.epigraph)
         viol = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(x),))
                                 for lim in lims]), axis=0)
+        rules = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(x),))
+                                 for lim in model.section_limits(g, problem.spec)]), axis=0)
     viol = np.where(np.isnan(viol), np.inf, viol)
     if problem.epigraph:
         f = np.maximum(a.force_error / problem.spec.targets.force_error,
@@ -372,6 +375,8 @@ def grid_solve(problem: FamilyProblem, params) -> Solve:
     feasible = viol <= 0
     if feasible.any():
         best = int(np.argmin(np.where(feasible, f, np.inf)))
+    elif (rules <= 0).any():  # the least violating of the points that are beams at all
+        best = int(np.argmin(np.where(rules <= 0, viol, np.inf)))
     else:
         best = int(np.argmin(viol))
     xb = x[best]
@@ -457,7 +462,22 @@ def pick(evaluations: list) -> Evaluation | None:
     feasible = [ev for ev in evaluations if ev.feasible]
     if feasible:
         return rank(feasible)[0]
-    return min(evaluations, key=lambda ev: ev.worst_violation, default=None)
+    return min(evaluations, key=lambda ev: (not buildable(ev), ev.worst_violation), default=None)
+
+
+def buildable(ev: Evaluation) -> bool:
+    """Whether the design is a beam at all (a pocket shallower than the wall, a hole narrower than
+    the bar, ...), as ``designfile.validate`` judges it: a least-infeasible design that is not
+    could not be plotted, exported or simulated from its design.json."""
+    d, g = ev.design, ev.design.geometry
+    record = {"material": d.material.name, "material_properties": d.material.properties(),
+              "section": d.section_dict(), "feature": d.feature_dict(),
+              "stations": [float(s) for s in g.stations], "length": float(g.length), "axes": g.axes}
+    try:
+        validate({"spec": {}, "design": record})
+    except DesignFileError:
+        return False
+    return True
 
 
 def _objective_array(a, spec):
@@ -500,6 +520,10 @@ def rank(evaluations: list) -> list:
 # --------------------------------------------------------------------------- the search
 
 FALLBACK = {"ipopt": "slsqp"}  # every other method falls back to ipopt
+# IPOPT's answers that are a verdict on the problem, not a failure of the solver: it converged
+# to a point that minimises the constraint violation. When every start ends so, another method
+# is not tried (on the bench suite such a fallback never found a feasible design).
+IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
 
 
 @dataclass
@@ -535,9 +559,11 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
         starts = starts[:1]  # global methods do not depend on the start
     methods = [method, FALLBACK.get(method, "ipopt")]
     for m in dict.fromkeys(methods):
+        verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
         for i, x0 in enumerate(starts):
             s = problem.solve(m, params, x0)
             cand.solves.append(s)
+            verdicts += m == "ipopt" and s.message in IPOPT_INFEASIBLE
             ev = round_and_check(problem.design(s.x, material), spec)
             if ev is None:
                 cand.fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
@@ -549,6 +575,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
                                       + ", ".join(v.name for v in ev.violations))
                 if m == "ipopt":
                     s, ev = _back_off(problem, params, material, s, ev, cand, f"{m} start {i + 1}")
+            if m == "ipopt" and s.success and problem.epigraph and _only_targets(ev):
+                verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
             cand.evaluation = pick(checked)
             if s.success and ev.feasible and not ALL_STARTS:
@@ -556,6 +584,10 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
         if cand.evaluation is not None and cand.evaluation.feasible:
             break
         if m != method or method == "grid":
+            break
+        if verdicts == len(starts):
+            cand.fallbacks.append(f"{m}: every start ended in a verdict (locally infeasible, or the targets out of "
+                                  "reach); no fallback")
             break
     if cand.evaluation is not None:
         cand.status = "optimal" if cand.evaluation.feasible else "infeasible"
@@ -615,10 +647,10 @@ def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None
 
     def cand_key(c):
         if c.evaluation is None:
-            return (2, math.inf, 0)
+            return (2, True, math.inf, 0)
         if c.evaluation.feasible:
-            return (0, order[id(c.evaluation)], 0)
-        return (1, c.evaluation.worst_violation, c.evaluation.objective)
+            return (0, False, order[id(c.evaluation)], 0)
+        return (1, not buildable(c.evaluation), c.evaluation.worst_violation, c.evaluation.objective)
 
     candidates.sort(key=cand_key)
     solver = {"method": method, "seconds": seconds, "evaluations": evaluations,

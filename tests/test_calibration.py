@@ -306,7 +306,7 @@ def test_prototype_c_recovers_magnitude_angle_and_position():
     angle. Monte Carlo: the 9-point scheme read 25 times per load shrinks the calibration term to
     h / 25 (at most 2 % on sigma); 3000 draws give the sd of the angle error to 1.3 %; tolerance 10 %.
     """
-    rec, dc = record("c"), constants("c")
+    dc = constants("c")
     loads = cal.scheme_loads(dc, "paper")
     sigma_component = math.sqrt(2) * dc.noise / (dc.sensitivity[0] * (dc.stations[1] - dc.stations[0]))
     sf, _, sa = cal.predicted_sigma(dc.sensitivity, dc.stations, loads, dc.noise, None, 2)

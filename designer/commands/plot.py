@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 from ..errors import DesignFileError, InputError
@@ -57,17 +56,9 @@ def _load_design(path: str) -> dict:
 
 
 def _load_json(path: str, what: str):
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except FileNotFoundError as exc:
-        raise InputError(f"{what} {path}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{what} {path}: cannot be read ({exc})") from exc
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DesignFileError(f"{what} {path}: not valid JSON at line {exc.lineno}, column {exc.colno}: "
-                              f"{exc.msg}") from exc
+    from ..designfile import read_json
+
+    return read_json(path, DesignFileError, what)
 
 
 # ------------------------------------------------------------------ bench
