@@ -39,7 +39,7 @@ FEASIBILITY_TOLERANCE = 1e-9  # as evaluation.Evaluation.violations
 # When rounding to 0.01 mm breaks a limit that IPOPT's answer met (several limits active at
 # once, rounding each way breaks one), IPOPT solves again with every constraint tightened by
 # these normalised margins in turn until the rounded design checks out.
-ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)
+ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)  # those below the violation rounding caused are skipped
 # MMA/CCSAQ inner iterations per outer step, and evaluations of their dual subproblem: both are
 # unbounded by default, and the dual solve alone can spin for seconds on these problems.
 CCSA_INNER_MAX_EVAL = 50
@@ -596,9 +596,12 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
 
 def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, cand: Candidate, where: str):
     """Rounding broke a limit: re-solve from the answer with the constraints tightened by each of
-    ROUNDING_MARGINS in turn; the first answer whose rounded design breaks no limit of the NLP
+    ROUNDING_MARGINS in turn, from the first as large as the violation rounding caused; the first answer whose rounded design breaks no limit of the NLP
     replaces it (under the error objective it may still miss the targets: that is a verdict)."""
-    for margin in ROUNDING_MARGINS:
+    broken = max(float(v.normalised) for v in ev.violations if not (problem.epigraph and v.name in TARGET_LIMITS))
+    # a margin smaller than the violation rounding caused seldom survives the next rounding
+    margins = [m for m in ROUNDING_MARGINS if m >= broken] or ROUNDING_MARGINS[-1:]
+    for margin in margins:
         s2 = problem.solve("ipopt", params, s.x, margin=margin)
         cand.solves.append(s2)
         ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
@@ -610,8 +613,11 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
     return s, ev
 
 
+TARGET_LIMITS = ("force_error", "position_error")
+
+
 def _only_targets(ev: Evaluation) -> bool:
-    return all(v.name in ("force_error", "position_error") for v in ev.violations)
+    return all(v.name in TARGET_LIMITS for v in ev.violations)
 
 
 def optimize(spec, method: str = "ipopt", progress: bool = False, materials=None,

@@ -142,6 +142,18 @@ def test_pareto_front():
     assert bench.pareto_front(points) == {1, 2}
 
 
+def test_front_uses_the_tail_of_the_gap_and_time_is_paired_per_spec(tiny):
+    rows = bench.method_summary(tiny)
+    # recomputed by hand from the runs: the front of (median time, 90th-percentile gap)
+    expected = bench.pareto_front([(r["median_seconds"], r["p90_gap"]) for r in rows])
+    assert {i for i, r in enumerate(rows) if r["on_front"]} == expected
+    by = {r["method"]: r for r in rows}
+    assert by["ipopt"]["time_vs_default"] == 1.0
+    ipopt = {r.spec: r.seconds for r in tiny.runs if r.method == "ipopt"}
+    ratios = sorted(r.seconds / ipopt[r.spec] for r in tiny.runs if r.method == "slsqp")
+    assert by["slsqp"]["time_vs_default"] == pytest.approx(ratios[1])  # the median of three
+
+
 def test_a_method_that_raises_is_recorded_not_raised(monkeypatch):
     (item,) = bench.generate_suite(1, seed=0, kinds=["millinewton"])
 
