@@ -1229,6 +1229,7 @@ def chart(data: dict, ax=None):
     the speed-accuracy front dashed. Returns the figure."""
     from matplotlib.figure import Figure
     from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullFormatter
 
     if ax is None:
         fig = Figure(figsize=(9.5, 6.0), layout="constrained")
@@ -1268,6 +1269,7 @@ def chart(data: dict, ax=None):
         ax.plot(xs, ys, ls="--", color="0.3", lw=1.2, zorder=2, drawstyle="steps-post")
     linthresh = data["tie"] * 100
     ax.set_xscale("log")
+    ax.xaxis.set_minor_formatter(NullFormatter())  # minor labels collide when times span under a decade
     ax.set_yscale("symlog", linthresh=linthresh, linscale=0.6)
     ax.set_ylim(-linthresh * 0.3, top * 2.5)
     ax.axhline(top / 1.8, color="0.75", lw=0.8)
@@ -1293,7 +1295,8 @@ def chart(data: dict, ax=None):
 
 def _label_offsets(points) -> list:
     """Text offsets (points) that keep the labels of nearby method points apart: labels of
-    points less than a factor 4 apart in time and at the same gap are stacked."""
+    points less than a factor 4 apart in time and at about the same gap (equal, or within a
+    factor 1.6) are stacked."""
     out = [(7, 7)] * len(points)
     order = sorted(range(len(points)), key=lambda i: (points[i][1] or 0, points[i][0] or 0))
     stack = []
@@ -1301,11 +1304,15 @@ def _label_offsets(points) -> list:
         t, g = points[i]
         if t is None or g is None:
             continue
-        stack = [j for j in stack if points[j][1] == g and t / points[j][0] < 4]
+        stack = [j for j in stack if _about(points[j][1], g) and t / points[j][0] < 4]
         used = {out[j] for j in stack}
         out[i] = next(o for o in ((7, 7 + 12 * k) for k in range(len(points) + 1)) if o not in used)
         stack.append(i)
     return out
+
+
+def _about(a: float, b: float) -> bool:
+    return a == b or (a > 0 and b > 0 and max(a, b) / min(a, b) < 1.6)
 
 
 def _tick(v: float) -> str:
