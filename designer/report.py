@@ -134,12 +134,12 @@ def print_summary(record: dict, console=None) -> None:
                         f"[{'red' if not c['satisfied'] else 'yellow'}]{percent(c['margin'])}[/]")
         console.print(lim)
     if record.get("candidates"):
-        cand = Table(title="runners-up")
-        for col in ("material", "section", "status", "objective"):
+        cand = Table(title="the chosen candidate and the runners-up")
+        for col in ("material", "section", "status", "objective", ""):
             cand.add_column(col)
-        for c in record["candidates"][:6]:
+        for i, c in enumerate(record["candidates"][:6]):
             obj = "–" if c.get("objective") is None or not math.isfinite(c["objective"]) else f"{c['objective']:.4g}"
-            cand.add_row(c["material"], c["section"], c["status"], obj)
+            cand.add_row(c["material"], c["section"], c["status"], obj, "chosen" if i == 0 else "")
         console.print(cand)
     for msg in record.get("messages", []):
         console.print(f"[yellow]{msg}[/]")

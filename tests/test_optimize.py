@@ -274,3 +274,15 @@ def test_least_infeasible_design_is_a_buildable_beam(method, tmp_path):
     d = record["design"]
     assert d["feature"]["diameter"] < d["section"]["height"]
     assert main(["simulate", str(out / "design.json"), "--draws", "200"]) in (0, 1)
+
+
+def test_terminal_summary_marks_the_chosen_candidate_among_the_runners_up(tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["optimize", str(EXAMPLES / "gripper-finger.yaml"), "-o", str(out), "--no-plots", "--no-cad"])
+    text = capsys.readouterr().out
+    record = json.loads((out / "design.json").read_text())
+    assert code == 0
+    first = record["candidates"][0]
+    assert (first["material"], first["section"]) == (record["design"]["material"], record["design"]["section"]["kind"])
+    chosen = [line for line in text.splitlines() if "chosen" in line and "│" in line]  # a table row
+    assert len(chosen) == 1 and first["material"] in chosen[0] and first["section"] in chosen[0]
