@@ -57,12 +57,15 @@ class Design:
             return {"kind": "hole", "diameter": g.hole}
         return {"kind": "none"}
 
-    def to_dict(self, spec) -> dict:
+    def shape_dict(self) -> dict:
+        """The material and the geometry as design.json holds them (SI)."""
         g = self.geometry
         return {"material": self.material.name, "material_properties": self.material.properties(),
                 "section": self.section_dict(), "feature": self.feature_dict(),
-                "stations": [float(s) for s in g.stations], "length": float(g.length),
-                "bridge": spec.bridge, "axes": g.axes, "gauge": spec.gauge.as_dict()}
+                "stations": [float(s) for s in g.stations], "length": float(g.length), "axes": g.axes}
+
+    def to_dict(self, spec) -> dict:
+        return {**self.shape_dict(), "bridge": spec.bridge, "gauge": spec.gauge.as_dict()}
 
     def label(self) -> str:
         return f"{self.material.name} {self.geometry.section}"

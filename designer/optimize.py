@@ -469,12 +469,8 @@ def buildable(ev: Evaluation) -> bool:
     """Whether the design is a beam at all (a pocket shallower than the wall, a hole narrower than
     the bar, ...), as ``designfile.validate`` judges it: a least-infeasible design that is not
     could not be plotted, exported or simulated from its design.json."""
-    d, g = ev.design, ev.design.geometry
-    record = {"material": d.material.name, "material_properties": d.material.properties(),
-              "section": d.section_dict(), "feature": d.feature_dict(),
-              "stations": [float(s) for s in g.stations], "length": float(g.length), "axes": g.axes}
     try:
-        validate({"spec": {}, "design": record})
+        validate({"spec": {}, "design": ev.design.shape_dict()})
     except DesignFileError:
         return False
     return True
@@ -563,7 +559,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
         for i, x0 in enumerate(starts):
             s = problem.solve(m, params, x0)
             cand.solves.append(s)
-            verdicts += m == "ipopt" and s.message in IPOPT_INFEASIBLE
+            if m == "ipopt" and s.message in IPOPT_INFEASIBLE:
+                verdicts += 1
             ev = round_and_check(problem.design(s.x, material), spec)
             if ev is None:
                 cand.fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
@@ -596,8 +593,9 @@ def solve_candidate(problem: FamilyProblem, material, method: str) -> Candidate:
 
 def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, cand: Candidate, where: str):
     """Rounding broke a limit: re-solve from the answer with the constraints tightened by each of
-    ROUNDING_MARGINS in turn, from the first as large as the violation rounding caused; the first answer whose rounded design breaks no limit of the NLP
-    replaces it (under the error objective it may still miss the targets: that is a verdict)."""
+    ROUNDING_MARGINS in turn, from the first as large as the violation rounding caused; the first
+    answer whose rounded design breaks no limit of the NLP replaces it (under the error objective
+    it may still miss the targets: that is a verdict)."""
     broken = max(float(v.normalised) for v in ev.violations if not (problem.epigraph and v.name in TARGET_LIMITS))
     # a margin smaller than the violation rounding caused seldom survives the next rounding
     margins = [m for m in ROUNDING_MARGINS if m >= broken] or ROUNDING_MARGINS[-1:]
