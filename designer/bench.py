@@ -1080,7 +1080,8 @@ def markdown(result: BenchResult, chart_file: str = "bench.png") -> str:
         "the feasible specs; spreads are the "
         f"{SPREAD[0]}th-{SPREAD[1]}th percentiles.",
         "- **raw median gap**: the same for the method's own runs alone, without the fallback method "
-        "(`optimize` falls back to IPOPT, and IPOPT to SLSQP, when no start gives a verified design).",
+        "(`optimize` falls back to IPOPT, and IPOPT to SLSQP, when no start gives a verified design; IPOPT "
+        "does not when every start ended in a verdict: locally infeasible, or the targets out of reach).",
         "- **violating**: reported optimal, but the design rebuilt from its design.json record "
         "(`designfile.rebuild` + `evaluation.evaluate`) breaks a limit. **missed**: called infeasible though "
         "a design that meets every limit is known. **exceptions**: `optimize` raised. **unreadable**: the "
