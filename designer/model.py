@@ -316,6 +316,13 @@ def limits(g: Geometry, a: Analysis, m: MaterialParams, spec, include_targets: b
     return out
 
 
+def worst_normalised(limits: list[Limit], n: int) -> np.ndarray:
+    """The largest normalised value of ``limits`` for each of ``n`` designs evaluated at once
+    (numeric arrays; a limit that does not vary is broadcast)."""
+    return np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (n,)) for lim in limits]),
+                  axis=0)
+
+
 def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
     """Size bounds and the manufacturing rules of a section and its feature."""
     lim = spec.limits

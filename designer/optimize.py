@@ -359,10 +359,7 @@ def grid_solve(problem: FamilyProblem, params) -> Solve:
     with np.errstate(invalid="ignore", divide="ignore"):  # impossible grid points give NaN: infeasible
         a = model.analyse(g, material, problem.spec)
         lims = model.limits(g, a, material, problem.spec, include_targets=not problem.epigraph)
-        viol = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(x),))
-                                for lim in lims]), axis=0)
-        rules = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(x),))
-                                 for lim in model.section_limits(g, problem.spec)]), axis=0)
+        viol = model.worst_normalised(lims, len(x))
     viol = np.where(np.isnan(viol), np.inf, viol)
     if problem.epigraph:
         f = np.maximum(a.force_error / problem.spec.targets.force_error,
@@ -375,10 +372,10 @@ def grid_solve(problem: FamilyProblem, params) -> Solve:
     feasible = viol <= 0
     if feasible.any():
         best = int(np.argmin(np.where(feasible, f, np.inf)))
-    elif (rules <= 0).any():  # the least violating of the points that are beams at all
-        best = int(np.argmin(np.where(rules <= 0, viol, np.inf)))
-    else:
-        best = int(np.argmin(viol))
+    else:  # the least violating of the points that are beams at all, if any are
+        with np.errstate(invalid="ignore", divide="ignore"):
+            beam = model.worst_normalised(model.section_limits(g, problem.spec), len(x)) <= 0
+        best = int(np.argmin(np.where(beam, viol, np.inf) if beam.any() else viol))
     xb = x[best]
     if problem.epigraph:
         xb = np.append(xb, f[best])
@@ -432,8 +429,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
     with np.errstate(all="ignore"):
         a = model.analyse(trial, params, spec)
         lims = model.limits(trial, a, params, spec)
-        viol = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(combos),))
-                                for lim in lims]), axis=0)
+        viol = model.worst_normalised(lims, len(combos))
         objective = np.broadcast_to(np.asarray(_objective_array(a, spec), dtype=float), (len(combos),))
         deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
         mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))

@@ -64,8 +64,7 @@ def _evaluate(problem: FamilyProblem, mat: MaterialParams, x: np.ndarray):
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         a = model.analyse(g, mat, spec)
         lims = model.limits(g, a, mat, spec, include_targets=not problem.epigraph)
-        viol = np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(x),))
-                                for lim in lims]), axis=0)
+        viol = model.worst_normalised(lims, len(x))
         if problem.epigraph:
             f = np.maximum(a.force_error / spec.targets.force_error, a.position_error / spec.targets.position_error)
         elif spec.objective == "deflection":

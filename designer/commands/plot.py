@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import DesignFileError, InputError
+from ..errors import InputError
 
 FORMAT_CHOICES = {"png": ("png",), "svg": ("svg",), "both": ("png", "svg")}
 
@@ -34,8 +34,10 @@ def _register_plot(sub) -> None:
 def run_plot(args) -> int:
     from .. import plots
 
-    design = _load_design(args.design)
-    tradeoff = _load_json(args.tradeoff, "--tradeoff") if args.tradeoff else None
+    from ..designfile import load_design, read_json
+
+    design = load_design(args.design)
+    tradeoff = read_json(args.tradeoff, what="--tradeoff") if args.tradeoff else None
     out_dir = Path(args.output) if args.output else Path(args.design).resolve().parent
     try:
         paths = plots.write_design_plots(design, out_dir, formats=FORMAT_CHOICES[args.format],
@@ -46,19 +48,6 @@ def run_plot(args) -> int:
     for path in paths:
         print(path)
     return 0
-
-
-def _load_design(path: str) -> dict:
-    """design.json read and validated by the design-file module."""
-    from ..designfile import load_design
-
-    return load_design(path)
-
-
-def _load_json(path: str, what: str):
-    from ..designfile import read_json
-
-    return read_json(path, DesignFileError, what)
 
 
 # ------------------------------------------------------------------ bench
