@@ -40,8 +40,9 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     import matplotlib.figure  # noqa: F401
     t_mpl = time.perf_counter() - t0
-    from designer import cad, drawing
-    from designer.designfile import load_design
+    from designer.outputs import cad
+    from designer.outputs import drawing
+    from designer.result.designfile import load_design
 
     print(f"import cadquery {t_cq:.2f} s, matplotlib {t_mpl:.2f} s (once per process, not below)")
     print(f"median of {args.repeat} runs, seconds")

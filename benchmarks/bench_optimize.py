@@ -28,7 +28,7 @@ def startup_seconds(repeat: int) -> tuple[float, float]:
         subprocess.run([sys.executable, "-m", "designer.cli", "--help"], check=True, capture_output=True)
         help_runs.append(time.perf_counter() - t)
         t = time.perf_counter()
-        subprocess.run([sys.executable, "-c", "import designer.optimize, casadi, nlopt, designer.units as u; u.registry()"],
+        subprocess.run([sys.executable, "-c", "import designer.search.optimize, casadi, nlopt, designer.units as u; u.registry()"],
                        check=True, capture_output=True)
         import_runs.append(time.perf_counter() - t)
     return statistics.median(help_runs), statistics.median(import_runs)
@@ -40,8 +40,9 @@ def main() -> None:
     parser.add_argument("--levels", type=int, default=7, help="grid levels of the reference search")
     args = parser.parse_args()
 
-    from designer import optimize, reference
-    from designer.spec import load_spec
+    from designer.search import optimize
+    from designer.search import reference
+    from designer.spec.reader import load_spec
 
     print(f"{'example':24} {'candidates':>10} {'median s':>9} {'min s':>7} {'objective':>11} "
           f"{'reference':>11} {'gap':>8}  chosen")

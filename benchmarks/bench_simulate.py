@@ -22,9 +22,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from designer.evaluation import evaluate, fixed_design  # noqa: E402
-from designer.simulation import grid, simulate  # noqa: E402
-from designer.spec import load_spec  # noqa: E402
+from designer.result.evaluation import evaluate, fixed_design  # noqa: E402
+from designer.checks.montecarlo import grid, simulate  # noqa: E402
+from designer.spec.reader import load_spec  # noqa: E402
 
 BUDGET_SECONDS = 2.0   # issue 2: 4.9 million draws in under 2 s
 AGREEMENT = 0.02       # issue 2: analytic 1-sigma within 2 % of the Monte Carlo

@@ -22,10 +22,10 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from designer import fea  # noqa: E402
-from designer.evaluation import evaluate, fixed_design  # noqa: E402
-from designer.output import atomic_write_text  # noqa: E402
-from designer.result import build_record  # noqa: E402
-from designer.spec import parse_spec  # noqa: E402
+from designer.result.evaluation import evaluate, fixed_design  # noqa: E402
+from designer.outputs.files import atomic_write_text  # noqa: E402
+from designer.result.record import build_record  # noqa: E402
+from designer.spec.reader import parse_spec  # noqa: E402
 
 ELECTRONICS = {"excitation": "5 V", "gain": 1000, "noise": "1.3 mV"}
 # Loads of the paper's Table 2 for the prototypes; the other designs carry 20 N at 300 mm.

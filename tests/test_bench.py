@@ -7,10 +7,11 @@ import math
 
 import pytest
 
-from designer import bench, optimize
+from designer.bench import core as bench
+from designer.search import optimize
 from designer.cli import main
 from designer.errors import InputError
-from designer.spec import parse_spec_text
+from designer.spec.reader import parse_spec_text
 
 TINY_METHODS = ("ipopt", "slsqp", "grid")
 

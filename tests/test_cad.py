@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from designer import cad
+from designer.outputs import cad
 from designer.cli import main
 from designer.errors import DesignFileError
 
@@ -279,7 +279,7 @@ def test_outputs_are_readable_like_ordinary_files(tmp_path):
 # ----------------------------------------------------------------- the drawing states the design
 
 def drawing_texts(name: str) -> str:
-    from designer import drawing
+    from designer.outputs import drawing
 
     fig = drawing.plot_drawing(cad.resolve(record(name)))
     return "\n".join(t.get_text() for t in fig.axes[0].texts)
@@ -312,7 +312,7 @@ def test_drawing_of_flats_gives_across_flats_and_bore():
 
 
 def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
-    from designer import drawing
+    from designer.outputs import drawing
 
     a = drawing._length_axis(cad.resolve(record("prototype_a")))
     assert len(a.gaps) == 1                                  # 123 -> 800 mm shortened
@@ -325,7 +325,7 @@ def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
 def test_depth_buffer_keeps_the_nearer_triangle():
     import numpy as np
 
-    from designer import drawing
+    from designer.outputs import drawing
 
     # two triangles over the same 10 x 10 pixel square at depths 1 and 2 (larger is nearer)
     square = np.array([[0, 0], [10, 0], [0, 10]], float)
@@ -340,7 +340,7 @@ def test_depth_buffer_keeps_the_nearer_triangle():
 
 
 def test_model_picture_draws_both_panels():
-    from designer import drawing
+    from designer.outputs import drawing
 
     beam = cad.resolve(record("prototype_b"))
     fig = drawing.plot_model(cad.model_meshes(beam, cad.build_solid(beam)), beam)
@@ -417,7 +417,7 @@ def test_not_json_and_no_outputs_exit_2(tmp_path, capsys):
 
 
 def test_cad_modules_import_without_cadquery_or_matplotlib():
-    code = ("import sys, designer.commands.cad, designer.cad, designer.drawing; "
+    code = ("import sys, designer.cli.cad, designer.outputs.cad, designer.outputs.drawing; "
             "print('cadquery' in sys.modules, 'matplotlib' in sys.modules)")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                             cwd=Path(__file__).parent.parent)

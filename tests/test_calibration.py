@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from designer import calibration as cal
-from designer import estimator
-from designer import readings as rd
+from designer.calibration import fit as cal
+from designer.model import estimator
+from designer.calibration import readings as rd
 from designer.cli import main
 from designer.errors import CsvError, InputError
 
@@ -66,7 +66,8 @@ def test_fixture_sensitivities_follow_model_section_3():
 @pytest.mark.parametrize("key", PROTOTYPES)
 def test_fixtures_agree_with_the_design_model(key):
     """The hand-written fixtures are what `fpdesign evaluate` would predict for the same beam."""
-    from designer import designfile, evaluation
+    from designer.result import designfile
+    from designer.result import evaluation
 
     rec = designfile.load_design(DATA / f"cal_prototype_{key}.json")
     spec, design = designfile.rebuild(rec)

@@ -25,11 +25,12 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 
-from designer import elastica, model
-from designer.designfile import rebuild
-from designer.evaluation import evaluate, fixed_design
-from designer.result import build_record
-from designer.spec import load_spec
+from designer.checks import elastica
+from designer.model import core as model
+from designer.result.designfile import rebuild
+from designer.result.evaluation import evaluate, fixed_design
+from designer.result.record import build_record
+from designer.spec.reader import load_spec
 
 G0 = 9.80665  # m/s^2, standard gravity: the paper hangs masses
 

@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from designer import designfile, evaluation
+from designer.result import designfile
+from designer.result import evaluation
 from designer.cli import main
 
 GF = 9.80665e-3  # N per gram-force

@@ -1,4 +1,4 @@
-"""The 3-D check (designer.fea, `fpdesign verify`) against closed forms, and its verdicts.
+"""The 3-D check (designer.checks.fea, `fpdesign verify`) against closed forms, and its verdicts.
 
 References:
 - Cantilever under a point load F at x, free length l (Gere & Goodno, Mechanics of
@@ -20,12 +20,12 @@ import json
 import numpy as np
 import pytest
 
-from designer import fea
+from designer.checks import fea
 from designer.cli import main
 from designer.errors import DesignFileError, InputError
-from designer.evaluation import evaluate, fixed_design
-from designer.result import build_record
-from designer.spec import parse_spec
+from designer.result.evaluation import evaluate, fixed_design
+from designer.result.record import build_record
+from designer.spec.reader import parse_spec
 
 MM = 1e-3
 E_2024, NU_2024 = 73.1e9, 0.33   # the catalogue's 2024-T3

@@ -19,9 +19,10 @@ import numpy as np
 import pytest
 from scipy import integrate, optimize
 
-from designer import estimator, model
-from designer.model import Geometry, MaterialParams
-from designer.spec import parse_spec
+from designer.model import estimator
+from designer.model import core as model
+from designer.model.core import Geometry, MaterialParams
+from designer.spec.reader import parse_spec
 
 MM = 1e-3
 E_AL = 70e9      # Pa, a round number: the closed forms hold for any E
@@ -417,8 +418,8 @@ def test_prototype_b_strains_through_eq_4_then_eqs_11_12_give_the_load_back(exam
     # The whole forward chain of the package for Prototype B (Table 1): gauge strains from the
     # beam model (eq. 3) at F_max, x_max, turned into volts by eq. 4 (V = V_s g G n eps / 4),
     # then eqs. 11-12 with the model's k (eq. 7) and balanced bridges: F and x to rel 1e-9.
-    from designer.evaluation import evaluate, fixed_design
-    from designer.spec import load_spec
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.spec.reader import load_spec
 
     spec = load_spec(examples / "prototype-b.yaml")
     ev = evaluate(fixed_design(spec).rounded(), spec)

@@ -10,10 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from designer import catalogue, designfile, optimize, reference
+from designer.spec import catalogue
+from designer.result import designfile
+from designer.search import optimize
+from designer.search import reference
 from designer.cli import main
-from designer.evaluation import evaluate
-from designer.spec import load_spec, parse_spec_text
+from designer.result.evaluation import evaluate
+from designer.spec.reader import load_spec, parse_spec_text
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 OPTIMISER_EXAMPLES = ["gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"]

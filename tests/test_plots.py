@@ -28,9 +28,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from designer import estimator, plots
+from designer.model import estimator
+from designer.outputs import plots
 from designer.cli import main
-from designer.designfile import load_design
+from designer.result.designfile import load_design
 from designer.errors import DesignFileError, InputError
 
 DATA = Path(__file__).parent / "data"
@@ -538,7 +539,7 @@ def test_plotting_imports_matplotlib_lazily_and_leaves_global_state_alone():
     """The command module must not load matplotlib; drawing never loads pyplot or edits rcParams."""
     code = (
         "import sys, json\n"
-        "import designer.commands.plot, designer.plots as p\n"
+        "import designer.cli.plot, designer.outputs.plots as p\n"
         "assert 'matplotlib' not in sys.modules, 'matplotlib imported at start-up'\n"
         "import matplotlib\n"
         "before = matplotlib.rcParams.copy()  # copy() does not resolve the backend\n"

@@ -17,9 +17,9 @@ import numpy as np
 import pytest
 
 from designer.cli import main
-from designer.evaluation import evaluate, fixed_design
-from designer.simulation import estimate_biaxial, grid, simulate
-from designer.spec import load_spec
+from designer.result.evaluation import evaluate, fixed_design
+from designer.checks.montecarlo import estimate_biaxial, grid, simulate
+from designer.spec.reader import load_spec
 
 DRAWS = 100_000
 SAMPLING = 1 / math.sqrt(2 * DRAWS)  # relative 1-sigma scatter of a sample standard deviation
@@ -179,7 +179,7 @@ def test_simulate_refuses_too_few_draws(examples, capsys):
 def test_more_draws_than_one_batch(examples):
     # simulation.CHUNK bounds memory; 300 000 draws span two batches that must be joined.
     # Sampling scatter 1/sqrt(6e5) = 0.13 %; 1 % is 7.7 of those.
-    from designer import simulation
+    from designer.checks import montecarlo as simulation
 
     spec, k, d, _, _ = prototype(examples, "prototype-b")
     draws = simulation.CHUNK + 50_000

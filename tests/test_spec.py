@@ -13,10 +13,10 @@ import math
 import pytest
 import yaml
 
-from designer import spec as spec_module
+from designer.spec import reader as spec_module
 from designer.cli import main
 from designer.errors import SpecError
-from designer.spec import parse_spec, parse_spec_text
+from designer.spec.reader import parse_spec, parse_spec_text
 
 GF = 9.80665e-3  # N per gram-force
 

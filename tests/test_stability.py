@@ -8,10 +8,13 @@ from dataclasses import replace
 
 import pytest
 
-from designer import catalogue, designfile, optimize, reference
+from designer.spec import catalogue
+from designer.result import designfile
+from designer.search import optimize
+from designer.search import reference
 from designer.cli import main
-from designer.evaluation import evaluate
-from designer.spec import parse_spec_text
+from designer.result.evaluation import evaluate
+from designer.spec.reader import parse_spec_text
 
 # The acceptance bound of issue 3: the reported objective within 0.5 % of the reference search.
 REFERENCE_GAP = 5e-3

@@ -1,0 +1,272 @@
+"""optimize, evaluate, simulate and materials."""
+
+from __future__ import annotations
+
+import importlib
+import math
+import sys
+from pathlib import Path
+
+from designer.errors import DesignFileError, SpecError
+
+
+def register(sub) -> None:
+    p = sub.add_parser("optimize", help="search materials, sections, pockets and stations for the best design")
+    p.add_argument("spec", help="spec.yaml")
+    p.add_argument("-o", "--output", default="out", help="output folder [out]")
+    p.add_argument("--method", default="ipopt",
+                   help="ipopt (default), slsqp, mma, ccsaq, cobyla, isres, direct or grid")
+    p.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
+    p.add_argument("--no-plots", action="store_true", help="do not write the plots")
+    p.add_argument("--verify", action="store_true", help="check the chosen design with a 3-D finite-element model")
+    p.add_argument("--verify-mesh", choices=("coarse", "normal", "fine"), default="normal",
+                   help="mesh of the 3-D check [normal]")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=run_optimize)
+
+    e = sub.add_parser("evaluate", help="evaluate the fixed design: block of a spec")
+    e.add_argument("spec", help="spec.yaml with a design: block")
+    e.add_argument("-o", "--output", default="out", help="output folder [out]")
+    e.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
+    e.add_argument("--no-plots", action="store_true", help="do not write the plots")
+    e.set_defaults(func=run_evaluate)
+
+    s = sub.add_parser("simulate", help="Monte Carlo of the estimator over the operating region")
+    s.add_argument("design", help="spec.yaml with a design: block, or a design.json")
+    s.add_argument("--draws", type=int, default=100_000, help="noise draws per grid point [100000]")
+    s.add_argument("--grid", type=int, nargs=2, default=(7, 7), metavar=("NF", "NX"),
+                   help="forces x positions in the grid [7 7, as the paper's section 4.3]")
+    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--angle", type=float, default=30.0, help="biaxial designs: load angle in degrees [30]")
+    s.add_argument("--readings", metavar="CSV", help="also write noisy bridge readings at the paper's loads")
+    s.add_argument("--scheme", default="paper", help="loads for --readings: paper, 4, 9 or grid [paper]")
+    s.set_defaults(func=run_simulate)
+
+    m = sub.add_parser("materials", help="list the material and gauge catalogue")
+    m.add_argument("--json", action="store_true", help="machine-readable output")
+    m.set_defaults(func=run_materials)
+
+
+# ------------------------------------------------------------------ shared output
+
+def _optional(module: str):
+    """A module of an output that may not be installed in this build (CAD, plots)."""
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name == module:
+            return None
+        raise
+
+
+def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
+                  writers=()) -> None:
+    """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
+    ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing."""
+    from designer.outputs import report
+    from designer.errors import InputError
+    from designer.outputs.files import atomic_write_json, atomic_write_text, staged_directory
+
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
+    with staged_directory(out_dir) as scratch:
+        files = record.setdefault("files", {})
+        if cad and (cad_module := _optional("designer.outputs.cad")) is not None:
+            try:
+                written = cad_module.write_cad_outputs(record, scratch)
+            except DesignFileError as exc:
+                if record["status"] != "infeasible":
+                    raise
+                # the least-infeasible design may not be buildable (features overlapping)
+                record["messages"].append(f"no CAD model for this infeasible design: {exc}")
+            else:
+                files.update({k: Path(v).name for k, v in written.items()})
+        if plots and (plot_module := _optional("designer.outputs.plots")) is not None:
+            written = plot_module.write_design_plots(record, scratch, **(extra_plots or {}))
+            files["plots"] = sorted(Path(p).name for p in written)
+        for write in writers:
+            files.update({k: Path(v).name for k, v in write(scratch).items()})
+        files["report"] = "report.md"
+        atomic_write_text(scratch / "report.md", report.markdown(record))
+        atomic_write_json(scratch / "design.json", record)
+
+
+def _large_deflection(record: dict) -> None:
+    """Add the elastica's figures where linear theory stops holding (issue: large deflection)."""
+    if record["predicted"]["deflection_ratio"] <= 0.10:
+        return
+    elastica = _optional("designer.checks.elastica")
+    if elastica is None:
+        return
+    result = elastica.large_deflection(record)
+    record["large_deflection"] = result.as_dict() if hasattr(result, "as_dict") else dict(vars(result))
+    summary = getattr(result, "summary", None)
+    if summary:
+        record["messages"].append(summary() if callable(summary) else str(summary))
+
+
+# ------------------------------------------------------------------ commands
+
+def run_evaluate(args) -> int:
+    from designer.outputs import report
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.result.record import build_record
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(args.spec)
+    if spec.design is None:
+        raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
+                        "(material, section, stations, feature); use `fpdesign optimize` to search instead")
+    ev = evaluate(fixed_design(spec).rounded(), spec)
+    record = build_record("feasible" if ev.feasible else "infeasible", spec, ev)
+    if not ev.feasible:
+        record["messages"].append("the design violates: " + ", ".join(v.name for v in ev.violations))
+    _large_deflection(record)
+    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots)
+    report.print_summary(record)
+    print(f"wrote {Path(args.output) / 'design.json'}")
+    return 0 if ev.feasible else 1
+
+
+def run_optimize(args) -> int:
+    from designer.search import optimize
+    from designer.outputs import report
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(args.spec)
+    outcome = optimize.optimize(spec, method=args.method, progress=not args.quiet and sys.stderr.isatty())
+    record = outcome.record
+    _large_deflection(record)
+    writers = [_verify(record, args.verify_mesh)] if args.verify and record["status"] == "optimal" else []
+    extra = None
+    if not args.no_plots and outcome.success and spec.objective == "error":
+        from designer.search.tradeoff import fronts
+
+        extra = {"tradeoff": fronts(spec, outcome)}
+    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
+                  writers=writers)
+    report.print_summary(record)
+    print(f"wrote {Path(args.output) / 'design.json'}")
+    return 0 if record["status"] == "optimal" else 1
+
+
+def _verify(record: dict, mesh: str = "normal"):
+    """Check the chosen design in 3-D; a design that fails is reported, never shipped silently."""
+    from designer.checks import fea
+
+    verdict = fea.verify_design(record, mesh=mesh)
+    summary = verdict.as_dict()
+    summary.pop("profile", None)  # the strain profile goes to verify.json only
+    record["verification"] = summary
+    if not verdict.passed:
+        failed = [c.name for c in verdict.limits if not c.satisfied]
+        record["status"] = "infeasible"
+        record["messages"].append("the 3-D check (fpdesign verify) finds limits the beam model missed: "
+                                  + ", ".join(failed) + "; see verify.md")
+    record["messages"].extend(m for m in verdict.messages if m not in record["messages"])
+    return lambda scratch: fea.write_outputs(verdict, scratch)
+
+
+def _design_record(path: str) -> dict:
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.result.record import build_record
+
+    if path.endswith(".json"):
+        from designer.result.designfile import load_design, rebuild
+
+        # Judge the design afresh from what the file describes: its "predicted" block may be
+        # stale, edited or absent (SPEC.md does not list every key simulate needs).
+        spec, design = rebuild(load_design(path))
+        ev = evaluate(design, spec)
+    else:
+        from designer.spec.reader import load_spec
+
+        spec = load_spec(path)
+        if spec.design is None:
+            raise SpecError(f"design: missing in {path}; simulate needs a fixed design (a design: block or a "
+                            "design.json)")
+        ev = evaluate(fixed_design(spec).rounded(), spec)
+    return build_record("feasible" if ev.feasible else "infeasible", spec, ev)
+
+
+def run_simulate(args) -> int:
+    import time
+
+    from rich.console import Console
+    from rich.table import Table
+
+    from designer.checks.montecarlo import grid, simulate
+
+    if args.draws < 100:
+        raise SpecError(f"--draws: {args.draws} is too few; use at least 100")
+    record = _design_record(args.design)
+    d, p, s = record["design"], record["predicted"], record["spec"]
+    (f_min, f_max), (x_min, x_max) = s["load"]["force"], s["load"]["position"]
+    forces, positions = grid(f_min, f_max, x_min, x_max, *args.grid)
+    angle = math.radians(args.angle) if d.get("axes", 1) == 2 else None
+    t0 = time.perf_counter()
+    res = simulate(p["sensitivity"], d["stations"], p["noise_voltage"], forces, positions, args.draws, args.seed, angle)
+    seconds = time.perf_counter() - t0
+
+    table = Table(title=f"{s['name']}: Monte Carlo ({args.draws} draws per point) against the analytic 1σ")
+    for col in ("F (N)", "x (mm)", "σF MC (N)", "σF model", "ratio", "σx MC (mm)", "σx model", "ratio",
+                "mean |eF|", "mean |ex|"):
+        table.add_column(col, justify="right")
+    for i in range(len(forces)):
+        table.add_row(f"{forces[i]:.4g}", f"{positions[i] * 1e3:.1f}",
+                      f"{res.sigma_force_mc[i]:.4g}", f"{res.sigma_force[i]:.4g}",
+                      f"{res.sigma_force_mc[i] / res.sigma_force[i]:.3f}",
+                      f"{res.sigma_position_mc[i] * 1e3:.4g}", f"{res.sigma_position[i] * 1e3:.4g}",
+                      f"{res.sigma_position_mc[i] / res.sigma_position[i]:.3f}",
+                      f"{res.mean_abs_force_error[i]:.2%}", f"{res.mean_abs_position_error[i]:.2%}")
+    console = Console()
+    if not console.is_terminal:  # a pipe or a file: 80 columns would cut the numbers to "0.06…"
+        console = Console(width=160)
+    console.print(table)
+    if angle is not None:
+        console.print(f"biaxial at {args.angle:g}°: angle 1σ MC/model worst ratio "
+                      f"{max(abs(res.sigma_angle_mc / res.sigma_angle - 1)):.2%}")
+    console.print(f"{len(forces) * args.draws:,} draws in {seconds:.2f} s; largest |MC/model - 1| = "
+                  f"{res.worst_ratio:.2%} (the Monte Carlo's own 1σ scatter is "
+                  f"{1 / math.sqrt(2 * args.draws):.2%})")
+    if args.readings:
+        readings = _optional("designer.calibration.readings")
+        if readings is None:
+            raise SpecError("--readings: this build has no readings module")
+        readings.write_simulated_readings(record, Path(args.readings), scheme=args.scheme, seed=args.seed)
+        print(f"wrote {args.readings}")
+    return 0
+
+
+def run_materials(args) -> int:
+    import json
+    from dataclasses import asdict
+
+    from designer.spec import catalogue
+
+    mats, gauges = catalogue.materials(), catalogue.gauges()
+    if args.json:
+        print(json.dumps({"materials": [asdict(m) for m in mats.values()],
+                          "gauges": [asdict(g) for g in gauges.values()]}, indent=2))
+        return 0
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title="materials (allowable = min(yield, fatigue) / safety factor)")
+    for col in ("name", "E (GPa)", "ν", "yield (MPa)", "ultimate (MPa)", "fatigue (MPa @ cycles)",
+                "density (kg/m³)", "source"):
+        t.add_column(col, overflow="fold")
+    for m in mats.values():
+        t.add_row(m.name, f"{m.E / 1e9:.1f}", f"{m.poisson:.3g}", f"{m.yield_strength / 1e6:.0f}",
+                  f"{m.ultimate / 1e6:.0f}", f"{m.fatigue / 1e6:.0f} @ {m.fatigue_cycles:.0e}",
+                  f"{m.density:.0f}", m.source)
+    g = Table(title="strain gauges")
+    for col in ("name", "G", "R (Ω)", "backing (mm)", "grid (mm)", "max strain (µε)", "source"):
+        g.add_column(col, overflow="fold")
+    for x in gauges.values():
+        g.add_row(x.name, f"{x.factor:.3g}", f"{x.resistance:.0f}", f"{x.length * 1e3:.1f} × {x.width * 1e3:.1f}",
+                  f"{x.grid_length * 1e3:.1f} × {x.grid_width * 1e3:.1f}", f"{x.max_strain * 1e6:.0f}", x.source)
+    console = Console()
+    console.print(t)
+    console.print(g)
+    return 0

@@ -1,0 +1,125 @@
+"""plot (the charts of a design.json) and bench (the search methods compared)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from designer.errors import InputError
+
+FORMAT_CHOICES = {"png": ("png",), "svg": ("svg",), "both": ("png", "svg")}
+
+
+def register(sub) -> None:
+    _register_plot(sub)
+    _register_bench(sub)
+
+
+def _register_plot(sub) -> None:
+    p = sub.add_parser(
+        "plot", help="draw the plots of a design.json (operating region, isolines, error maps, ...)",
+        description="Write the operating region, the bridge voltage isolines, the error maps, the "
+                    "candidate ranking and, with --tradeoff or a 'tradeoff' key in the file, the "
+                    "trade-off fronts of a design.json.")
+    p.add_argument("design", help="design.json written by optimize or evaluate")
+    p.add_argument("-o", "--output", default=None,
+                   help="folder for the plots [the folder of design.json]")
+    p.add_argument("--format", choices=tuple(FORMAT_CHOICES), default="both",
+                   help="png, svg or both [both]")
+    p.add_argument("--tradeoff", metavar="JSON", default=None,
+                   help="trade-off points: {\"max_deflection\": [...], \"min_frequency\": [...]}, each "
+                        "point {material, section, x, objective, feasible}")
+    p.set_defaults(func=run_plot)
+
+
+def run_plot(args) -> int:
+    from designer.outputs import plots
+
+    from designer.result.designfile import load_design, read_json
+
+    design = load_design(args.design)
+    tradeoff = read_json(args.tradeoff, what="--tradeoff") if args.tradeoff else None
+    out_dir = Path(args.output) if args.output else Path(args.design).resolve().parent
+    try:
+        paths = plots.write_design_plots(design, out_dir, formats=FORMAT_CHOICES[args.format],
+                                         tradeoff=tradeoff)
+    except OSError as exc:
+        raise InputError(f"{out_dir}: cannot write the plots there ({exc.strerror or exc}); "
+                         "choose another folder with -o") from exc
+    for path in paths:
+        print(path)
+    return 0
+
+
+# ------------------------------------------------------------------ bench
+
+def _register_bench(sub) -> None:
+    b = sub.add_parser(
+        "bench", help="compare every search method on a suite of specs (speed, accuracy, failures)",
+        description="Run every search method on the optimiser examples and on generated specs (millinewtons "
+                    "to kilonewtons, millimetre to metre beams, tight and loose limits, imperial units, nearly "
+                    "infeasible and infeasible ones); measure each against the best known design and write a "
+                    "speed-accuracy chart, stability tables and a summary.")
+    b.add_argument("--specs", metavar="DIR", default=None,
+                   help="folder of spec.yaml files to include (fixed designs are left out) [the examples folder]")
+    b.add_argument("--count", type=int, default=50, metavar="N", help="generated specs [50]")
+    b.add_argument("--methods", default=None, metavar="LIST",
+                   help="comma-separated methods [ipopt,slsqp,mma,ccsaq,cobyla,isres,direct,grid]")
+    b.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the generated specs [0]")
+    b.add_argument("--levels", type=int, default=None, metavar="L",
+                   help="grid points per variable of the reference search [5]")
+    b.add_argument("-o", "--output", default="bench", help="output folder [bench]")
+    b.add_argument("--quiet", action="store_true", help="no progress bar")
+    b.set_defaults(func=run_bench)
+
+
+def run_bench(args) -> int:
+    from designer.bench import core as bench
+
+    if args.count < 0:
+        raise InputError(f"--count: {args.count} must be 0 or more")
+    levels = bench.REFERENCE_LEVELS if args.levels is None else args.levels
+    if levels < 2:
+        raise InputError(f"--levels: {levels} must be at least 2")
+    methods = bench.METHODS
+    if args.methods is not None:
+        methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
+        bad = [m for m in methods if m not in bench.METHODS]
+        if bad or not methods:
+            raise InputError(f"--methods: {bad[0] if bad else args.methods!r} is not a method; give a "
+                             f"comma-separated list from {', '.join(bench.METHODS)}")
+    folder = Path(args.specs) if args.specs else bench.default_examples_folder()
+    examples, skipped = bench.example_suite(folder) if folder is not None else ([], [])
+    suite = examples + bench.generate_suite(args.count, args.seed)
+    if not suite:
+        raise InputError("nothing to run: no example specs found and --count is 0; give --specs DIR or --count N")
+    result = _bench_with_progress(bench, suite, methods, levels, args, skipped)
+    try:
+        paths = bench.write_bench(result, Path(args.output))
+    except OSError as exc:
+        raise InputError(f"{args.output}: cannot write the bench's files there ({exc.strerror or exc}); "
+                         "choose another folder with -o") from exc
+    from rich.console import Console
+
+    console = Console()
+    console.print(bench.terminal_table(result))
+    for line in bench.construction_mismatches(result):
+        console.print(f"[red]verdict contradicts the construction:[/red] {line}", markup=True)
+    console.print(f"wrote {len(paths)} files to {args.output} (summary: {Path(args.output) / 'bench.md'})",
+                  markup=False, highlight=False)
+    return 0
+
+
+def _bench_with_progress(bench, suite, methods, levels, args, skipped):
+    kwargs = dict(methods=methods, levels=levels, seed=args.seed, count=args.count, skipped=skipped)
+    if args.quiet:
+        return bench.run_bench(suite, **kwargs)
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    with Progress(TextColumn("bench"), BarColumn(), TextColumn("{task.completed}/{task.total} specs"),
+                  TextColumn("{task.description}"), TimeElapsedColumn(), transient=True) as progress:
+        task = progress.add_task("", total=len(suite))
+
+        def advance(done, total, name):
+            progress.update(task, completed=done, description=name)
+
+        return bench.run_bench(suite, progress=advance, **kwargs)

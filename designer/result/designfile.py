@@ -1,0 +1,143 @@
+"""Reading design.json back: validation with clear messages, and rebuilding the design.
+
+``load_design(path)`` returns the validated dictionary (SI); ``rebuild(record)`` returns the
+``Spec`` and ``Design`` it describes, so that a design can be re-checked from the file alone.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from designer.errors import DesignFileError, SpecError, describe_allowed
+
+SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
+FEATURE_KEYS = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "none": ()}
+
+
+def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
+    """The JSON in ``path``; a missing, unreadable or malformed file raises ``error`` (an InputError)."""
+    path = Path(path)
+    where = f"{what} {path}".strip()
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError as exc:
+        raise error(f"{where}: no such file") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        raise error(f"{where}: cannot be read ({exc})") from exc
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise error(f"{where}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
+
+
+def load_design(path: str | Path) -> dict:
+    record = read_json(path)
+    validate(record, source=str(path))
+    return record
+
+
+def _get(obj, key: str, where: str):
+    if not isinstance(obj, dict):
+        raise DesignFileError(f"{where}: {obj!r} must be an object")
+    if key not in obj or obj[key] is None:
+        raise DesignFileError(f"{where}.{key}: missing; it is required" if where else f"{key}: missing; it is required")
+    return obj[key]
+
+
+def _positive(obj, key: str, where: str) -> float:
+    value = _get(obj, key, where)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DesignFileError(f"{where}.{key}: {value!r} must be a number (SI units)")
+    if value <= 0:
+        raise DesignFileError(f"{where}.{key}: {value!r} must be positive")
+    return float(value)
+
+
+def validate(record, source: str = "design.json") -> None:
+    """Raise DesignFileError naming the first key that is missing or impossible."""
+    if not isinstance(record, dict):
+        raise DesignFileError(f"{source}: must be a JSON object with keys 'spec' and 'design'")
+    spec = _get(record, "spec", "")
+    if not isinstance(spec, dict):
+        raise DesignFileError(f"spec: {spec!r} must be an object (the normalised spec of SPEC.md)")
+    design = _get(record, "design", "")
+    material = _get(design, "material", "design")
+    if not isinstance(material, str):
+        raise DesignFileError(f"design.material: {material!r} must be a material name")
+    props = _get(design, "material_properties", "design")
+    for key in ("E", "yield", "density"):
+        _positive(props, key, "design.material_properties")
+    section = _get(design, "section", "design")
+    kind = _get(section, "kind", "design.section")
+    if not isinstance(kind, str) or kind not in SECTION_KEYS:
+        raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; must be {describe_allowed(SECTION_KEYS)}")
+    dims = {k: _positive(section, k, "design.section") for k in SECTION_KEYS[kind]}
+    if kind == "tube" and not dims["wall"] < dims["diameter"] / 2:
+        raise DesignFileError(f"design.section.wall: {dims['wall']!r} m must be less than half the diameter "
+                              f"({dims['diameter'] / 2!r} m)")
+    size = dims.get("height", dims.get("diameter"))
+    feature = _get(design, "feature", "design")
+    fkind = _get(feature, "kind", "design.feature")
+    if not isinstance(fkind, str) or fkind not in FEATURE_KEYS:
+        raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; must be {describe_allowed(FEATURE_KEYS)}")
+    fdims = {k: _positive(feature, k, "design.feature") for k in FEATURE_KEYS[fkind]}
+    if fkind == "pocket":
+        limit = dims["wall"] if kind == "tube" else size / 2
+        what = "the tube wall" if kind == "tube" else "half the section height"
+        if not fdims["depth"] < limit:
+            raise DesignFileError(f"design.feature.depth: {fdims['depth']!r} m is not less than {what} ({limit!r} m)")
+        across = dims.get("width", size)
+        if kind == "rectangle" and not fdims["width"] < across:
+            raise DesignFileError(f"design.feature.width: {fdims['width']!r} m must be less than the section "
+                                  f"width ({across!r} m)")
+    if fkind == "hole":
+        if kind != "rectangle":
+            raise DesignFileError(f"design.feature.kind: 'hole' needs a rectangle section, not {kind!r}")
+        if not fdims["diameter"] < size:
+            raise DesignFileError(f"design.feature.diameter: {fdims['diameter']!r} m must be less than the "
+                                  f"section height ({size!r} m)")
+    length = _positive(design, "length", "design")
+    stations = _get(design, "stations", "design")
+    if not isinstance(stations, list) or len(stations) < 2:
+        raise DesignFileError(f"design.stations: {stations!r} must be a list of at least 2 positions")
+    for i, s in enumerate(stations):
+        if isinstance(s, bool) or not isinstance(s, (int, float)) or not math.isfinite(s):
+            raise DesignFileError(f"design.stations[{i}]: {s!r} must be a number (m)")
+        if not 0 < s < length:
+            raise DesignFileError(f"design.stations[{i}]: {s!r} m is off the beam; must lie between 0 and the "
+                                  f"free length {length!r} m")
+    if any(b <= a for a, b in zip(stations, stations[1:])):
+        raise DesignFileError(f"design.stations: {stations!r} must increase from the clamp outwards")
+    axes = design.get("axes", 1)
+    if axes not in (1, 2):
+        raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")
+
+
+def rebuild(record: dict):
+    """``(Spec, Design)`` from a validated design.json record."""
+    from designer.spec.catalogue import Material
+    from designer.result.evaluation import Design, geometry_for
+    from designer.spec.reader import Feature, Section, parse_spec
+
+    raw_spec = dict(record["spec"])
+    if isinstance(raw_spec.get("electronics"), dict):  # anything else: parse_spec says what is wrong
+        raw_spec["electronics"] = {k: v for k, v in raw_spec["electronics"].items()
+                                   if k != "noise_output" and v is not None}
+    raw_spec.pop("design", None)
+    try:
+        spec = parse_spec(raw_spec)
+    except SpecError as exc:
+        raise DesignFileError(f"spec.{exc}") from exc
+    d = record["design"]
+    props = d["material_properties"]
+    material = Material(name=d["material"], description="from design.json", E=props["E"],
+                        poisson=props.get("poisson", 0.3), yield_strength=props["yield"],
+                        ultimate=props.get("ultimate", props["yield"]), fatigue=props.get("fatigue", props["yield"]),
+                        fatigue_cycles=props.get("fatigue_cycles", 1e7), density=props["density"], source="design.json")
+    section = Section(kind=d["section"]["kind"], **{k: d["section"][k] for k in SECTION_KEYS[d["section"]["kind"]]})
+    f = d["feature"]
+    feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})
+    geometry = geometry_for(spec, section, feature, d["stations"], d["length"], axes=d.get("axes", 1))
+    return spec, Design(material, geometry)

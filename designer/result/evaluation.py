@@ -1,0 +1,159 @@
+"""A finished design checked against every limit with the numeric model (MODEL.md 4-5).
+
+``evaluate(design, spec)`` is the one place a design is judged: the optimiser's answers,
+fixed designs from a spec and designs read back from design.json all pass through it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from designer.model import core as model
+from designer.spec.catalogue import Material
+from designer.errors import InputError
+from designer.model.core import Analysis, Geometry, Limit, MaterialParams
+
+ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
+
+
+@dataclass(frozen=True)
+class Design:
+    material: Material
+    geometry: Geometry
+
+    def material_params(self, spec) -> MaterialParams:
+        return MaterialParams(self.material.E,
+                              self.material.allowable_stress(spec.limits.safety_factor, spec.limits.fatigue),
+                              self.material.density)
+
+    def rounded(self) -> "Design":
+        """Every length rounded to 0.01 mm; what is reported is what is checked."""
+        g = self.geometry
+
+        def r(v):
+            return None if v is None else round(float(v) / ROUNDING) * ROUNDING
+
+        return Design(self.material, replace(
+            g, width=r(g.width), height=r(g.height), diameter=r(g.diameter), wall=r(g.wall),
+            depth=r(g.depth) if g.feature == "pocket" else 0.0, hole=r(g.hole) if g.feature == "hole" else 0.0,
+            stations=tuple(r(s) for s in g.stations), length=r(g.length)))
+
+    def section_dict(self) -> dict:
+        g = self.geometry
+        if g.section == "rectangle":
+            return {"kind": "rectangle", "width": g.width, "height": g.height}
+        if g.section == "round":
+            return {"kind": "round", "diameter": g.diameter}
+        return {"kind": "tube", "diameter": g.diameter, "wall": g.wall}
+
+    def feature_dict(self) -> dict:
+        g = self.geometry
+        if g.feature == "pocket":
+            return {"kind": "pocket", "depth": g.depth, "length": g.pocket_length, "width": g.pocket_width}
+        if g.feature == "hole":
+            return {"kind": "hole", "diameter": g.hole}
+        return {"kind": "none"}
+
+    def shape_dict(self) -> dict:
+        """The material and the geometry as design.json holds them (SI)."""
+        g = self.geometry
+        return {"material": self.material.name, "material_properties": self.material.properties(),
+                "section": self.section_dict(), "feature": self.feature_dict(),
+                "stations": [float(s) for s in g.stations], "length": float(g.length), "axes": g.axes}
+
+    def to_dict(self, spec) -> dict:
+        return {**self.shape_dict(), "bridge": spec.bridge, "gauge": spec.gauge.as_dict()}
+
+    def label(self) -> str:
+        return f"{self.material.name} {self.geometry.section}"
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    design: Design
+    analysis: Analysis
+    limits: tuple[Limit, ...]
+    objective: float
+    error_ratio: float
+
+    @property
+    def violations(self) -> list[Limit]:
+        return [lim for lim in self.limits if float(lim.normalised) > 1e-9]
+
+    @property
+    def feasible(self) -> bool:
+        return not self.violations
+
+    @property
+    def worst_violation(self) -> float:
+        """The largest normalised violation, 0 for a feasible design."""
+        return max([0.0] + [float(lim.normalised) for lim in self.limits])
+
+    @property
+    def large_deflection(self) -> bool:
+        return float(self.analysis.deflection) > model.LARGE_DEFLECTION_RATIO * float(self.design.geometry.length)
+
+    def predicted(self) -> dict:
+        a = self.analysis
+        ell = float(self.design.geometry.length)
+        return {
+            "force_error": float(a.force_error), "position_error": float(a.position_error),
+            "objective": self.objective, "error_ratio": self.error_ratio,
+            "deflection": float(a.deflection), "deflection_ratio": float(a.deflection) / ell,
+            "max_stress": float(a.max_stress), "stress_root": float(a.stress_root),
+            "stress_feature": float(a.stress_feature),
+            "stress_allowable": float(self.limits[0].limit),
+            "gauge_strain": [float(s) for s in a.gauge_strain],
+            "min_signal_snr": float(a.min_signal_snr),
+            "sensitivity": [float(a.sensitivity)] * len(self.design.geometry.stations),
+            "noise_voltage": float(a.sigma_v), "noise_strain": float(a.noise_strain),
+            "mass": float(a.mass), "natural_frequency": float(a.natural_frequency),
+            "mean_abs_force_error": float(a.force_error) * (2 / 3.141592653589793) ** 0.5,
+            "mean_abs_position_error": float(a.position_error) * (2 / 3.141592653589793) ** 0.5,
+        }
+
+    def constraint_records(self) -> list[dict]:
+        return [lim.record() for lim in self.limits]
+
+
+def evaluate(design: Design, spec) -> Evaluation:
+    """Judge ``design``; sizes or electronics so far off that the numbers break are an InputError."""
+    params = design.material_params(spec)
+    try:
+        a = model.analyse(design.geometry, params, spec)
+        lims = tuple(model.limits(design.geometry, a, params, spec))
+        ev = Evaluation(design, a, lims, model.objective_value(a, spec), model.error_ratio(a, spec))
+        predicted = ev.predicted()
+    except ArithmeticError as exc:  # ZeroDivisionError, OverflowError
+        raise InputError(f"the design cannot be evaluated ({exc}); a size, load or electronics value is far "
+                         "outside the physical range") from exc
+    broken = [k for k, v in predicted.items() if not all(math.isfinite(x) for x in np.ravel(v))]
+    if broken:
+        raise InputError(f"the design cannot be evaluated: {', '.join(broken)} come out infinite or undefined; "
+                         "a size, load or electronics value is far outside the physical range")
+    return ev
+
+
+def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometry:
+    """A Geometry from spec dataclasses (Section, Feature) and station positions."""
+    lp, wp = spec.pocket_size()
+    return Geometry(
+        section=section.kind, feature=feature.kind, stations=tuple(stations), length=length,
+        width=section.width, height=section.height, diameter=section.diameter, wall=section.wall,
+        depth=feature.depth if feature.kind == "pocket" else 0.0,
+        hole=feature.diameter if feature.kind == "hole" else 0.0,
+        pocket_length=feature.length if feature.kind == "pocket" else lp,
+        pocket_width=feature.width if feature.kind == "pocket" else wp,
+        gauge_length=spec.gauge.length, axes=axes or spec.axes)
+
+
+def fixed_design(spec) -> Design:
+    """The spec's ``design:`` block as a Design."""
+    from designer.spec import catalogue
+
+    fd = spec.design
+    geometry = geometry_for(spec, fd.section, fd.feature, fd.stations, spec.free_length)
+    return Design(catalogue.material(fd.material, "design.material"), geometry)

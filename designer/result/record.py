@@ -1,0 +1,35 @@
+"""design.json: the complete record of a design and how it was judged (SPEC.md)."""
+
+from __future__ import annotations
+
+from designer.result.evaluation import Evaluation
+
+VERSION = 1
+
+
+def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solver=None,
+                 messages=(), extra=None) -> dict:
+    """The design.json dictionary. ``status``: optimal | feasible | infeasible."""
+    record = {
+        "version": VERSION,
+        "status": status,
+        "spec": spec.to_dict(),
+        "design": evaluation.design.to_dict(spec),
+        "predicted": evaluation.predicted(),
+        "constraints": evaluation.constraint_records(),
+        "candidates": list(candidates),
+        "solver": dict(solver or {"method": "none", "seconds": 0.0, "evaluations": 0}),
+        "messages": list(messages),
+    }
+    if evaluation.large_deflection:
+        record["messages"].append(large_deflection_message(evaluation))
+    if extra:
+        record.update(extra)
+    return record
+
+
+def large_deflection_message(evaluation: Evaluation) -> str:
+    ratio = float(evaluation.analysis.deflection) / float(evaluation.design.geometry.length)
+    return (f"warning: the free end deflects {ratio:.1%} of the free length under F_max at x_max; "
+            "above 10 % small-deflection (linear) beam theory no longer holds, so the predicted "
+            "deflection, strains and errors are approximate")

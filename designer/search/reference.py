@@ -1,0 +1,119 @@
+"""An exhaustive reference search, independent of casadi and nlopt.
+
+A dense grid over every variable of a family (the section, the feature and the first and
+last station) is evaluated at once with the numeric model; the best grid points are then
+polished by scipy's SLSQP with finite differences, rounded and checked. It is slow and
+thorough: the yardstick the optimiser's answers are measured against (tests, ``bench``).
+"""
+
+from __future__ import annotations
+
+
+import numpy as np
+
+from designer.model import core as model
+from designer.result.evaluation import Evaluation
+from designer.model.core import MaterialParams
+from designer.search.optimize import MM, Family, FamilyProblem, material_params, pick, round_and_check
+
+POLISH_STARTS = 6
+
+
+def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluation | None:
+    """Best verified design of one material and family by grid + polish (None if none evaluates)."""
+    problem = FamilyProblem.__new__(FamilyProblem)  # variables and bounds only: no casadi graph
+    problem.spec, problem.family = spec, family
+    problem.names, problem.lower, problem.upper = problem._variables()
+    problem.epigraph = spec.objective == "error"
+    params = material_params(material, spec)
+    mat = MaterialParams(params[0] * 1e9, params[1] * 1e6, params[2])
+    x = _grid(problem, levels)
+    f, viol = _evaluate(problem, mat, x)
+    order = np.lexsort((f, viol > 0))
+    starts = x[order[:POLISH_STARTS]]
+    checked = []
+    for x0 in starts:
+        for candidate in (x0, _polish(problem, mat, x0)):
+            ev = round_and_check(problem.design(candidate, material), spec)
+            if ev is not None:
+                checked.append(ev)
+    return pick(checked)
+
+
+def _grid(problem: FamilyProblem, levels: int) -> np.ndarray:
+    """Every variable on ``levels`` points; inner stations evenly between the first and last."""
+    names = problem.names
+    n_st = problem.spec.stations
+    free = [i for i, n in enumerate(names) if not n.startswith("station_") or n in ("station_1", f"station_{n_st}")]
+    axes = [np.linspace(problem.lower[i], problem.upper[i], levels) for i in free]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    x = np.empty((mesh[0].size, len(names)))
+    for j, i in enumerate(free):
+        x[:, i] = mesh[j].ravel()
+    first, last = names.index("station_1"), names.index(f"station_{n_st}")
+    for k in range(2, n_st):
+        t = (k - 1) / (n_st - 1)
+        x[:, names.index(f"station_{k}")] = x[:, first] + t * (x[:, last] - x[:, first])
+    return x[x[:, last] > x[:, first]]
+
+
+def _evaluate(problem: FamilyProblem, mat: MaterialParams, x: np.ndarray):
+    """Objective and worst normalised violation of each row of ``x`` (mm), with the numeric model."""
+    spec = problem.spec
+    g = problem.geometry([x[:, i] * MM for i in range(x.shape[1])])
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        a = model.analyse(g, mat, spec)
+        lims = model.limits(g, a, mat, spec, include_targets=not problem.epigraph)
+        viol = model.worst_normalised(lims, len(x))
+        if problem.epigraph:
+            f = np.maximum(a.force_error / spec.targets.force_error, a.position_error / spec.targets.position_error)
+        elif spec.objective == "deflection":
+            f = a.deflection / MM
+        else:
+            f = a.mass * 1e3
+    f = np.broadcast_to(np.asarray(f, dtype=float), (len(x),))
+    bad = ~np.isfinite(viol) | ~np.isfinite(f)
+    return np.where(bad, np.inf, f), np.where(bad, np.inf, np.maximum(viol, 0.0))
+
+
+def _polish(problem: FamilyProblem, mat: MaterialParams, x0: np.ndarray) -> np.ndarray:
+    """scipy SLSQP from a grid point, on the numeric model (finite differences)."""
+    from scipy.optimize import minimize
+
+    spec = problem.spec
+
+    def parts(v):
+        g = problem.geometry([float(t) * MM for t in v])
+        with np.errstate(all="ignore"):
+            a = model.analyse(g, mat, spec)
+            lims = model.limits(g, a, mat, spec, include_targets=not problem.epigraph)
+        return a, np.array([float(lim.normalised) for lim in lims])
+
+    def objective(v):
+        a, _ = parts(v)
+        if problem.epigraph:
+            return max(float(a.force_error) / spec.targets.force_error,
+                       float(a.position_error) / spec.targets.position_error)
+        return float(a.deflection) / MM if spec.objective == "deflection" else float(a.mass) * 1e3
+
+    def constraints(v):
+        g = -parts(v)[1]
+        return np.nan_to_num(g, nan=-1e6, posinf=1e6, neginf=-1e6)
+
+    bounds = list(zip(problem.lower, problem.upper))
+    try:
+        res = minimize(lambda v: np.nan_to_num(objective(v), nan=1e6), x0, method="SLSQP", bounds=bounds,
+                       constraints=[{"type": "ineq", "fun": constraints}], options={"maxiter": 300, "ftol": 1e-12})
+    except (ValueError, ArithmeticError):
+        return x0
+    return np.clip(res.x, problem.lower, problem.upper)
+
+
+def reference_best(spec, materials=None, levels: int = 9) -> Evaluation | None:
+    """The best verified design over materials x families, ranked as the optimiser ranks."""
+    from designer.spec import catalogue
+    from designer.search.optimize import families
+
+    found = [reference_search(spec, fam, catalogue.material(name), levels)
+             for fam in families(spec) for name in materials or spec.search.materials]
+    return pick([ev for ev in found if ev is not None])

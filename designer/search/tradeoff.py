@@ -1,0 +1,44 @@
+"""Trade-off fronts: the best achievable error as one limit is swept (issue 5's plots).
+
+Each point is a solved, verified design: the spec re-solved for the ``error`` objective with
+``limits.max_deflection`` (or ``limits.min_frequency``) set to a level, for the leading
+materials of the search and every section family.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from designer.search import optimize
+
+LEVELS = 9
+MATERIALS = 4     # the best distinct materials of the search take part in the fronts
+SPAN = 10.0       # levels from value/SPAN**0.5 to value*SPAN**0.5 around the chosen design
+
+
+def _levels(centre: float) -> np.ndarray:
+    return np.geomspace(centre / SPAN ** 0.5, centre * SPAN ** 0.5, LEVELS)
+
+
+def fronts(spec, outcome, materials: int = MATERIALS) -> dict:
+    """``{"max_deflection": [points], "min_frequency": [points]}`` for ``plots.write_design_plots``."""
+    leading = list(dict.fromkeys(c.material for c in outcome.candidates))[:materials]
+    chosen = outcome.best.analysis
+    base = replace(spec, objective="error")
+    out = {}
+    sweeps = (("max_deflection", float(chosen.deflection), spec.limits.max_deflection),
+              ("min_frequency", float(chosen.natural_frequency), spec.limits.min_frequency))
+    for key, value, given in sweeps:
+        points = []
+        for level in _levels(given or value):
+            variant = replace(base, limits=replace(base.limits, **{key: float(level)}))
+            result = optimize.optimize(variant, materials=leading, tie_break=False)
+            for cand in result.candidates:
+                ev = cand.evaluation
+                points.append({"material": cand.material, "section": cand.family.label, "x": float(level),
+                               "objective": None if ev is None else float(ev.error_ratio),
+                               "feasible": bool(ev is not None and ev.feasible)})
+        out[key] = points
+    return out

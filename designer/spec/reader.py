@@ -1,0 +1,518 @@
+"""Reading spec.yaml (SPEC.md) into frozen dataclasses, SI throughout.
+
+Every problem is reported as a SpecError that names the key, the value and what is
+allowed; the command line turns it into exit code 2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import yaml
+
+from designer.spec import catalogue
+from designer.spec import units
+from designer.spec.catalogue import Gauge
+from designer.errors import SpecError, describe_allowed
+
+SECTION_KINDS = ("rectangle", "round", "tube")
+FEATURE_KINDS = ("pocket", "hole", "none")
+BRIDGES = {"quarter": 1, "half": 2, "full": 4}
+OBJECTIVES = ("error", "deflection", "mass")
+DEFAULT_GAUGE = "BF120-3AA"
+
+
+@dataclass(frozen=True)
+class Load:
+    force_min: float       # N
+    force_max: float
+    position_min: float    # m from the clamp face
+    position_max: float
+
+
+@dataclass(frozen=True)
+class Electronics:
+    excitation: float                  # V
+    gain: float
+    noise: float | None = None         # sigma_V at the amplifier output, V
+    noise_rti: float | None = None     # referred to the bridge input, V
+    noise_strain: float | None = None  # as an equivalent strain
+
+
+@dataclass(frozen=True)
+class Limits:
+    safety_factor: float = 2.0
+    fatigue: bool = True
+    max_deflection: float | None = None
+    min_frequency: float | None = None
+    width: tuple[float, float] = (0.002, 0.050)
+    height: tuple[float, float] = (0.002, 0.050)
+    min_wall: float = 0.001
+    clamp_clearance: float = 0.005
+    load_clearance: float = 0.005
+    tip_margin: float = 0.005
+    pocket_margin: float = 0.001
+    gauge_gap: float = 0.002
+    min_pocket_depth: float = 0.0005
+    max_pocket_fraction: float = 0.3
+    min_snr: float = 5.0
+
+
+@dataclass(frozen=True)
+class Targets:
+    force_error: float = 0.01      # sigma_F / F_min
+    position_error: float = 0.001  # sigma_x at (F_min, x_max), m
+
+
+@dataclass(frozen=True)
+class Search:
+    materials: tuple[str, ...]
+    sections: tuple[str, ...] = SECTION_KINDS
+    feature: str = "pocket"
+
+
+@dataclass(frozen=True)
+class CadOptions:
+    """CAD details; ``None`` lets the CAD module pick a default for the beam's size."""
+
+    clamp_length: float | None = None
+    bolt_diameter: float | None = None
+    end_mill_diameter: float | None = None
+    wire_channels: bool = True
+    channel_width: float | None = None
+    channel_depth: float | None = None
+    load_grooves: bool = False
+    groove_positions: tuple[float, ...] | None = None
+    groove_depth: float | None = None
+
+
+@dataclass(frozen=True)
+class Section:
+    kind: str
+    width: float | None = None      # rectangle
+    height: float | None = None     # rectangle
+    diameter: float | None = None   # round, tube
+    wall: float | None = None       # tube
+
+    @property
+    def across(self) -> float:
+        """Bounding-box size across the beam (Y)."""
+        return self.width if self.kind == "rectangle" else self.diameter
+
+    @property
+    def depth(self) -> float:
+        """Bounding-box size in the load direction (Z)."""
+        return self.height if self.kind == "rectangle" else self.diameter
+
+    def as_dict(self) -> dict:
+        keys = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
+        return {"kind": self.kind, **{k: getattr(self, k) for k in keys[self.kind]}}
+
+
+@dataclass(frozen=True)
+class Feature:
+    kind: str
+    depth: float = 0.0        # pocket depth p, m
+    diameter: float = 0.0     # hole diameter d_h, m
+    length: float = 0.0       # pocket length along the beam, m
+    width: float = 0.0        # pocket width across the beam, m
+
+    def as_dict(self) -> dict:
+        if self.kind == "pocket":
+            return {"kind": "pocket", "depth": self.depth, "length": self.length, "width": self.width}
+        if self.kind == "hole":
+            return {"kind": "hole", "diameter": self.diameter}
+        return {"kind": "none"}
+
+
+@dataclass(frozen=True)
+class FixedDesign:
+    material: str
+    section: Section
+    stations: tuple[float, ...]
+    feature: Feature
+    length: float | None = None
+
+
+@dataclass(frozen=True)
+class Spec:
+    name: str
+    load: Load
+    electronics: Electronics
+    gauge: Gauge
+    bridge: str = "half"
+    stations: int = 2
+    axes: int = 1
+    limits: Limits = field(default_factory=Limits)
+    targets: Targets = field(default_factory=Targets)
+    search: Search = field(default_factory=lambda: Search(materials=()))
+    objective: str = "error"
+    cad: CadOptions = field(default_factory=CadOptions)
+    design: FixedDesign | None = None
+
+    @property
+    def bridge_factor(self) -> int:
+        """n = 1, 2, 4 active arms for quarter, half and full bridges."""
+        return BRIDGES[self.bridge]
+
+    @property
+    def sigma_v(self) -> float:
+        """Noise per channel at the amplifier output, V (MODEL.md section 3)."""
+        e = self.electronics
+        if e.noise is not None:
+            return e.noise
+        if e.noise_rti is not None:
+            return e.gain * e.noise_rti
+        return e.excitation * self.gauge.factor * e.gain * self.bridge_factor * e.noise_strain / 4
+
+    @property
+    def free_length(self) -> float:
+        if self.design is not None and self.design.length is not None:
+            return self.design.length
+        return self.load.position_max + self.limits.tip_margin
+
+    def pocket_size(self) -> tuple[float, float]:
+        """Pocket length along and width across the beam (MODEL.md section 1)."""
+        margin = self.limits.pocket_margin
+        return self.gauge.length + 2 * margin, self.gauge.width + 2 * margin
+
+    def to_dict(self) -> dict:
+        """The normalised spec, SI, as written into design.json."""
+        out = {
+            "name": self.name,
+            "load": {"force": [self.load.force_min, self.load.force_max],
+                     "position": [self.load.position_min, self.load.position_max]},
+            "electronics": asdict(self.electronics) | {"noise_output": self.sigma_v},
+            "gauge": self.gauge.as_dict(),
+            "bridge": self.bridge, "stations": self.stations, "axes": self.axes,
+            "limits": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self.limits).items()},
+            "targets": asdict(self.targets),
+            "search": {"materials": list(self.search.materials), "sections": list(self.search.sections),
+                       "feature": self.search.feature},
+            "objective": self.objective,
+            "cad": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self.cad).items()},
+        }
+        if self.design is not None:
+            out["design"] = {"material": self.design.material, "section": self.design.section.as_dict(),
+                             "stations": list(self.design.stations), "feature": self.design.feature.as_dict(),
+                             "length": self.design.length}
+        return out
+
+
+# --------------------------------------------------------------------------- reading
+
+_TOP_KEYS = ("name", "load", "electronics", "gauge", "bridge", "stations", "axes", "limits",
+             "targets", "search", "objective", "design", "cad")
+
+
+def load_spec(path: str | Path) -> Spec:
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError as exc:
+        raise SpecError(f"{path}: no such file") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SpecError(f"{path}: cannot be read ({exc})") from exc
+    return parse_spec_text(text, source=str(path), default_name=path.stem)
+
+
+def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor") -> Spec:
+    try:
+        raw = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or "invalid YAML"
+        context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+        if context and start is not None and (mark is None or start.line != mark.line):
+            problem += f" ({context} that starts at line {start.line + 1}, column {start.column + 1})"
+        raise SpecError(f"{source}: YAML syntax error{where}: {problem}") from exc
+    if raw is None:
+        raise SpecError(f"{source}: the file is empty; a spec needs at least 'load' and 'electronics'")
+    if not isinstance(raw, dict):
+        raise SpecError(f"{source}: a spec must be a mapping of keys such as 'load' and 'electronics', "
+                        f"not {type(raw).__name__}")
+    return parse_spec(raw, default_name=default_name)
+
+
+def _mapping(raw, key: str, allowed) -> dict:
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        raise SpecError(f"{key}: {raw!r} must be a mapping with keys {describe_allowed(allowed)}")
+    unknown = [k for k in raw if k not in allowed]
+    if unknown:
+        raise SpecError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(allowed)}")
+    return raw
+
+
+def _required(raw: dict, key: str, parent: str):
+    if key not in raw or raw[key] is None:
+        raise SpecError(f"{parent}.{key}: missing; it is required" if parent else f"{key}: missing; it is required")
+    return raw[key]
+
+
+def _catalogue_name(value, key: str, lookup):
+    """A catalogue entry by name; a name that is not text is refused before the look-up."""
+    if not isinstance(value, str):
+        raise SpecError(f"{key}: {value!r} is not a catalogue name; give one name as text, "
+                        "as `fpdesign materials` lists them")
+    return lookup(value, key)
+
+
+def _choice(value, choices, key: str):
+    if value not in choices:
+        raise SpecError(f"{key}: {value!r} is not allowed; must be {describe_allowed(choices)}")
+    return value
+
+
+def _integer(value, key: str, minimum: int, maximum: int | None = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not float(value).is_integer():
+        raise SpecError(f"{key}: {value!r} must be a whole number")
+    value = int(value)
+    if value < minimum or (maximum is not None and value > maximum):
+        allowed = f"from {minimum} to {maximum}" if maximum is not None else f"at least {minimum}"
+        raise SpecError(f"{key}: {value} is out of range; must be {allowed}")
+    return value
+
+
+def _boolean(value, key: str) -> bool:
+    if not isinstance(value, bool):
+        raise SpecError(f"{key}: {value!r} must be true or false")
+    return value
+
+
+def parse_spec(raw: dict, default_name: str = "sensor") -> Spec:
+    raw = _mapping(raw, "spec", _TOP_KEYS)
+    name = raw.get("name", default_name)
+    if not isinstance(name, str) or not name.strip():
+        raise SpecError(f"name: {name!r} must be a non-empty text")
+
+    load_raw = _mapping(_required(raw, "load", ""), "load", ("force", "position"))
+    f_min, f_max = units.parse_range(_required(load_raw, "force", "load"), "force", "load.force")
+    x_min, x_max = units.parse_range(_required(load_raw, "position", "load"), "length", "load.position")
+    load = Load(f_min, f_max, x_min, x_max)
+
+    electronics = _parse_electronics(_required(raw, "electronics", ""))
+    gauge = _parse_gauge(raw.get("gauge"))
+    bridge = _choice(raw.get("bridge", "half"), tuple(BRIDGES), "bridge")
+    stations = _integer(raw.get("stations", 2), "stations", 2, 10)
+    axes = _integer(raw.get("axes", 1), "axes", 1, 2)
+    limits = _parse_limits(raw.get("limits"))
+    targets = _parse_targets(raw.get("targets"), x_max)
+    search = _parse_search(raw.get("search"))
+    objective = _choice(raw.get("objective", "error"), OBJECTIVES, "objective")
+    cad = _parse_cad(raw.get("cad"), load)
+    design = _parse_design(raw["design"], limits, gauge) if raw.get("design") is not None else None
+
+    if axes == 2:
+        if search.feature == "hole":
+            raise SpecError("search.feature: 'hole' is not allowed with axes: 2; a biaxial sensor "
+                            "needs a feature on all four faces: use pocket or none")
+        if design is not None and design.feature.kind == "hole":
+            raise SpecError("design.feature.kind: 'hole' is not allowed with axes: 2; use pocket or none")
+        if design is not None and design.section.kind == "rectangle" and \
+                not math.isclose(design.section.width, design.section.height, rel_tol=1e-9):
+            raise SpecError("design.section: a biaxial (axes: 2) rectangle must be square; "
+                            f"width {design.section.width * 1e3:g} mm differs from height "
+                            f"{design.section.height * 1e3:g} mm")
+    if search.feature == "hole" and search.sections != ("rectangle",):
+        bad = [s for s in search.sections if s != "rectangle"]
+        raise SpecError(f"search.sections: {bad[0]!r} cannot carry a hole; with feature: hole use "
+                        "sections: [rectangle]")
+    spec = Spec(name=name.strip(), load=load, electronics=electronics, gauge=gauge, bridge=bridge,
+                stations=len(design.stations) if design else stations, axes=axes, limits=limits,
+                targets=targets, search=search, objective=objective, cad=cad, design=design)
+    if design is not None and spec.free_length < x_max:
+        raise SpecError(f"design.length: {spec.free_length * 1e3:g} mm is shorter than the largest load "
+                        f"position load.position[1] = {x_max * 1e3:g} mm")
+    return spec
+
+
+def _parse_electronics(raw) -> Electronics:
+    keys = ("excitation", "gain", "noise", "noise_rti", "noise_strain")
+    raw = _mapping(raw, "electronics", keys)
+    excitation = units.parse_positive(_required(raw, "excitation", "electronics"), "voltage",
+                                      "electronics.excitation")
+    gain = units.parse_positive(raw.get("gain", 1.0), "ratio", "electronics.gain")
+    given = [k for k in ("noise", "noise_rti", "noise_strain") if raw.get(k) is not None]
+    if len(given) != 1:
+        what = "none is given" if not given else f"{len(given)} are given ({', '.join(given)})"
+        raise SpecError("electronics: give exactly one of [noise, noise_rti, noise_strain] "
+                        f"(RMS noise per channel); {what}")
+    kind = "strain" if given[0] == "noise_strain" else "voltage"
+    value = units.parse_positive(raw[given[0]], kind, f"electronics.{given[0]}")
+    return Electronics(excitation=excitation, gain=gain, **{given[0]: value})
+
+
+def _parse_gauge(raw) -> Gauge:
+    if raw is None:
+        return catalogue.gauge(DEFAULT_GAUGE)
+    if isinstance(raw, str):
+        return catalogue.gauge(raw, "gauge")
+    keys = ("name",) + tuple(catalogue.GAUGE_FIELDS)
+    raw = _mapping(raw, "gauge", keys)
+    fields = {k: units.parse_positive(v, catalogue.GAUGE_FIELDS[k], f"gauge.{k}")
+              for k, v in raw.items() if k != "name"}
+    name = raw.get("name")
+    if name is not None and not isinstance(name, str):
+        _catalogue_name(name, "gauge.name", catalogue.gauge)
+    if name is not None and name in catalogue.gauges():
+        return catalogue.customised(catalogue.gauge(name), **fields)
+    missing = [k for k in ("factor", "length", "width", "max_strain") if k not in fields]
+    if missing and name is not None:
+        catalogue.gauge(name)  # an unknown name with incomplete fields: say which names exist
+    if missing:
+        raise SpecError(f"gauge.{missing[0]}: missing; a gauge without a catalogue name needs "
+                        "factor, length, width and max_strain")
+    fields.setdefault("resistance", 120.0)
+    fields.setdefault("grid_length", fields["length"] / 2)
+    fields.setdefault("grid_width", fields["width"] / 2)
+    return Gauge(name=name or "custom", **fields)
+
+
+_LIMIT_KINDS = {
+    "safety_factor": "ratio", "max_deflection": "length", "min_frequency": "frequency",
+    "min_wall": "length", "clamp_clearance": "length", "load_clearance": "length",
+    "tip_margin": "length", "pocket_margin": "length", "gauge_gap": "length",
+    "min_pocket_depth": "length", "max_pocket_fraction": "ratio", "min_snr": "ratio",
+}
+_ZERO_ALLOWED = {"clamp_clearance", "load_clearance", "tip_margin", "pocket_margin", "gauge_gap"}
+
+
+def _parse_limits(raw) -> Limits:
+    raw = _mapping(raw, "limits", tuple(_LIMIT_KINDS) + ("fatigue", "width", "height"))
+    values = {}
+    for key, kind in _LIMIT_KINDS.items():
+        if raw.get(key) is not None:
+            values[key] = units.parse_positive(raw[key], kind, f"limits.{key}", allow_zero=key in _ZERO_ALLOWED)
+    for key in ("width", "height"):
+        if raw.get(key) is not None:
+            values[key] = units.parse_range(raw[key], "length", f"limits.{key}")
+    if "fatigue" in raw:
+        values["fatigue"] = _boolean(raw["fatigue"], "limits.fatigue")
+    if values.get("safety_factor", 2.0) < 1:
+        raise SpecError(f"limits.safety_factor: {raw['safety_factor']!r} must be at least 1")
+    if not values.get("max_pocket_fraction", 0.3) < 0.5:
+        raise SpecError(f"limits.max_pocket_fraction: {raw['max_pocket_fraction']!r} must be below 0.5 "
+                        "(pockets on both faces would meet)")
+    return Limits(**values)
+
+
+def _parse_targets(raw, x_max: float) -> Targets:
+    raw = _mapping(raw, "targets", ("force_error", "position_error"))
+    values = {}
+    if raw.get("force_error") is not None:
+        values["force_error"] = units.parse_positive(raw["force_error"], "ratio", "targets.force_error")
+    if raw.get("position_error") is not None:
+        value = raw["position_error"]
+        if isinstance(value, str) and "%" in value:
+            values["position_error"] = units.parse_positive(value, "ratio", "targets.position_error") * x_max
+        else:
+            values["position_error"] = units.parse_positive(value, "length", "targets.position_error")
+    return Targets(**values)
+
+
+def _parse_search(raw) -> Search:
+    raw = _mapping(raw, "search", ("materials", "sections", "feature"))
+    names = tuple(catalogue.materials())
+    chosen = raw.get("materials", "all")
+    if chosen == "all":
+        chosen = names
+    elif isinstance(chosen, str):
+        chosen = (chosen,)
+    if not isinstance(chosen, (list, tuple)) or not chosen:
+        raise SpecError(f"search.materials: {chosen!r} must be 'all' or a list of catalogue names")
+    for i, m in enumerate(chosen):
+        _catalogue_name(m, f"search.materials[{i}]", catalogue.material)
+    sections = raw.get("sections", list(SECTION_KINDS))
+    if isinstance(sections, str):
+        sections = [sections]
+    if not isinstance(sections, (list, tuple)) or not sections:
+        raise SpecError(f"search.sections: {sections!r} must be a list from {describe_allowed(SECTION_KINDS)}")
+    for i, s in enumerate(sections):
+        _choice(s, SECTION_KINDS, f"search.sections[{i}]")
+    feature = _choice(raw.get("feature", "pocket"), FEATURE_KINDS, "search.feature")
+    return Search(materials=tuple(dict.fromkeys(chosen)), sections=tuple(dict.fromkeys(sections)),
+                  feature=feature)
+
+
+def _parse_cad(raw, load: Load) -> CadOptions:
+    lengths = ("clamp_length", "bolt_diameter", "end_mill_diameter", "channel_width", "channel_depth",
+               "groove_depth")
+    raw = _mapping(raw, "cad", lengths + ("wire_channels", "load_grooves", "groove_positions"))
+    values = {k: units.parse_positive(raw[k], "length", f"cad.{k}") for k in lengths if raw.get(k) is not None}
+    for k in ("wire_channels", "load_grooves"):
+        if k in raw:
+            values[k] = _boolean(raw[k], f"cad.{k}")
+    if raw.get("groove_positions") is not None:
+        positions = raw["groove_positions"]
+        if not isinstance(positions, (list, tuple)) or not positions:
+            raise SpecError(f"cad.groove_positions: {positions!r} must be a list of positions")
+        values["groove_positions"] = tuple(
+            units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
+    return CadOptions(**values)
+
+
+def _parse_design(raw, limits: Limits, gauge: Gauge) -> FixedDesign:
+    raw = _mapping(raw, "design", ("material", "section", "stations", "feature", "length"))
+    material = _required(raw, "material", "design")
+    _catalogue_name(material, "design.material", catalogue.material)
+    section = _parse_section(_required(raw, "section", "design"))
+    stations = _required(raw, "stations", "design")
+    if not isinstance(stations, (list, tuple)) or len(stations) < 2:
+        raise SpecError(f"design.stations: {stations!r} must be a list of at least 2 positions")
+    stations = tuple(units.parse_positive(s, "length", f"design.stations[{i}]") for i, s in enumerate(stations))
+    if any(b <= a for a, b in zip(stations, stations[1:])):
+        raise SpecError(f"design.stations: {[round(s * 1e3, 3) for s in stations]} mm must increase "
+                        "from the clamp outwards")
+    feature = _parse_feature(raw.get("feature", {"kind": "pocket", "depth": limits.min_pocket_depth}),
+                             limits, gauge, section)
+    length = units.parse_positive(raw["length"], "length", "design.length") if raw.get("length") is not None else None
+    return FixedDesign(material=material, section=section, stations=stations, feature=feature, length=length)
+
+
+def _parse_section(raw) -> Section:
+    if not isinstance(raw, dict):
+        raise SpecError(f"design.section: {raw!r} must be a mapping such as "
+                        "{kind: rectangle, width: 12 mm, height: 6 mm}")
+    kind = _choice(_required(raw, "kind", "design.section"), SECTION_KINDS, "design.section.kind")
+    keys = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}[kind]
+    raw = _mapping(raw, "design.section", ("kind",) + keys)
+    dims = {k: units.parse_positive(_required(raw, k, "design.section"), "length", f"design.section.{k}")
+            for k in keys}
+    if kind == "tube" and not dims["wall"] < dims["diameter"] / 2:
+        raise SpecError(f"design.section.wall: {dims['wall'] * 1e3:g} mm must be less than half the "
+                        f"diameter ({dims['diameter'] * 1e3 / 2:g} mm)")
+    return Section(kind=kind, **dims)
+
+
+def _parse_feature(raw, limits: Limits, gauge: Gauge, section: Section) -> Feature:
+    if not isinstance(raw, dict):
+        raise SpecError(f"design.feature: {raw!r} must be a mapping such as {{kind: pocket, depth: 1 mm}}")
+    kind = _choice(_required(raw, "kind", "design.feature"), FEATURE_KINDS, "design.feature.kind")
+    keys = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "none": ()}[kind]
+    raw = _mapping(raw, "design.feature", ("kind",) + keys)
+    if kind == "none":
+        return Feature("none", length=gauge.length, width=gauge.width)
+    if kind == "hole":
+        if section.kind != "rectangle":
+            raise SpecError(f"design.feature.kind: 'hole' needs a rectangle section, not {section.kind!r}")
+        d = units.parse_positive(_required(raw, "diameter", "design.feature"), "length", "design.feature.diameter")
+        if not d < section.height:
+            raise SpecError(f"design.feature.diameter: {d * 1e3:g} mm must be less than the section height "
+                            f"{section.height * 1e3:g} mm")
+        return Feature("hole", diameter=d)
+    depth = units.parse_positive(_required(raw, "depth", "design.feature"), "length", "design.feature.depth")
+    margin = limits.pocket_margin
+    length = units.parse_positive(raw.get("length", gauge.length + 2 * margin), "length", "design.feature.length")
+    width = units.parse_positive(raw.get("width", gauge.width + 2 * margin), "length", "design.feature.width")
+    if not depth < section.depth / 2:
+        raise SpecError(f"design.feature.depth: {depth * 1e3:g} mm must be less than half the section "
+                        f"height ({section.depth * 1e3 / 2:g} mm)")
+    if section.kind == "tube" and not depth < section.wall:
+        raise SpecError(f"design.feature.depth: {depth * 1e3:g} mm must be less than the tube wall "
+                        f"({section.wall * 1e3:g} mm)")
+    return Feature("pocket", depth=depth, length=length, width=width)
