@@ -26,7 +26,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
 
 from designer.checks import elastica
-from designer.model import core as model
+from designer import model
 from designer.result.designfile import rebuild
 from designer.result.evaluation import evaluate, fixed_design
 from designer.result.record import build_record

@@ -20,8 +20,8 @@ import pytest
 from scipy import integrate, optimize
 
 from designer.model import estimator
-from designer.model import core as model
-from designer.model.core import Geometry, MaterialParams
+from designer import model
+from designer.model import Geometry, MaterialParams
 from designer.spec.reader import parse_spec
 
 MM = 1e-3

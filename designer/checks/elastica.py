@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.errors import DesignFileError, SolverError
-from designer.model.core import LARGE_DEFLECTION_RATIO
+from designer.model import LARGE_DEFLECTION_RATIO
 # Integration tolerances: far below the 1e-4 relative accuracy the results are quoted to.
 ODE_RTOL = 1e-11
 ODE_ATOL = 1e-14
@@ -249,7 +249,7 @@ def large_deflection(design: dict, forces: int = GRID_FORCES, positions: int = G
     ``V = k F x - k d F + c`` is calibrated on it by least squares per bridge and the
     force and position read back with the least-squares estimator.
     """
-    from designer.model import core as model
+    from designer import model
     from designer.result.designfile import rebuild, validate
     from designer.model.estimator import estimate
 

@@ -1,4 +1,4 @@
-"""Least-squares force and position estimation from N >= 2 bridges (MODEL.md section 3).
+"""Least-squares force and position estimation from N >= 2 bridges (docs/model.md §3).
 
 Rows ``V_i - c_i = k_i z1 - k_i d_i z2`` with ``z1 = F x`` and ``z2 = F``; then
 ``F = z2`` and ``x = z1 / z2``. For two stations this is exactly the paper's eqs. 11-12.
@@ -8,6 +8,8 @@ Everything here is vectorised with numpy over any leading shape.
 from __future__ import annotations
 
 import numpy as np
+
+from designer.model.ops import NUMERIC, Ops
 
 
 def normal_matrix_inverse(k, d):
@@ -30,16 +32,18 @@ def _stations(values):
     return list(values)
 
 
-def sigma_force(k, d, sigma_v):
-    """1-sigma of the force estimate, N (independent of the load and its position)."""
+def sigma_force(k, d, sigma_v, ops: Ops = NUMERIC):
+    """1-sigma of the force estimate, N (independent of the load and its position):
+    ``sigma_V sqrt(Cov22)`` with ``Cov = (A^T A)^-1`` (docs/model.md §3)."""
     _, _, m22 = normal_matrix_inverse(k, d)
-    return sigma_v * m22 ** 0.5
+    return sigma_v * ops.sqrt(m22)
 
 
-def sigma_position(k, d, sigma_v, force, position):
-    """1-sigma of the position estimate at ``(force, position)``, m (linear propagation)."""
+def sigma_position(k, d, sigma_v, force, position, ops: Ops = NUMERIC):
+    """1-sigma of the position estimate at ``(force, position)``, m (linear propagation):
+    ``sigma_V sqrt(Cov11 - 2 x Cov12 + x^2 Cov22) / F`` (docs/model.md §3)."""
     m11, m12, m22 = normal_matrix_inverse(k, d)
-    return sigma_v * (m11 - 2 * position * m12 + position * position * m22) ** 0.5 / force
+    return sigma_v * ops.sqrt(m11 - 2 * position * m12 + position * position * m22) / force
 
 
 def bridge_voltages(k, d, c, force, position):

@@ -11,10 +11,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from designer.model import core as model
+from designer import model
 from designer.spec.catalogue import Material
 from designer.errors import InputError
-from designer.model.core import Analysis, Geometry, Limit, MaterialParams
+from designer.model import Analysis, Geometry, Limit, MaterialParams
 
 ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
 
@@ -25,9 +25,7 @@ class Design:
     geometry: Geometry
 
     def material_params(self, spec) -> MaterialParams:
-        return MaterialParams(self.material.E,
-                              self.material.allowable_stress(spec.limits.safety_factor, spec.limits.fatigue),
-                              self.material.density)
+        return MaterialParams.of(self.material, spec.limits)
 
     def rounded(self) -> "Design":
         """Every length rounded to 0.01 mm; what is reported is what is checked."""
@@ -81,7 +79,7 @@ class Evaluation:
 
     @property
     def violations(self) -> list[Limit]:
-        return [lim for lim in self.limits if float(lim.normalised) > 1e-9]
+        return [lim for lim in self.limits if float(lim.normalised) > model.FEASIBILITY_TOLERANCE]
 
     @property
     def feasible(self) -> bool:
@@ -94,7 +92,7 @@ class Evaluation:
 
     @property
     def large_deflection(self) -> bool:
-        return float(self.analysis.deflection) > model.LARGE_DEFLECTION_RATIO * float(self.design.geometry.length)
+        return model.is_large_deflection(self.analysis.deflection, self.design.geometry.length)
 
     def predicted(self) -> dict:
         a = self.analysis
@@ -125,7 +123,7 @@ def evaluate(design: Design, spec) -> Evaluation:
     try:
         a = model.analyse(design.geometry, params, spec)
         lims = tuple(model.limits(design.geometry, a, params, spec))
-        ev = Evaluation(design, a, lims, model.objective_value(a, spec), model.error_ratio(a, spec))
+        ev = Evaluation(design, a, lims, float(model.objective(a, spec)), float(model.error_ratio(a, spec.targets)))
         predicted = ev.predicted()
     except ArithmeticError as exc:  # ZeroDivisionError, OverflowError
         raise InputError(f"the design cannot be evaluated ({exc}); a size, load or electronics value is far "

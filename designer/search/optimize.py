@@ -17,11 +17,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from designer.spec import catalogue
-from designer.model import core as model
+from designer import model
 from designer.result.designfile import validate
 from designer.errors import DesignFileError, InputError, SolverError, SpecError, describe_allowed
 from designer.result.evaluation import ROUNDING, Design, Evaluation, evaluate
-from designer.model.core import Geometry, MaterialParams
+from designer.model import Geometry, MaterialParams
 
 MM = 1e-3
 METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")

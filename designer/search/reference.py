@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from designer.model import core as model
+from designer import model
 from designer.result.evaluation import Evaluation
-from designer.model.core import MaterialParams
+from designer.model import MaterialParams
 from designer.search.optimize import MM, Family, FamilyProblem, material_params, pick, round_and_check
 
 POLISH_STARTS = 6

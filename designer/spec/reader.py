@@ -16,10 +16,11 @@ from designer.spec import catalogue
 from designer.spec import units
 from designer.spec.catalogue import Gauge
 from designer.errors import SpecError, describe_allowed
+from designer.model.electronics import BRIDGE_FACTORS, output_noise
 
 SECTION_KINDS = ("rectangle", "round", "tube")
 FEATURE_KINDS = ("pocket", "hole", "none")
-BRIDGES = {"quarter": 1, "half": 2, "full": 4}
+BRIDGES = BRIDGE_FACTORS
 OBJECTIVES = ("error", "deflection", "mass")
 DEFAULT_GAUGE = "BF120-3AA"
 
@@ -159,13 +160,10 @@ class Spec:
 
     @property
     def sigma_v(self) -> float:
-        """Noise per channel at the amplifier output, V (MODEL.md section 3)."""
+        """Noise per channel at the amplifier output, V (docs/model.md §3)."""
         e = self.electronics
-        if e.noise is not None:
-            return e.noise
-        if e.noise_rti is not None:
-            return e.gain * e.noise_rti
-        return e.excitation * self.gauge.factor * e.gain * self.bridge_factor * e.noise_strain / 4
+        return output_noise(e.excitation, e.gain, self.gauge.factor, self.bridge_factor, e.noise, e.noise_rti,
+                            e.noise_strain)
 
     @property
     def free_length(self) -> float:

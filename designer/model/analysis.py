@@ -1,0 +1,87 @@
+"""The forward model: every predicted quantity of one design (docs/model.md §3-4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from designer.model.beam import natural_frequency, tip_deflection
+from designer.model.electronics import volts_per_strain
+from designer.model.estimator import sigma_force, sigma_position
+from designer.model.ops import NUMERIC, Ops
+from designer.model.sections import Geometry, SectionProperties, section_properties
+
+# The optimiser passes the material as parameters in these units (GPa, MPa, kg/m^3) so that
+# the NLP's numbers stay near one.
+PARAMETER_SCALE = (1e9, 1e6, 1.0)
+
+
+@dataclass(frozen=True)
+class MaterialParams:
+    """The material as the model needs it; floats, or casadi parameters."""
+
+    E: Any
+    allowable: Any   # allowable stress, Pa
+    density: Any
+
+    @classmethod
+    def of(cls, material, limits) -> "MaterialParams":
+        """A catalogue material under the spec's ``limits`` (safety factor, fatigue)."""
+        return cls(material.E, material.allowable_stress(limits.safety_factor, limits.fatigue), material.density)
+
+    def scaled(self) -> list:
+        """``[E, allowable, density]`` in the optimiser's parameter units."""
+        return [self.E / PARAMETER_SCALE[0], self.allowable / PARAMETER_SCALE[1], self.density / PARAMETER_SCALE[2]]
+
+    @classmethod
+    def from_scaled(cls, p) -> "MaterialParams":
+        return cls(p[0] * PARAMETER_SCALE[0], p[1] * PARAMETER_SCALE[1], p[2] * PARAMETER_SCALE[2])
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Every predicted quantity of docs/model.md §3-4 for one design (SI)."""
+
+    props: SectionProperties
+    sensitivity: Any          # k, V/(N m), the same at every station
+    sigma_v: float            # V
+    force_error: Any          # sigma_F / F_min
+    position_error: Any       # sigma_x(F_min, x_max), m
+    stress_root: Any
+    stress_feature: Any
+    gauge_strain: tuple       # at F_max, x_max, per station
+    min_signal_snr: Any
+    deflection: Any           # free end, m
+    natural_frequency: Any
+    mass: Any
+    noise_strain: Any         # the noise as an equivalent gauge strain
+
+    @property
+    def max_stress(self):
+        return max(self.stress_root, self.stress_feature)
+
+
+def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC) -> Analysis:
+    """The forward model for geometry ``g`` of material ``m`` under ``spec`` (a Spec)."""
+    load, e = spec.load, spec.electronics
+    sp = section_properties(g, ops)
+    gain = volts_per_strain(e.excitation, spec.gauge.factor, e.gain, spec.bridge_factor)
+    k = 4 * gain * sp.y_g / (4 * m.E * sp.I_s)
+    sigma_v = spec.sigma_v
+    d = list(g.stations)
+    f_min, f_max, x_min, x_max = load.force_min, load.force_max, load.position_min, load.position_max
+    force_error = sigma_force([k] * len(d), d, sigma_v, ops) / f_min
+    position_error = sigma_position([k] * len(d), d, sigma_v, f_min, x_max, ops)
+
+    l_f = g.feature_length
+    stress_root = f_max * x_max * sp.y_root / sp.I
+    stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
+    strains = tuple(f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d)
+    snr = k * f_min * (x_min - d[-1]) / sigma_v
+
+    deflection = tip_deflection(g, sp, m.E, f_max, x_max)
+    frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
+    mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
+    noise_strain = sigma_v / gain
+    return Analysis(sp, k, sigma_v, force_error, position_error, stress_root, stress_feature, strains,
+                    snr, deflection, frequency, mass, noise_strain)

@@ -1,0 +1,137 @@
+"""Every limit a design must meet, in the optimiser's normalised form (docs/model.md §1, §4)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from designer.model.objective import FEASIBILITY_TOLERANCE
+from designer.model.ops import NUMERIC, Ops
+from designer.model.sections import Geometry, feature_length
+
+# Constraints whose normalised slack is below this bind (0.5 % of the limit).
+ACTIVE_TOLERANCE = 5e-3
+TARGET_LIMITS = ("force_error", "position_error")
+
+
+@dataclass(frozen=True)
+class Limit:
+    """One limit: ``value <= limit`` (``upper``) or ``value >= limit``, in SI.
+
+    ``normalised`` is the optimiser's ``g <= 0`` form: ``value/limit - 1`` (or ``1 - value/limit``);
+    limits at zero are scaled by ``scale`` instead.
+    """
+
+    name: str
+    value: Any
+    limit: Any
+    upper: bool = True
+    scale: Any = None
+    unit: str = ""
+
+    @property
+    def normalised(self):
+        scale = self.scale if self.scale is not None else self.limit
+        gap = self.value - self.limit if self.upper else self.limit - self.value
+        return gap / scale
+
+    def record(self) -> dict:
+        """As written to design.json: ``margin`` is the slack as a fraction of the limit
+        (``1 - value/limit`` for an upper bound), whatever scale the optimiser uses; a limit
+        of zero reports the slack itself. ``satisfied`` is judged on the normalised form."""
+        value, limit = float(self.value), float(self.limit)
+        slack = (limit - value) if self.upper else (value - limit)
+        margin = slack / abs(limit) if limit != 0 else slack
+        return {"name": self.name, "value": value, "limit": limit,
+                "sense": "<=" if self.upper else ">=", "margin": margin,
+                "active": bool(abs(margin) <= ACTIVE_TOLERANCE),
+                "satisfied": bool(float(self.normalised) <= FEASIBILITY_TOLERANCE), "unit": self.unit}
+
+
+def limits(g: Geometry, a, m, spec, include_targets: bool = True,
+           ops: Ops = NUMERIC) -> list[Limit]:
+    """Every limit of docs/model.md §4 and the geometry rules of §1."""
+    lim, load = spec.limits, spec.load
+    mm = 1e-3  # scale for geometric rules whose limit may be zero
+    d = list(g.stations)
+    l_f = g.feature_length
+    out = [
+        Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
+        Limit("stress_feature", a.stress_feature, m.allowable, unit="Pa"),
+        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain, unit="strain"),
+        Limit("min_signal_snr", a.min_signal_snr, lim.min_snr, upper=False),
+        Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
+        Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
+    ]
+    out += [Limit(f"station_gap_{i + 1}", d[i + 1] - d[i], l_f + lim.gauge_gap, upper=False, scale=mm, unit="m")
+            for i in range(len(d) - 1)]
+    if lim.max_deflection is not None:
+        out.append(Limit("deflection", a.deflection, lim.max_deflection, unit="m"))
+    if lim.min_frequency is not None:
+        out.append(Limit("natural_frequency", a.natural_frequency, lim.min_frequency, upper=False, unit="Hz"))
+    if include_targets:
+        out += [Limit("force_error", a.force_error, spec.targets.force_error),
+                Limit("position_error", a.position_error, spec.targets.position_error, unit="m")]
+    out += section_limits(g, spec, ops)
+    return out
+
+
+def worst_normalised(limits: list[Limit], n: int) -> np.ndarray:
+    """The largest normalised value of ``limits`` for each of ``n`` designs evaluated at once
+    (numeric arrays; a limit that does not vary is broadcast)."""
+    return np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (n,)) for lim in limits]),
+                  axis=0)
+
+
+def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
+    """Size bounds and the manufacturing rules of a section and its feature."""
+    lim = spec.limits
+    mm = 1e-3
+    out = []
+    if g.section == "rectangle":
+        out += [Limit("width_min", g.width, lim.width[0], upper=False, unit="m"),
+                Limit("width_max", g.width, lim.width[1], unit="m"),
+                Limit("height_min", g.height, lim.height[0], upper=False, unit="m"),
+                Limit("height_max", g.height, lim.height[1], unit="m")]
+    else:
+        out += [Limit("diameter_min", g.diameter, max(lim.width[0], lim.height[0]), upper=False, unit="m"),
+                Limit("diameter_max", g.diameter, min(lim.width[1], lim.height[1]), unit="m")]
+    if g.section == "tube":
+        out += [Limit("wall_min", g.wall, lim.min_wall, upper=False, unit="m"),
+                Limit("bore_min", g.diameter - 2 * g.wall, lim.min_wall, upper=False, unit="m")]
+    if g.feature == "pocket":
+        size = g.size
+        out += [Limit("pocket_depth_min", g.depth, lim.min_pocket_depth, upper=False, unit="m"),
+                Limit("pocket_depth_max", g.depth, lim.max_pocket_fraction * size, scale=lim.max_pocket_fraction * mm,
+                      unit="m")]
+        if g.section == "rectangle":
+            out.append(Limit("pocket_side_wall", (g.width - g.pocket_width) / 2, lim.min_wall, upper=False, unit="m"))
+            if g.axes == 2:  # side slots must not reach the top and bottom slots
+                out.append(Limit("pocket_corner", g.depth + g.pocket_width / 2, g.width / 2 - lim.min_wall,
+                                 scale=mm, unit="m"))
+        else:
+            R = g.diameter / 2
+            half_chord = ops.sqrt(ops.fmax(R * R - (R - g.depth) ** 2, 0.0))
+            out.append(Limit("flat_chord", 2 * half_chord, g.pocket_width, upper=False, unit="m"))
+            if g.axes == 2:  # neighbouring flats must not meet
+                out.append(Limit("flat_corner", half_chord, R - g.depth, scale=mm, unit="m"))
+            if g.section == "tube":
+                out.append(Limit("flat_wall", g.depth, g.wall - lim.min_wall, scale=mm, unit="m"))
+    if g.feature == "hole":
+        out += [Limit("hole_ligament", (g.height - g.hole) / 2, lim.min_wall, upper=False, unit="m"),
+                Limit("hole_min", g.hole, lim.min_wall, upper=False, unit="m")]
+    return out
+
+
+def smallest_feature_length(spec, feature: str):
+    """The shortest l_f the spec allows for ``feature``: a hole no narrower than ``min_wall``."""
+    return feature_length(feature, spec.pocket_size()[0], spec.limits.min_wall, spec.gauge.length)
+
+
+def minimum_room(spec, feature: str | None = None) -> float:
+    """The smallest x_min that leaves room for the stations (the geometry rules of docs/model.md §1)."""
+    lim, n = spec.limits, spec.stations
+    lf = smallest_feature_length(spec, feature or spec.search.feature)
+    return lim.clamp_clearance + n * lf + (n - 1) * lim.gauge_gap + lim.load_clearance

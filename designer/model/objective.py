@@ -1,0 +1,67 @@
+"""The objectives, the feasibility tolerance and the ranking of designs (docs/model.md §5)."""
+
+from __future__ import annotations
+
+from designer.model.ops import NUMERIC, Ops
+
+OBJECTIVES = ("error", "deflection", "mass")
+# Objectives within this fraction of each other tie; ties rank by deflection, then mass.
+TIE_TOLERANCE = 1e-3
+# A limit's normalised value (value/limit - 1) up to this counts as met.
+FEASIBILITY_TOLERANCE = 1e-9
+
+
+def error_terms(a, targets):
+    """``(sigma_F/F_min ÷ force target, sigma_x ÷ position target)``: each 1 on target."""
+    return a.force_error / targets.force_error, a.position_error / targets.position_error
+
+
+def error_ratio(a, targets, ops: Ops = NUMERIC):
+    """``e = max(force error / target, position error / target)``; ``e <= 1`` meets the targets."""
+    return ops.fmax(*error_terms(a, targets))
+
+
+def objective(a, spec, ops: Ops = NUMERIC):
+    """The objective ``spec.objective`` names, SI (numbers, arrays or casadi)."""
+    if spec.objective == "deflection":
+        return a.deflection
+    if spec.objective == "mass":
+        return a.mass
+    return error_ratio(a, spec.targets, ops)
+
+
+def secondary(a, spec):
+    """What ranks designs tied on the objective first: deflection (mass under ``deflection``)."""
+    return a.mass if spec.objective == "deflection" else a.deflection
+
+
+def ties(objective_value: float, lead: float) -> bool:
+    """Whether ``objective_value`` lies within the tie band of the best objective ``lead``."""
+    return objective_value - lead <= TIE_TOLERANCE * abs(lead)
+
+
+def tie_key(ev) -> tuple:
+    """Inside a tie band: lower deflection, then lower mass."""
+    return float(ev.analysis.deflection), float(ev.analysis.mass)
+
+
+def ranks_before(a, b) -> bool:
+    """Lower objective first; within the tie band, lower deflection, then lower mass."""
+    fa, fb = a.objective, b.objective
+    if abs(fa - fb) > TIE_TOLERANCE * min(abs(fa), abs(fb)):
+        return fa < fb
+    return tie_key(a) < tie_key(b)
+
+
+def rank(evaluations: list) -> list:
+    """Order feasible evaluations: repeatedly take the best objective, then among those within
+    the tie band of it the lowest deflection, then the lowest mass. Deterministic; ties are
+    anchored on the best objective, never chained."""
+    rest = sorted(evaluations, key=lambda ev: ev.objective)
+    out = []
+    while rest:
+        lead = rest[0].objective
+        pick = min((ev for ev in rest if ties(ev.objective, lead)), key=lambda ev: (*tie_key(ev), ev.objective))
+        out.append(pick)
+        rest.remove(pick)
+    return out

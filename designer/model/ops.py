@@ -1,0 +1,31 @@
+"""The math backend that lets one set of model expressions serve numbers and casadi graphs.
+
+Every model function takes its math through an ``Ops``: ``NUMERIC`` (numpy) for checking and
+reporting a design, ``casadi_ops()`` for the optimiser's symbolic graph (docs/model.md §0).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Ops:
+    sqrt: Callable
+    sin: Callable
+    cos: Callable
+    acos: Callable
+    fmax: Callable
+    fmin: Callable
+
+
+NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin)
+
+
+def casadi_ops() -> Ops:
+    import casadi
+
+    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin)

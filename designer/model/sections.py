@@ -1,0 +1,135 @@
+"""Section geometry and section properties (docs/model.md §1-2), for numbers and casadi."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from designer.model.ops import NUMERIC, Ops
+
+
+def feature_length(feature: str, pocket_length, hole, gauge_length):
+    """l_f, a feature's length along the beam: the pocket's length, the hole's diameter, or the
+    gauge's length on a plain surface (docs/model.md §1). The one definition of l_f."""
+    return {"pocket": pocket_length, "hole": hole, "none": gauge_length}[feature]
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """A beam's shape. Sizes are SI floats, or casadi expressions inside the optimiser."""
+
+    section: str                   # rectangle | round | tube
+    feature: str                   # pocket | hole | none
+    stations: tuple                # d_i, m
+    length: Any                    # free length, m
+    width: Any = None              # rectangle b
+    height: Any = None             # rectangle h
+    diameter: Any = None           # round, tube D
+    wall: Any = None               # tube t
+    depth: Any = 0.0               # pocket depth p
+    hole: Any = 0.0                # hole diameter d_h
+    pocket_length: float = 0.0     # l_p
+    pocket_width: float = 0.0      # w_p
+    gauge_length: float = 0.0
+    axes: int = 1
+
+    @property
+    def feature_length(self):
+        """l_f: the feature's length along the beam (docs/model.md §1)."""
+        return feature_length(self.feature, self.pocket_length, self.hole, self.gauge_length)
+
+    @property
+    def reduced_spans(self) -> tuple:
+        """Where the reduced section acts: ``(d_i - l_f/2, d_i + l_f/2)`` for each station."""
+        half = self.feature_length / 2
+        return tuple((d - half, d + half) for d in self.stations)
+
+    @property
+    def size(self):
+        """Section size in the load direction (h or D)."""
+        return self.height if self.section == "rectangle" else self.diameter
+
+
+@dataclass(frozen=True)
+class SectionProperties:
+    A: Any          # plain section area
+    I: Any          # plain second moment about the bending axis
+    y_root: Any     # extreme fibre used for the root stress
+    A_s: Any        # reduced section at a station
+    I_s: Any
+    y_g: Any        # gauge distance from the neutral axis
+    y_e: Any        # extreme fibre at the reduced section
+    feature_volume: Any  # material removed at one station (all faces)
+
+
+# ----------------------------------------------------------------- circular segments
+
+def segment_area(R, alpha, ops: Ops = NUMERIC):
+    """Area of the circular segment beyond ``|z| = R cos(alpha)`` (docs/model.md §2)."""
+    return R * R * (alpha - ops.sin(alpha) * ops.cos(alpha))
+
+
+def segment_inertia_normal(R, alpha, ops: Ops = NUMERIC):
+    """Second moment of that segment about the centre, along its own normal (int z^2 dA)."""
+    s, c = ops.sin(alpha), ops.cos(alpha)
+    return R ** 4 / 4 * (alpha - s * c + 2 * s ** 3 * c)
+
+
+def segment_inertia_across(R, alpha, ops: Ops = NUMERIC):
+    """Second moment of a segment beyond ``|y| = R cos(alpha)`` about the y axis (int z^2 dA).
+
+    Integrating ``(2/3)(R^2 - y^2)^(3/2)`` from ``R cos(alpha)`` to ``R`` gives
+    ``R^4 (alpha/4 - sin(2 alpha)/6 + sin(4 alpha)/48)``; a half disc (alpha = pi/2) gives pi R^4/8.
+    """
+    return R ** 4 * (alpha / 4 - ops.sin(2 * alpha) / 6 + ops.sin(4 * alpha) / 48)
+
+
+def flat_half_angle(R, depth, ops: Ops = NUMERIC):
+    """Half angle of a flat milled to ``depth`` on a circle of radius ``R``."""
+    return ops.acos((R - depth) / R)
+
+
+# ----------------------------------------------------------------- section properties
+
+def section_properties(g: Geometry, ops: Ops = NUMERIC) -> SectionProperties:
+    """Plain and reduced section properties (docs/model.md §2) for one station."""
+    biaxial = g.axes == 2
+    if g.section == "rectangle":
+        b, h = g.width, g.height
+        A, I = b * h, b * h ** 3 / 12
+        # A biaxial square bent at 45 degrees puts its corner at (h/2)(cos + sin) = h/sqrt(2).
+        corner = math.sqrt(2.0) if biaxial else 1.0
+        y_root = corner * h / 2
+        if g.feature == "pocket":
+            p, w, lp = g.depth, g.pocket_width, g.pocket_length
+            I_slot = w * p ** 3 / 12 + w * p * (h / 2 - p / 2) ** 2
+            A_s, I_s = A - 2 * w * p, I - 2 * I_slot
+            faces = 2
+            if biaxial:  # slots on the side faces, centred on the neutral axis
+                A_s, I_s = A_s - 2 * w * p, I_s - 2 * p * w ** 3 / 12
+                faces = 4
+            return SectionProperties(A, I, y_root, A_s, I_s, h / 2 - p, corner * h / 2, faces * w * p * lp)
+        if g.feature == "hole":
+            d = g.hole
+            return SectionProperties(A, I, y_root, b * (h - d), b * (h ** 3 - d ** 3) / 12, h / 2, h / 2,
+                                     math.pi * d * d / 4 * b)
+        return SectionProperties(A, I, y_root, A, I, h / 2, y_root, 0.0)
+
+    R = g.diameter / 2
+    A, I = math.pi * R ** 2, math.pi * R ** 4 / 4
+    if g.section == "tube":
+        r = R - g.wall
+        A, I = A - math.pi * r ** 2, I - math.pi * r ** 4 / 4
+    if g.feature != "pocket":
+        return SectionProperties(A, I, R, A, I, R, R, 0.0)
+    p, lp = g.depth, g.pocket_length
+    alpha = flat_half_angle(R, p, ops)
+    seg_A = segment_area(R, alpha, ops)
+    A_s, I_s = A - 2 * seg_A, I - 2 * segment_inertia_normal(R, alpha, ops)
+    faces = 2
+    y_e = R - p
+    if biaxial:  # flats on the side faces too; the arcs between flats stay at R
+        A_s, I_s = A_s - 2 * seg_A, I_s - 2 * segment_inertia_across(R, alpha, ops)
+        faces, y_e = 4, R
+    return SectionProperties(A, I, R, A_s, I_s, R - p, y_e, faces * seg_A * lp)
