@@ -7,7 +7,7 @@ from typing import Any
 
 from designer.model.beam import natural_frequency, tip_deflection
 from designer.model.electronics import volts_per_strain
-from designer.model.estimator import sigma_force, sigma_position
+from designer.model.estimator import sigmas
 from designer.model.ops import NUMERIC, Ops
 from designer.model.sections import Geometry, SectionProperties, section_properties
 
@@ -70,8 +70,8 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC) -> Analysi
     sigma_v = spec.sigma_v
     d = list(g.stations)
     f_min, f_max, x_min, x_max = load.force_min, load.force_max, load.position_min, load.position_max
-    force_error = sigma_force([k] * len(d), d, sigma_v, ops) / f_min
-    position_error = sigma_position([k] * len(d), d, sigma_v, f_min, x_max, ops)
+    sigma_f, position_error = sigmas([k] * len(d), d, sigma_v, f_min, x_max, ops)
+    force_error = sigma_f / f_min
 
     l_f = g.feature_length
     stress_root = f_max * x_max * sp.y_root / sp.I

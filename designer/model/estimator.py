@@ -35,14 +35,27 @@ def _stations(values):
 def sigma_force(k, d, sigma_v, ops: Ops = NUMERIC):
     """1-sigma of the force estimate, N (independent of the load and its position):
     ``sigma_V sqrt(Cov22)`` with ``Cov = (A^T A)^-1`` (docs/model.md §3)."""
-    _, _, m22 = normal_matrix_inverse(k, d)
-    return sigma_v * ops.sqrt(m22)
+    return _sigma_force(normal_matrix_inverse(k, d), sigma_v, ops)
 
 
 def sigma_position(k, d, sigma_v, force, position, ops: Ops = NUMERIC):
     """1-sigma of the position estimate at ``(force, position)``, m (linear propagation):
     ``sigma_V sqrt(Cov11 - 2 x Cov12 + x^2 Cov22) / F`` (docs/model.md §3)."""
-    m11, m12, m22 = normal_matrix_inverse(k, d)
+    return _sigma_position(normal_matrix_inverse(k, d), sigma_v, force, position, ops)
+
+
+def sigmas(k, d, sigma_v, force, position, ops: Ops = NUMERIC):
+    """``(sigma_F, sigma_x(force, position))`` from one normal matrix (one casadi subgraph)."""
+    m = normal_matrix_inverse(k, d)
+    return _sigma_force(m, sigma_v, ops), _sigma_position(m, sigma_v, force, position, ops)
+
+
+def _sigma_force(m, sigma_v, ops):
+    return sigma_v * ops.sqrt(m[2])
+
+
+def _sigma_position(m, sigma_v, force, position, ops):
+    m11, m12, m22 = m
     return sigma_v * ops.sqrt(m11 - 2 * position * m12 + position * position * m22) / force
 
 
