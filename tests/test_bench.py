@@ -8,7 +8,8 @@ import math
 import pytest
 
 from designer.bench import core as bench
-from designer.search import optimize
+from designer import errors
+from designer.search import run as search_run
 from designer.cli import main
 from designer.errors import InputError
 from designer.spec.reader import parse_spec_text
@@ -159,9 +160,9 @@ def test_a_method_that_raises_is_recorded_not_raised(monkeypatch):
     (item,) = bench.generate_suite(1, seed=0, kinds=["millinewton"])
 
     def broken(*args, **kwargs):
-        raise optimize.SolverError("no solver returned a design that could be evaluated")
+        raise errors.SolverError("no solver returned a design that could be evaluated")
 
-    monkeypatch.setattr(optimize, "optimize", broken)
+    monkeypatch.setattr(search_run, "optimize", broken)
     run = bench.run_method(item, "mma")
     assert run.error.startswith("SolverError: no solver returned")
     truth = bench.Truth(item.name, item.kind, None, True, 1.0, 1.0, "reference", 1.0, True, 0.0, "error")

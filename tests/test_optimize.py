@@ -12,7 +12,7 @@ import pytest
 
 from designer.spec import catalogue
 from designer.result import designfile
-from designer.search import optimize
+from designer import model, search
 from designer.search import reference
 from designer.cli import main
 from designer.result.evaluation import evaluate
@@ -39,7 +39,7 @@ def test_objective_within_half_a_percent_of_reference_search(name, materials, se
     # Reference: reference.reference_best, a dense grid over every variable polished by scipy
     # SLSQP on the numeric model; it shares no code with casadi or nlopt.
     spec = _reduced(load_spec(EXAMPLES / f"{name}.yaml"), materials, sections)
-    outcome = optimize.optimize(spec)
+    outcome = search.optimize(spec)
     ref = reference.reference_best(spec, levels=6)
     assert outcome.success and ref.feasible
     assert outcome.best.feasible
@@ -131,10 +131,10 @@ def test_infeasible_deflection_limit_too_tight(tmp_path, capsys):
 
 def test_infeasible_and_ranked_least_infeasible_first():
     spec = parse_spec_text(_spec_text(limits="  max_deflection: 0.001 mm"))
-    outcome = optimize.optimize(spec)
+    outcome = search.optimize(spec)
     worst = [c.evaluation.worst_violation for c in outcome.candidates if c.evaluation is not None]
     assert worst == sorted(worst)
-    assert outcome.record["design"]["material"] == outcome.candidates[0].material
+    assert outcome.x.material.name == outcome.candidates[0].material
 
 
 class _Fake:
@@ -152,8 +152,8 @@ def test_ties_within_a_tenth_of_a_percent_rank_by_deflection_then_mass():
     b = _Fake(1.0008, 1e-3, 0.9)   # ties with a, stiffer: first
     c = _Fake(1.0005, 1e-3, 0.3)   # ties with a and b, as stiff as b and lighter: before b
     d = _Fake(0.9950, 5e-3, 1.0)   # 0.5 % better: first of all, whatever its deflection
-    assert optimize.rank([a, b, c, d]) == [d, c, b, a]
-    assert optimize.rank([b, a]) == optimize.rank([a, b])
+    assert model.rank([a, b, c, d]) == [d, c, b, a]
+    assert model.rank([b, a]) == model.rank([a, b])
 
 
 def test_materials_that_tie_rank_deterministically():
@@ -161,23 +161,23 @@ def test_materials_that_tie_rank_deterministically():
     # so several materials tie within 0.1 %; the answer must not depend on the catalogue order.
     spec = load_spec(EXAMPLES / "prototype-b-optimized.yaml")
     spec = _reduced(spec, ["2024-T3", "7075-T6", "6061-T6"], ["round"])
-    first = optimize.optimize(spec)
-    again = optimize.optimize(replace(spec, search=replace(spec.search, materials=tuple(reversed(spec.search.materials)))))
-    assert first.record["design"]["material"] == again.record["design"]["material"]
+    first = search.optimize(spec)
+    again = search.optimize(replace(spec, search=replace(spec.search, materials=tuple(reversed(spec.search.materials)))))
+    assert first.x.material.name == again.x.material.name
 
 
 @pytest.mark.parametrize("method", ["slsqp", "mma", "cobyla", "direct", "grid"])
 def test_every_method_returns_a_verified_result(method):
     spec = _reduced(load_spec(EXAMPLES / "gripper-finger.yaml"), ["7075-T6"], ["rectangle", "round"])
-    outcome = optimize.optimize(spec, method=method)
-    assert outcome.record["solver"]["method"] == method
+    outcome = search.optimize(spec, method=method)
+    assert outcome.solver["method"] == method
     # whatever the method said, what is reported was checked
-    assert outcome.best.feasible == all(c["satisfied"] for c in outcome.record["constraints"])
+    assert outcome.best.feasible == all(c["satisfied"] for c in outcome.best.constraint_records())
     assert outcome.success
     if method in ("slsqp", "mma", "cobyla"):
         # local methods from the same start points reach IPOPT's answer or fall back to it;
         # the global ones (DIRECT, grid) are measured, not bounded, by `fpdesign bench`
-        ref = optimize.optimize(spec).best.objective
+        ref = search.optimize(spec).best.objective
         assert outcome.best.objective <= ref * 1.01
 
 
@@ -189,10 +189,10 @@ def test_unknown_method_is_bad_input(capsys):
 def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     # The physics is written once: the casadi function of the NLP and the numeric check agree.
     spec = load_spec(EXAMPLES / "gripper-finger.yaml")
-    fam = optimize.Family("tube", "pocket")
-    problem = optimize.FamilyProblem(spec, fam)
+    fam = search.Family("tube", "pocket")
+    problem = search.FamilyProblem(spec, fam)
     mat = catalogue.material("7075-T6")
-    params = optimize.material_params(mat, spec)
+    params = search.material_params(mat, spec)
     x = problem.starts()[0]
     f, _, g, _ = problem.functions(x, params)
     ev = evaluate(problem.design(x, mat), spec)

@@ -10,7 +10,9 @@ import pytest
 
 from designer.spec import catalogue
 from designer.result import designfile
-from designer.search import optimize
+from designer import model, search
+from designer.result.record import search_record
+from designer.search import run as search_run
 from designer.search import reference
 from designer.cli import main
 from designer.result.evaluation import evaluate
@@ -55,9 +57,9 @@ objective: {objective}
 """
 
 
-def _recheck(outcome):
+def _recheck(outcome, spec):
     """The reported design rebuilt from its design.json record alone and evaluated again."""
-    record = json.loads(json.dumps(outcome.record))
+    record = json.loads(json.dumps(search_record(spec, outcome)))
     designfile.validate(record)
     spec, design = designfile.rebuild(record)
     return evaluate(design, spec)
@@ -89,9 +91,9 @@ def _spec(name: str):
 @pytest.mark.parametrize("name", list(SCALES))
 def test_extreme_forces_and_lengths_give_verified_near_optimal_designs(name):
     spec = _spec(name)
-    outcome = optimize.optimize(spec)
+    outcome = search.optimize(spec)
     assert outcome.success, outcome.message
-    ev = _recheck(outcome)
+    ev = _recheck(outcome, spec)
     assert ev.feasible, [v.name for v in ev.violations]
     assert ev.objective == pytest.approx(outcome.best.objective, rel=1e-12)
     # Reference: reference.reference_best, a dense grid polished by scipy SLSQP on the numeric model
@@ -135,16 +137,16 @@ objective: mass
 
 
 def test_optimum_on_several_limits_at_once_is_found_and_meets_all_of_them():
-    outcome = optimize.optimize(SEVERAL_LIMITS)
+    outcome = search.optimize(SEVERAL_LIMITS)
     assert outcome.success, outcome.message
-    constraints = outcome.record["constraints"]
+    constraints = outcome.best.constraint_records()
     assert all(c["satisfied"] for c in constraints)
     active = {c["name"] for c in constraints if c["active"]}
     # within 0.5 % of the limit (model.ACTIVE_TOLERANCE)
     assert {"stress_root", "stress_feature", "force_error", "load_clearance"} <= active
-    assert _recheck(outcome).feasible
+    assert _recheck(outcome, SEVERAL_LIMITS).feasible
     # the retry is on record: the first answer broke a limit once rounded
-    assert any("re-solved with every limit tightened" in f for f in outcome.record["solver"]["fallbacks"])
+    assert any("re-solved with every limit tightened" in f for f in outcome.solver["fallbacks"])
     ref = reference.reference_best(SEVERAL_LIMITS, levels=5)
     assert ref.feasible
     assert outcome.best.objective <= ref.objective * (1 + REFERENCE_GAP)
@@ -166,11 +168,11 @@ def test_materials_that_tie_exactly_are_chosen_by_mass_whatever_their_order(monk
     spec = _spec("kilonewtons on a millimetre beam")
     chosen = []
     for order in (("7075-T6", twin), (twin, "7075-T6")):
-        outcome = optimize.optimize(replace(spec, search=replace(spec.search, materials=order)))
+        outcome = search.optimize(replace(spec, search=replace(spec.search, materials=order)))
         assert outcome.success
-        chosen.append(outcome.record["design"]["material"])
+        chosen.append(outcome.x.material.name)
         a, b = (c.evaluation for c in outcome.candidates[:2])
-        assert a.objective == pytest.approx(b.objective, rel=optimize.TIE_TOLERANCE)
+        assert a.objective == pytest.approx(b.objective, rel=model.TIE_TOLERANCE)
         assert float(a.analysis.mass) < float(b.analysis.mass)
     assert chosen == ["7075-T6", "7075-T6"]
 
@@ -183,18 +185,18 @@ def test_materials_that_tie_within_a_tenth_of_a_percent_are_chosen_by_deflection
     spec = _spec("kilonewtons on a millimetre beam")
     spec = replace(spec, limits=replace(spec.limits, fatigue=False, safety_factor=1.5),
                    search=replace(spec.search, materials=("7075-T6", "Ti-6Al-4V", "17-4PH-H900")))
-    outcome = optimize.optimize(spec)
+    outcome = search.optimize(spec)
     assert outcome.success
     feasible = [c.evaluation for c in outcome.candidates if c.status == "optimal"]
     lead = min(ev.objective for ev in feasible)
-    band = [ev for ev in feasible if ev.objective <= lead * (1 + optimize.TIE_TOLERANCE)]
+    band = [ev for ev in feasible if ev.objective <= lead * (1 + model.TIE_TOLERANCE)]
     assert len(band) >= 2  # a real tie, or the test proves nothing
     best = outcome.best
     assert best in band
     assert all((float(best.analysis.deflection), float(best.analysis.mass))
                <= (float(ev.analysis.deflection), float(ev.analysis.mass)) for ev in band)
-    again = optimize.optimize(replace(spec, search=replace(spec.search, materials=spec.search.materials[::-1])))
-    assert again.record["design"]["material"] == outcome.record["design"]["material"]
+    again = search.optimize(replace(spec, search=replace(spec.search, materials=spec.search.materials[::-1])))
+    assert again.x.material.name == outcome.x.material.name
 
 
 def _raise_roundoff(self, x0):
@@ -209,13 +211,13 @@ def test_an_nlopt_method_that_raises_is_recorded_and_the_answer_still_checked(me
 
     monkeypatch.setattr(nlopt.opt, "optimize", _raise_roundoff)
     spec = _spec("kilonewtons on a metre beam")
-    outcome = optimize.optimize(spec, method=method)
+    outcome = search.optimize(spec, method=method)
     own = [s for c in outcome.candidates for s in c.solves if s.method == method]
     assert own and all(not s.success and "RoundoffLimited" in s.message for s in own)
-    assert any("RoundoffLimited" in f for f in outcome.record["solver"]["fallbacks"])
-    ev = _recheck(outcome)
+    assert any("RoundoffLimited" in f for f in outcome.solver["fallbacks"])
+    ev = _recheck(outcome, spec)
     assert ev.feasible == outcome.success
-    assert outcome.record["status"] == ("optimal" if ev.feasible else "infeasible")
+    assert outcome.status == ("optimal" if ev.feasible else "infeasible")
 
 
 def test_an_nlopt_method_that_raises_through_the_command_line_gives_no_traceback(monkeypatch, tmp_path, capsys):
@@ -238,10 +240,10 @@ def test_slsqp_stopping_on_roundoff_is_caught_and_the_answer_checked():
     # Without any patching SLSQP stops with RoundoffLimited on the 304 steel candidate of the
     # bench's 007-long-beam spec (a hole in a beam too weak to carry the load).
     spec = replace(SEVERAL_LIMITS, search=replace(SEVERAL_LIMITS.search, materials=("304", "17-7PH-RH950")))
-    outcome = optimize.optimize(spec, method="slsqp")
+    outcome = search.optimize(spec, method="slsqp")
     messages = [s.message for c in outcome.candidates for s in c.solves if s.method == "slsqp"]
     assert any("RoundoffLimited" in m for m in messages)
-    ev = _recheck(outcome)
+    ev = _recheck(outcome, spec)
     assert ev.feasible == outcome.success
     assert outcome.success  # 17-7PH carries it: found directly or through the IPOPT fallback
 
@@ -254,18 +256,18 @@ def test_ipopt_that_raises_falls_back_to_slsqp_and_the_answer_is_checked(monkeyp
         def stats(self):  # pragma: no cover - never reached
             return {}
 
-    monkeypatch.setattr(optimize.FamilyProblem, "ipopt", lambda self, stage="primary": Raising())
+    monkeypatch.setattr(search.FamilyProblem, "ipopt", lambda self, stage="primary": Raising())
     spec = _spec("kilonewtons on a millimetre beam")
-    outcome = optimize.optimize(spec)
+    outcome = search.optimize(spec)
     ipopt_runs = [s for c in outcome.candidates for s in c.solves if s.method == "ipopt"]
     assert ipopt_runs and all(s.message.startswith("IPOPT raised") for s in ipopt_runs)
     assert any(s.method == "slsqp" for c in outcome.candidates for s in c.solves)
-    ev = _recheck(outcome)
+    ev = _recheck(outcome, spec)
     assert ev.feasible and outcome.success
 
 
 def test_no_design_that_can_be_evaluated_is_an_error_with_a_message_not_a_traceback(monkeypatch, tmp_path, capsys):
-    monkeypatch.setattr(optimize, "round_and_check", lambda design, spec: None)
+    monkeypatch.setattr(search_run, "round_and_check", lambda design, spec: None)
     path = tmp_path / "spec.yaml"
     path.write_text(SCALES["kilonewtons on a millimetre beam"])
     code = main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"])

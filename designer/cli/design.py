@@ -91,80 +91,76 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         atomic_write_json(scratch / "design.json", record)
 
 
-def _large_deflection(record: dict) -> None:
-    """Add the elastica's figures where linear theory stops holding (issue: large deflection)."""
-    if record["predicted"]["deflection_ratio"] <= 0.10:
-        return
-    elastica = _optional("designer.checks.elastica")
-    if elastica is None:
-        return
-    result = elastica.large_deflection(record)
-    record["large_deflection"] = result.as_dict() if hasattr(result, "as_dict") else dict(vars(result))
-    summary = getattr(result, "summary", None)
-    if summary:
-        record["messages"].append(summary() if callable(summary) else str(summary))
-
-
 # ------------------------------------------------------------------ commands
 
 def run_evaluate(args) -> int:
     from designer.outputs import report
-    from designer.result.evaluation import evaluate, fixed_design
-    from designer.result.record import build_record
+    from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import load_spec
 
     spec = load_spec(args.spec)
     if spec.design is None:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
-    ev = evaluate(fixed_design(spec).rounded(), spec)
-    record = build_record("feasible" if ev.feasible else "infeasible", spec, ev)
-    if not ev.feasible:
-        record["messages"].append("the design violates: " + ", ".join(v.name for v in ev.violations))
-    _large_deflection(record)
-    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots)
-    report.print_summary(record)
+    result = evaluate_fixed(spec)
+    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots)
+    report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
-    return 0 if ev.feasible else 1
+    return 0 if result.success else 1
 
 
 def run_optimize(args) -> int:
-    from designer.search import optimize
     from designer.outputs import report
+    from designer.result.pipeline import DesignOptions, design
     from designer.spec.reader import load_spec
 
+    from designer.errors import describe_allowed
+    from designer.search.problem import METHODS
+
+    if args.method not in METHODS:
+        raise SpecError(f"--method: {args.method!r} is not allowed; must be {describe_allowed(METHODS)}")
     spec = load_spec(args.spec)
-    outcome = optimize.optimize(spec, method=args.method, progress=not args.quiet and sys.stderr.isatty())
-    record = outcome.record
-    _large_deflection(record)
-    writers = [_verify(record, args.verify_mesh)] if args.verify and record["status"] == "optimal" else []
-    extra = None
-    if not args.no_plots and outcome.success and spec.objective == "error":
-        from designer.search.tradeoff import fronts
+    with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
+        result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
+                                            tradeoff=not args.no_plots, progress=progress))
+    writers = []
+    if result.verification is not None:
+        from designer.checks import fea
 
-        extra = {"tradeoff": fronts(spec, outcome)}
-    write_outputs(record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
+        writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
+    extra = {"tradeoff": result.tradeoff} if result.tradeoff is not None else None
+    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
                   writers=writers)
-    report.print_summary(record)
+    report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
-    return 0 if record["status"] == "optimal" else 1
+    return 0 if result.status == "optimal" else 1
 
 
-def _verify(record: dict, mesh: str = "normal"):
-    """Check the chosen design in 3-D; a design that fails is reported, never shipped silently."""
-    from designer.checks import fea
+class _progress_display:
+    """A transient progress bar on stderr, fed by the pipeline's progress(stage, done, total)."""
 
-    verdict = fea.verify_design(record, mesh=mesh)
-    summary = verdict.as_dict()
-    summary.pop("profile", None)  # the strain profile goes to verify.json only
-    record["verification"] = summary
-    if not verdict.passed:
-        failed = [c.name for c in verdict.limits if not c.satisfied]
-        record["status"] = "infeasible"
-        record["messages"].append("the 3-D check (fpdesign verify) finds limits the beam model missed: "
-                                  + ", ".join(failed) + "; see verify.md")
-    record["messages"].extend(m for m in verdict.messages if m not in record["messages"])
-    return lambda scratch: fea.write_outputs(verdict, scratch)
+    def __init__(self, enabled: bool):
+        self.enabled = enabled
+        self._progress = self._task = None
+
+    def __enter__(self):
+        if not self.enabled:
+            return None
+        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+        self._progress = Progress(TextColumn("{task.description}"), BarColumn(),
+                                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(), transient=True)
+        self._task = self._progress.add_task("optimising", total=None)
+        self._progress.start()
+        return self.update
+
+    def update(self, stage: str, done: int, total: int) -> None:
+        self._progress.update(self._task, description=stage, completed=done, total=total)
+
+    def __exit__(self, *exc):
+        if self._progress is not None:
+            self._progress.stop()
+        return False
 
 
 def _design_record(path: str) -> dict:
@@ -175,7 +171,7 @@ def _design_record(path: str) -> dict:
         from designer.result.designfile import load_design, rebuild
 
         # Judge the design afresh from what the file describes: its "predicted" block may be
-        # stale, edited or absent (SPEC.md does not list every key simulate needs).
+        # stale, edited or absent (docs/spec.md does not list every key simulate needs).
         spec, design = rebuild(load_design(path))
         ev = evaluate(design, spec)
     else:

@@ -6,13 +6,13 @@
 design must meet, how designs rank). Every function takes its math through ``ops``.
 """
 
-from designer.model.analysis import PARAMETER_SCALE, Analysis, MaterialParams, analyse
+from designer.model.analysis import Analysis, MaterialParams, analyse
 from designer.model.beam import (CLAMPED_FREE_ROOT, LARGE_DEFLECTION_RATIO, is_large_deflection,
                                  natural_frequency, rigidity_segments, tip_deflection)
 from designer.model.electronics import BRIDGE_FACTORS, output_noise, volts_per_strain
 from designer.model.limits import (ACTIVE_TOLERANCE, TARGET_LIMITS, Limit, limits, minimum_room, section_limits,
                                    smallest_feature_length, worst_normalised)
-from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, TIE_TOLERANCE, error_ratio, error_terms,
+from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, SECONDARY, TIE_TOLERANCE, error_ratio, error_terms,
                                       objective, rank, ranks_before, secondary, ties)
 from designer.model.ops import NUMERIC, Ops, casadi_ops
 from designer.model.sections import (Geometry, SectionProperties, feature_length, flat_half_angle,

@@ -11,9 +11,10 @@ from designer.model.estimator import sigmas
 from designer.model.ops import NUMERIC, Ops
 from designer.model.sections import Geometry, SectionProperties, section_properties
 
-# The optimiser passes the material as parameters in these units (GPa, MPa, kg/m^3) so that
-# the NLP's numbers stay near one.
-PARAMETER_SCALE = (1e9, 1e6, 1.0)
+# The optimiser passes the material as parameters in GPa, MPa and kg/m^3 so that the NLP's
+# numbers stay near one.
+E_UNIT = 1e9
+STRESS_UNIT = 1e6
 
 
 @dataclass(frozen=True)
@@ -30,12 +31,13 @@ class MaterialParams:
         return cls(material.E, material.allowable_stress(limits.safety_factor, limits.fatigue), material.density)
 
     def scaled(self) -> list:
-        """``[E, allowable, density]`` in the optimiser's parameter units."""
-        return [self.E / PARAMETER_SCALE[0], self.allowable / PARAMETER_SCALE[1], self.density / PARAMETER_SCALE[2]]
+        """``[E, allowable, density]`` in the optimiser's parameter units (GPa, MPa, kg/m^3)."""
+        return [self.E / E_UNIT, self.allowable / STRESS_UNIT, self.density]
 
     @classmethod
     def from_scaled(cls, p) -> "MaterialParams":
-        return cls(p[0] * PARAMETER_SCALE[0], p[1] * PARAMETER_SCALE[1], p[2] * PARAMETER_SCALE[2])
+        """The inverse of ``scaled``: ``p`` may be numbers, arrays or casadi parameters."""
+        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2])
 
 
 @dataclass(frozen=True)

@@ -5,6 +5,8 @@ from __future__ import annotations
 from designer.model.ops import NUMERIC, Ops
 
 OBJECTIVES = ("error", "deflection", "mass")
+# What ranks designs tied on the objective first (then mass, then deflection).
+SECONDARY = {"error": "deflection", "deflection": "mass", "mass": "deflection"}
 # Objectives within this fraction of each other tie; ties rank by deflection, then mass.
 TIE_TOLERANCE = 1e-3
 # A limit's normalised value (value/limit - 1) up to this counts as met.
@@ -31,8 +33,8 @@ def objective(a, spec, ops: Ops = NUMERIC):
 
 
 def secondary(a, spec):
-    """What ranks designs tied on the objective first: deflection (mass under ``deflection``)."""
-    return a.mass if spec.objective == "deflection" else a.deflection
+    """The quantity ``SECONDARY`` names for ``spec.objective``, SI."""
+    return getattr(a, SECONDARY[spec.objective])
 
 
 def ties(objective_value: float, lead: float) -> bool:

@@ -811,7 +811,7 @@ def rank_candidates(rows: Sequence[Mapping]) -> list:
     """Order candidates as MODEL.md section 5 ranks designs: the ones that meet every limit by
     objective, where objectives within 0.1 % tie and the lower deflection, then the lower mass,
     goes first; then the infeasible ones, least violating first; then those without a design."""
-    from designer.search.optimize import TIE_TOLERANCE  # the search's own tie rule
+    from designer.model import TIE_TOLERANCE  # the search's own tie rule
 
     def number(row, key):
         value = row.get(key)

@@ -28,6 +28,13 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
     return record
 
 
+def search_record(spec, found) -> dict:
+    """The design.json record of a search result (``search.SearchResult``), before the checks
+    the pipeline adds (large deflection, 3-D)."""
+    return build_record(found.status, spec, found.best, [c.record() for c in found.candidates], found.solver,
+                        found.messages)
+
+
 def large_deflection_message(evaluation: Evaluation) -> str:
     ratio = float(evaluation.analysis.deflection) / float(evaluation.design.geometry.length)
     return (f"warning: the free end deflects {ratio:.1%} of the free length under F_max at x_max; "

@@ -12,21 +12,18 @@ from __future__ import annotations
 import numpy as np
 
 from designer import model
-from designer.result.evaluation import Evaluation
 from designer.model import MaterialParams
-from designer.search.optimize import MM, Family, FamilyProblem, material_params, pick, round_and_check
+from designer.result.evaluation import Evaluation
+from designer.search.problem import MM, Family, FamilyVariables, families, in_nlp_units
+from designer.search.rounding import pick, round_and_check
 
 POLISH_STARTS = 6
 
 
 def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluation | None:
     """Best verified design of one material and family by grid + polish (None if none evaluates)."""
-    problem = FamilyProblem.__new__(FamilyProblem)  # variables and bounds only: no casadi graph
-    problem.spec, problem.family = spec, family
-    problem.names, problem.lower, problem.upper = problem._variables()
-    problem.epigraph = spec.objective == "error"
-    params = material_params(material, spec)
-    mat = MaterialParams(params[0] * 1e9, params[1] * 1e6, params[2])
+    problem = FamilyVariables.of(spec, family)  # variables and bounds only: no casadi graph
+    mat = MaterialParams.of(material, spec.limits)
     x = _grid(problem, levels)
     f, viol = _evaluate(problem, mat, x)
     order = np.lexsort((f, viol > 0))
@@ -40,7 +37,7 @@ def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluat
     return pick(checked)
 
 
-def _grid(problem: FamilyProblem, levels: int) -> np.ndarray:
+def _grid(problem: FamilyVariables, levels: int) -> np.ndarray:
     """Every variable on ``levels`` points; inner stations evenly between the first and last."""
     names = problem.names
     n_st = problem.spec.stations
@@ -57,7 +54,7 @@ def _grid(problem: FamilyProblem, levels: int) -> np.ndarray:
     return x[x[:, last] > x[:, first]]
 
 
-def _evaluate(problem: FamilyProblem, mat: MaterialParams, x: np.ndarray):
+def _evaluate(problem: FamilyVariables, mat: MaterialParams, x: np.ndarray):
     """Objective and worst normalised violation of each row of ``x`` (mm), with the numeric model."""
     spec = problem.spec
     g = problem.geometry([x[:, i] * MM for i in range(x.shape[1])])
@@ -65,18 +62,13 @@ def _evaluate(problem: FamilyProblem, mat: MaterialParams, x: np.ndarray):
         a = model.analyse(g, mat, spec)
         lims = model.limits(g, a, mat, spec, include_targets=not problem.epigraph)
         viol = model.worst_normalised(lims, len(x))
-        if problem.epigraph:
-            f = np.maximum(a.force_error / spec.targets.force_error, a.position_error / spec.targets.position_error)
-        elif spec.objective == "deflection":
-            f = a.deflection / MM
-        else:
-            f = a.mass * 1e3
+        f = in_nlp_units(model.objective(a, spec), spec.objective)
     f = np.broadcast_to(np.asarray(f, dtype=float), (len(x),))
     bad = ~np.isfinite(viol) | ~np.isfinite(f)
     return np.where(bad, np.inf, f), np.where(bad, np.inf, np.maximum(viol, 0.0))
 
 
-def _polish(problem: FamilyProblem, mat: MaterialParams, x0: np.ndarray) -> np.ndarray:
+def _polish(problem: FamilyVariables, mat: MaterialParams, x0: np.ndarray) -> np.ndarray:
     """scipy SLSQP from a grid point, on the numeric model (finite differences)."""
     from scipy.optimize import minimize
 
@@ -91,10 +83,7 @@ def _polish(problem: FamilyProblem, mat: MaterialParams, x0: np.ndarray) -> np.n
 
     def objective(v):
         a, _ = parts(v)
-        if problem.epigraph:
-            return max(float(a.force_error) / spec.targets.force_error,
-                       float(a.position_error) / spec.targets.position_error)
-        return float(a.deflection) / MM if spec.objective == "deflection" else float(a.mass) * 1e3
+        return float(in_nlp_units(model.objective(a, spec), spec.objective))
 
     def constraints(v):
         g = -parts(v)[1]
@@ -112,7 +101,6 @@ def _polish(problem: FamilyProblem, mat: MaterialParams, x0: np.ndarray) -> np.n
 def reference_best(spec, materials=None, levels: int = 9) -> Evaluation | None:
     """The best verified design over materials x families, ranked as the optimiser ranks."""
     from designer.spec import catalogue
-    from designer.search.optimize import families
 
     found = [reference_search(spec, fam, catalogue.material(name), levels)
              for fam in families(spec) for name in materials or spec.search.materials]

@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from designer.search import optimize
+from designer.search.run import optimize
 
 LEVELS = 9
 MATERIALS = 4     # the best distinct materials of the search take part in the fronts
@@ -34,7 +34,7 @@ def fronts(spec, outcome, materials: int = MATERIALS) -> dict:
         points = []
         for level in _levels(given or value):
             variant = replace(base, limits=replace(base.limits, **{key: float(level)}))
-            result = optimize.optimize(variant, materials=leading, tie_break=False)
+            result = optimize(variant, materials=leading, tie_break=False)
             for cand in result.candidates:
                 ev = cand.evaluation
                 points.append({"material": cand.material, "section": cand.family.label, "x": float(level),

@@ -1,0 +1,64 @@
+"""Why a spec is infeasible, in the spec's own terms: the limits in conflict and what would resolve them."""
+
+from __future__ import annotations
+
+from designer import model
+from designer.result.evaluation import Evaluation
+
+
+def diagnose(spec, best: Evaluation, candidates) -> list[str]:
+    """Name the limits in conflict and what would resolve them, in the spec's own terms."""
+    mm = 1e3
+    out = []
+    room = model.minimum_room(spec)
+    if spec.load.position_min < room - 1e-9:
+        out.append(f"no room for {spec.stations} gauge stations before the load region: load.position[0] is "
+                   f"{spec.load.position_min * mm:.4g} mm but the clamp clearance, {spec.stations} features of "
+                   f"their length, the gauge gaps and the load clearance need at least {room * mm:.4g} mm; "
+                   "move the load region out, use fewer stations, a smaller gauge or smaller margins")
+    violated = {v.name: v for v in best.violations}
+    label = f"{best.design.label()} (the least infeasible design found)"
+    head = f"no design meets every limit; closest: {label}, violating " + ", ".join(violated) if violated else \
+        f"no design meets every limit; closest: {label}"
+    out.insert(0, head)
+    a = best.analysis
+    sv = spec.sigma_v
+    if "force_error" in violated or "position_error" in violated:
+        e = best.error_ratio
+        binding = [lim.name for lim in best.limits if lim.record()["active"]
+                   and lim.name not in ("force_error", "position_error")]
+        out.append(f"the accuracy targets are out of reach: the best error ratio is {e:.3g} (1 = on target)"
+                   + (f" with {', '.join(binding)} binding" if binding else "")
+                   + f"; they would be met with electronics noise of at most {sv / e * 1e3:.3g} mV at the output "
+                   f"(now {sv * 1e3:.3g} mV), or load.force[0] of at least {spec.load.force_min * e:.4g} N "
+                   f"(now {spec.load.force_min:.4g} N), or targets of force_error >= "
+                   f"{float(a.force_error) * 100:.3g} % and position_error >= {float(a.position_error) * mm:.3g} mm")
+        if spec.limits.max_deflection is not None and "deflection" in binding:
+            out.append(f"the deflection limit binds: limits.max_deflection = {spec.limits.max_deflection * mm:.4g} mm; "
+                       "a larger allowed deflection gives a more sensitive beam")
+    for name in ("stress_root", "stress_feature"):
+        if name in violated:
+            v = violated[name]
+            ratio = float(v.value) / float(v.limit)
+            out.append(f"{name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
+                       f"even at the largest section allowed; lower load.force[1] to {spec.load.force_max / ratio:.4g} N, "
+                       "enlarge limits.width/limits.height, choose a stronger material or a lower safety factor")
+            break
+    if "gauge_strain" in violated:
+        v = violated["gauge_strain"]
+        out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε; "
+                   f"lower load.force[1] to {spec.load.force_max * float(v.limit) / float(v.value):.4g} N or enlarge the section")
+    if "min_signal_snr" in violated:
+        v = violated["min_signal_snr"]
+        ratio = float(v.limit) / float(v.value)
+        out.append(f"min_signal_snr: the smallest signal is {float(v.value):.3g} noise levels, below {float(v.limit):.3g}; "
+                   f"lower the noise to {sv / ratio * 1e3:.3g} mV or raise load.force[0] to {spec.load.force_min * ratio:.4g} N")
+    if "deflection" in violated:
+        v = violated["deflection"]
+        out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = {float(v.limit) * mm:.4g} mm; "
+                   f"allow at least {float(v.value) * mm:.4g} mm, or enlarge limits.width/limits.height")
+    if "natural_frequency" in violated:
+        v = violated["natural_frequency"]
+        out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
+                   f"lower it to {float(v.value):.4g} Hz or shorten the beam")
+    return out

@@ -1,0 +1,91 @@
+"""The nlopt methods behind the search's solver interface (``FamilyProblem.solve``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from designer.search.problem import Solve
+
+NLOPT_XTOL = 1e-8
+# Evaluation budgets per nlopt run: deterministic, unlike a wall-clock limit (CCSAQ's inner
+# solves make each of its evaluations about 10x dearer, hence its smaller budget).
+NLOPT_MAX_EVAL = {"slsqp": 500, "mma": 1000, "ccsaq": 200, "cobyla": 2000, "isres": 4000, "direct": 2000}
+NAN_PENALTY = 1e6
+# MMA/CCSAQ inner iterations per outer step, and evaluations of their dual subproblem: both are
+# unbounded by default, and the dual solve alone can spin for seconds on these problems.
+CCSA_INNER_MAX_EVAL = 50
+CCSA_DUAL_MAX_EVAL = 100
+NLOPT_SAFETY_SECONDS = 5.0    # a stalled run must not stall the search; budgets end runs first
+ISRES_SEED = 12345            # nlopt's random generator is global: seeded before each ISRES run
+
+
+_NLOPT_ALGORITHMS = {"slsqp": "LD_SLSQP", "mma": "LD_MMA", "ccsaq": "LD_CCSAQ", "cobyla": "LN_COBYLA",
+                     "isres": "GN_ISRES", "direct": "GN_DIRECT_L"}
+
+
+def nlopt_solve(problem, method: str, params, x0) -> Solve:
+    """One nlopt run behind the same interface; DIRECT, which takes no constraints, runs in AUGLAG."""
+    import nlopt
+
+    lo, hi = problem.bounds()
+    if problem.epigraph:  # a finite box for global methods: the error ratio stays below 1e3
+        hi = hi.copy()
+        hi[-1] = 1e3
+    n = problem.size
+    fn = problem.functions
+    counter = {"n": 0}
+
+    # Global methods sample impossible points of the box (a flat deeper than the radius, two
+    # stations at one place): the model gives NaN or inf there, passed on as a large penalty.
+    def objective(x, grad):
+        counter["n"] += 1
+        f, df, _, _ = fn(x, params)
+        if grad.size > 0:
+            grad[:] = np.nan_to_num(np.asarray(df).ravel(), nan=0.0)
+        return float(_finite(f).item())  # a 1x1 DM: float() of a 2-D array fails on numpy >= 2.4
+
+    def constraints(result, x, grad):
+        _, _, g, dg = fn(x, params)
+        result[:] = _finite(np.asarray(g).ravel())
+        if grad.size > 0:
+            grad[:, :] = np.nan_to_num(np.asarray(dg), nan=0.0)
+
+    algorithm = getattr(nlopt, _NLOPT_ALGORITHMS[method])
+    if method == "direct":
+        opt = nlopt.opt(nlopt.AUGLAG, n)
+        local = nlopt.opt(algorithm, n)
+        local.set_maxeval(NLOPT_MAX_EVAL[method] // 10)
+        local.set_xtol_rel(1e-6)
+        opt.set_local_optimizer(local)
+    else:
+        opt = nlopt.opt(algorithm, n)
+    opt.set_lower_bounds(lo)
+    opt.set_upper_bounds(hi)
+    opt.set_min_objective(objective)
+    opt.add_inequality_mconstraint(constraints, np.full(problem.n_constraints, 1e-10))
+    opt.set_xtol_rel(NLOPT_XTOL)
+    opt.set_maxeval(NLOPT_MAX_EVAL[method])
+    opt.set_maxtime(NLOPT_SAFETY_SECONDS)
+    if method in ("mma", "ccsaq"):
+        opt.set_param("inner_maxeval", CCSA_INNER_MAX_EVAL)
+        opt.set_param("dual_maxeval", CCSA_DUAL_MAX_EVAL)
+    if method == "isres":
+        opt.set_population(20 * (n + 1))
+        nlopt.srand(ISRES_SEED)
+    x_start = np.clip(np.asarray(x0, dtype=float), lo, hi)
+    try:
+        x = opt.optimize(x_start)
+        code = opt.last_optimize_result()
+        return Solve(np.asarray(x), code > 0, _nlopt_message(code), counter["n"], method)
+    except Exception as exc:  # nlopt's own exception types do not derive from RuntimeError
+        # RoundoffLimited, forced stops and failures: the run is recorded as failed, never raised.
+        return Solve(x_start, False, f"nlopt {type(exc).__name__}: {exc}", counter["n"], method)
+
+
+def _finite(values):
+    return np.nan_to_num(np.asarray(values, dtype=float), nan=NAN_PENALTY, posinf=NAN_PENALTY, neginf=-NAN_PENALTY)
+
+
+def _nlopt_message(code: int) -> str:
+    return {1: "success", 2: "stopval reached", 3: "ftol reached", 4: "xtol reached", 5: "maxeval reached",
+            6: "maxtime reached"}.get(code, f"nlopt result {code}")

@@ -1,0 +1,259 @@
+"""One section family's optimisation problem: its variables, and its NLP as a casadi graph.
+
+The graph is built once from the same model expressions the evaluator runs (``model.analyse``,
+``model.limits``, ``model.objective`` over casadi's Ops) and re-solved with the material as
+parameters. Variables are in millimetres and constraints normalised (``value/limit - 1 <= 0``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer import model
+from designer.errors import SpecError
+from designer.model import Geometry, MaterialParams
+from designer.result.evaluation import Design
+
+MM = 1e-3
+METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")
+IPOPT_TOLERANCE = 1e-9
+IPOPT_MAX_ITER = 300
+EPIGRAPH_UPPER = 1e6
+NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
+# Limits that are plain variable bounds in the NLP; they are still checked on every answer.
+BOUND_LIMITS = {"width_min", "width_max", "height_min", "height_max", "diameter_min", "diameter_max",
+                "wall_min", "pocket_depth_min", "hole_min"}
+
+
+@dataclass(frozen=True)
+class Family:
+    section: str
+    feature: str
+
+    @property
+    def label(self) -> str:
+        return self.section if self.feature in ("pocket", "none") else f"{self.section}+{self.feature}"
+
+
+def families(spec) -> list[Family]:
+    feature = spec.search.feature
+    return [Family(s, feature) for s in spec.search.sections if not (feature == "hole" and s != "rectangle")]
+
+
+@dataclass(frozen=True)
+class Solve:
+    """One solver run: the raw answer, before rounding and checking."""
+
+    x: np.ndarray
+    success: bool          # what the solver said: recorded, never trusted
+    message: str
+    evaluations: int
+    method: str
+
+
+@dataclass(frozen=True)
+class FamilyVariables:
+    """The variables of one family (mm), their bounds and start points; no casadi graph."""
+
+    spec: object
+    family: Family
+    names: tuple
+    lower: np.ndarray
+    upper: np.ndarray
+
+    @classmethod
+    def of(cls, spec, family: Family) -> "FamilyVariables":
+        """The variables of ``family`` under ``spec``; SpecError when the limits leave no room."""
+        fam = family
+        lim = spec.limits
+        names, lo, hi = [], [], []
+
+        def add(name, a, b):
+            names.append(name)
+            lo.append(a / MM)
+            hi.append(b / MM)
+
+        if fam.section == "rectangle":
+            if spec.axes == 2:
+                add("side", max(lim.width[0], lim.height[0]), min(lim.width[1], lim.height[1]))
+            else:
+                add("width", *lim.width)
+                add("height", *lim.height)
+            size_hi = min(lim.width[1], lim.height[1]) if spec.axes == 2 else lim.height[1]
+        else:
+            add("diameter", max(lim.width[0], lim.height[0]), min(lim.width[1], lim.height[1]))
+            size_hi = min(lim.width[1], lim.height[1])
+            if fam.section == "tube":
+                add("wall", lim.min_wall, size_hi / 2)
+        if fam.feature == "pocket":
+            add("depth", lim.min_pocket_depth, max(lim.min_pocket_depth, lim.max_pocket_fraction * size_hi))
+        elif fam.feature == "hole":
+            add("hole", lim.min_wall, max(lim.min_wall, size_hi - 2 * lim.min_wall))
+        for i in range(spec.stations):
+            add(f"station_{i + 1}", lim.clamp_clearance, spec.load.position_min)
+        if lo and any(a > b for a, b in zip(lo, hi)):
+            bad = names[[a > b for a, b in zip(lo, hi)].index(True)]
+            raise SpecError(f"limits: the bounds leave no room for {bad}; check limits.width and limits.height")
+        return cls(spec, family, tuple(names), np.array(lo), np.array(hi))
+
+    def geometry(self, v) -> Geometry:
+        """A Geometry from variable values in SI (floats, arrays or casadi)."""
+        spec, fam = self.spec, self.family
+        named = dict(zip(self.names, v))
+        lp, wp = spec.pocket_size()
+        if "side" in named:
+            named["width"] = named["height"] = named["side"]
+        stations = tuple(named[f"station_{i + 1}"] for i in range(spec.stations))
+        return Geometry(section=fam.section, feature=fam.feature, stations=stations, length=spec.free_length,
+                        width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
+                        wall=named.get("wall"), depth=named.get("depth", 0.0), hole=named.get("hole", 0.0),
+                        pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length, axes=spec.axes)
+
+    def design(self, x, material) -> Design:
+        return Design(material, self.geometry([float(v) * MM for v in x[: len(self.names)]]))
+
+    @property
+    def epigraph(self) -> bool:
+        """Under the error objective the NLP has one more variable: the error ratio's bound."""
+        return self.spec.objective == "error"
+
+    @property
+    def size(self) -> int:
+        return len(self.names) + (1 if self.epigraph else 0)
+
+    def bounds(self):
+        lo, hi = list(self.lower), list(self.upper)
+        if self.epigraph:
+            lo.append(0.0)
+            hi.append(EPIGRAPH_UPPER)
+        return np.array(lo), np.array(hi)
+
+    def starts(self) -> list[np.ndarray]:
+        """Deterministic start points: sections at 35 % and 70 % of their range, stations spread
+        evenly over the room between the clamp and the load region."""
+        spec, lim = self.spec, self.spec.limits
+        out = []
+        for frac in (0.35, 0.7):
+            v = {}
+            for name, a, b in zip(self.names, self.lower, self.upper):
+                share = {"depth": 0.3, "hole": 0.5, "wall": 0.2}.get(name, frac)
+                v[name] = a + share * (b - a)
+            half = model.feature_length(self.family.feature, spec.pocket_size()[0] / MM, v.get("hole"),
+                                        spec.gauge.length / MM) / 2
+            first = lim.clamp_clearance / MM + half
+            last = max((spec.load.position_min - lim.load_clearance) / MM - half, first + 1.0)
+            for i, d in enumerate(np.linspace(first, last, spec.stations)):
+                v[f"station_{i + 1}"] = d
+            x = np.clip([v[n] for n in self.names], self.lower, self.upper)
+            out.append(np.append(x, 1.0) if self.epigraph else x)
+        return out
+
+
+def in_nlp_units(value, objective: str):
+    """An objective value in the NLP's units: mm for deflection, g for mass (the error ratio as is)."""
+    if objective == "deflection":
+        return value / MM
+    if objective == "mass":
+        return value * 1e3
+    return value
+
+
+def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
+    """The NLP's parameters: the material in GPa, MPa, kg/m^3, and the cap on the primary objective."""
+    return MaterialParams.of(material, spec.limits).scaled() + [cap]
+
+
+class FamilyProblem:
+    """The NLP of one family as casadi functions, over ``FamilyVariables``; material as parameters."""
+
+    def __init__(self, spec, family: Family):
+        import casadi as ca
+
+        self.variables = variables = FamilyVariables.of(spec, family)
+        self.spec, self.family = spec, family
+        n, epigraph = len(variables.names), variables.epigraph
+        x = ca.SX.sym("x", variables.size)
+        # E (GPa), allowable stress (MPa), density (kg/m^3), cap on the primary objective
+        par = ca.SX.sym("p", 4)
+        ops = model.casadi_ops()
+        geometry = variables.geometry([x[i] * MM for i in range(n)])
+        mat = MaterialParams.from_scaled(par)
+        a = model.analyse(geometry, mat, spec, ops)
+        lims = [lim for lim in model.limits(geometry, a, mat, spec, include_targets=not epigraph, ops=ops)
+                if lim.name not in BOUND_LIMITS]
+        self.limit_names = [lim.name for lim in lims]
+        g = [lim.normalised for lim in lims]
+        in_units = {"deflection": in_nlp_units(a.deflection, "deflection"), "mass": in_nlp_units(a.mass, "mass")}
+        if epigraph:  # minimise e subject to each error term <= e
+            e = x[n]
+            g += [term - e for term in model.error_terms(a, spec.targets)]
+            f = e
+        else:
+            f = in_units[spec.objective]
+        secondary = in_units[model.SECONDARY[spec.objective]]
+        # The tie rule (docs/model.md §5) as a second stage: the secondary objective with the
+        # primary capped inside the tie band. With a huge cap the constraint is idle.
+        g.append(f / par[3] - 1)
+        self.n_constraints = len(g)
+        gv = ca.vertcat(*g)
+        self.nlp = {"x": x, "p": par, "f": f, "g": gv}
+        self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
+        self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
+        self._ipopt = {}
+
+    # the variables ----------------------------------------------------------
+    names = property(lambda self: self.variables.names)
+    lower = property(lambda self: self.variables.lower)
+    upper = property(lambda self: self.variables.upper)
+    epigraph = property(lambda self: self.variables.epigraph)
+    size = property(lambda self: self.variables.size)
+
+    def geometry(self, v) -> Geometry:
+        return self.variables.geometry(v)
+
+    def design(self, x, material) -> Design:
+        return self.variables.design(x, material)
+
+    def bounds(self):
+        return self.variables.bounds()
+
+    def starts(self) -> list[np.ndarray]:
+        return self.variables.starts()
+
+    # solvers ----------------------------------------------------------------
+    def ipopt(self, stage: str = "primary"):
+        if stage not in self._ipopt:
+            import casadi as ca
+
+            opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
+                    "ipopt.tol": IPOPT_TOLERANCE, "ipopt.constr_viol_tol": 1e-9,
+                    "ipopt.max_iter": IPOPT_MAX_ITER, "ipopt.mu_strategy": "adaptive", "error_on_fail": False}
+            nlp = self.nlp if stage == "primary" else self.nlp_secondary
+            self._ipopt[stage] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_{stage}", "ipopt",
+                                           nlp, opts)
+        return self._ipopt[stage]
+
+    def solve(self, method: str, params, x0, stage: str = "primary", margin: float = 0.0) -> Solve:
+        """One run; ``margin`` (IPOPT only) tightens every constraint to ``g <= -margin``."""
+        lo, hi = self.bounds()
+        if method == "ipopt":
+            solver = self.ipopt(stage)
+            try:
+                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+            except RuntimeError as exc:
+                return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, method)
+            stats = solver.stats()
+            evals = int(stats.get("iter_count", 0))
+            return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
+                         evals, method)
+        if method == "grid":
+            from designer.search.grid import grid_solve
+
+            return grid_solve(self, params)
+        from designer.search.nlopt_adapter import nlopt_solve
+
+        return nlopt_solve(self, method, params, x0)
+
+

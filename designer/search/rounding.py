@@ -1,0 +1,97 @@
+"""Rounding an answer to 0.01 mm and checking it, and picking the best of checked designs.
+
+No solver's success flag is trusted: every answer is rounded to the reported 0.01 mm grid and
+judged again with the numeric model (``result.evaluation.evaluate``); what is reported is what
+was checked (docs/model.md §5).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from designer import model
+from designer.errors import DesignFileError, InputError
+from designer.result.designfile import validate
+from designer.result.evaluation import ROUNDING, Design, Evaluation, evaluate
+
+
+def round_and_check(design: Design, spec) -> Evaluation | None:
+    """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points.
+
+    Every length is rounded down or up (inner stations to the nearest); all combinations are
+    checked at once with the numeric model over numpy arrays, the best is chosen as ``pick``
+    chooses, and that one design is evaluated again on its own and returned. None when no
+    combination can be evaluated at all.
+    """
+    g = design.geometry
+    fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
+    if g.axes == 2 and g.section == "rectangle":
+        fields_.remove("height")  # a biaxial rectangle is square
+    fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
+    stations = [float(s) for s in g.stations]
+    choices = [_floor_ceil(float(getattr(g, f))) for f in fields_]
+    station_choices = [_floor_ceil(s) for s in stations]
+    for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
+        station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
+    combos = np.array(list(itertools.product(*choices, *station_choices)))
+    named = {f: combos[:, i] for i, f in enumerate(fields_)}
+    if g.axes == 2 and g.section == "rectangle":
+        named["height"] = named["width"]
+    st = combos[:, len(fields_):]
+    trial = replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
+                    length=round(float(g.length) / ROUNDING) * ROUNDING, **named)
+    params = design.material_params(spec)
+    with np.errstate(all="ignore"):
+        a = model.analyse(trial, params, spec)
+        lims = model.limits(trial, a, params, spec)
+        viol = model.worst_normalised(lims, len(combos))
+        objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
+        deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
+        mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))
+    valid = np.isfinite(viol) & np.isfinite(objective) & np.all(np.diff(st, axis=1) > 0, axis=1)
+    if not valid.any():
+        return None
+    feasible = valid & (viol <= model.FEASIBILITY_TOLERANCE)
+    if feasible.any():
+        lead = objective[feasible].min()
+        band = feasible & model.ties(objective, lead)
+        idx = np.flatnonzero(band)
+        best = idx[np.lexsort((objective[idx], mass[idx], deflection[idx]))[0]]
+    else:
+        best = int(np.argmin(np.where(valid, viol, np.inf)))
+    chosen = replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
+                     **{f: float(v[best]) for f, v in named.items()})
+    try:
+        return evaluate(Design(design.material, chosen), spec)
+    except InputError:
+        return None
+
+
+def pick(evaluations: list) -> Evaluation | None:
+    """The best of several checked designs: the first by ``rank`` among the feasible ones,
+    else the least violating. Ties are anchored on the best objective, never chained."""
+    feasible = [ev for ev in evaluations if ev.feasible]
+    if feasible:
+        return model.rank(feasible)[0]
+    return min(evaluations, key=lambda ev: (not buildable(ev), ev.worst_violation), default=None)
+
+
+def buildable(ev: Evaluation) -> bool:
+    """Whether the design is a beam at all (a pocket shallower than the wall, a hole narrower than
+    the bar, ...), as ``designfile.validate`` judges it: a least-infeasible design that is not
+    could not be plotted, exported or simulated from its design.json."""
+    try:
+        validate({"spec": {}, "design": ev.design.shape_dict()})
+    except DesignFileError:
+        return False
+    return True
+
+
+def _floor_ceil(v: float) -> tuple:
+    lo = math.floor(v / ROUNDING + 1e-9) * ROUNDING
+    hi = math.ceil(v / ROUNDING - 1e-9) * ROUNDING
+    return (round(lo, 8),) if abs(hi - lo) < 1e-12 else (round(lo, 8), round(hi, 8))

@@ -1,0 +1,246 @@
+"""The search: every allowed material x section family solved, checked and ranked."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.optimize import OptimizeResult
+
+from designer import model
+from designer.errors import SolverError, SpecError, describe_allowed
+from designer.result.evaluation import Evaluation
+from designer.search.diagnosis import diagnose
+from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
+from designer.search.rounding import buildable, pick, round_and_check
+from designer.spec import catalogue
+
+# When rounding to 0.01 mm breaks a limit that IPOPT's answer met (several limits active at
+# once, rounding each way breaks one), IPOPT solves again with every constraint tightened by
+# these normalised margins in turn until the rounded design checks out.
+ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)  # those below the violation rounding caused are skipped
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One material x family: the best checked design its solves gave, and how they went."""
+
+    material: str
+    family: Family
+    evaluation: Evaluation | None
+    solves: tuple = ()
+    fallbacks: tuple = ()
+
+    @property
+    def status(self) -> str:
+        """optimal | infeasible | failed (no answer could be evaluated)."""
+        if self.evaluation is None:
+            return "failed"
+        return "optimal" if self.evaluation.feasible else "infeasible"
+
+    def record(self) -> dict:
+        ev = self.evaluation
+        out = {"material": self.material, "section": self.family.label, "status": self.status,
+               "objective": None, "error_ratio": None, "deflection": None, "mass": None,
+               "natural_frequency": None, "worst_violation": None}
+        if ev is not None:
+            a = ev.analysis
+            out.update(objective=ev.objective, error_ratio=ev.error_ratio, deflection=float(a.deflection),
+                       mass=float(a.mass), natural_frequency=float(a.natural_frequency),
+                       worst_violation=ev.worst_violation,
+                       violated=[lim.name for lim in ev.violations])
+        if self.fallbacks:
+            out["fallbacks"] = list(self.fallbacks)
+        return out
+
+
+
+FALLBACK = {"ipopt": "slsqp"}  # every other method falls back to ipopt
+# IPOPT's answers that are a verdict on the problem, not a failure of the solver: it converged
+# to a point that minimises the constraint violation. When every start ends so, another method
+# is not tried (on the bench suite such a fallback never found a feasible design).
+IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
+
+
+class SearchResult(OptimizeResult):
+    """What ``optimize`` found, complete when returned (in the style of scipy's ``OptimizeResult``).
+
+    Keys: ``success`` (a design meets every limit), ``status`` (optimal | infeasible),
+    ``message``, ``x`` (the chosen Design), ``best`` (its Evaluation), ``candidates`` (every
+    material x family, ranked), ``solver`` (method, time, evaluations, solves, fallbacks),
+    ``messages`` (the diagnosis of an infeasible spec), ``seconds``, ``nfev``.
+    """
+
+    @property
+    def evaluations(self) -> int:
+        return self.nfev
+
+
+def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False) -> Candidate:
+    """Solve one material x family from several starts; fall back to another method when no
+    start gives a verified design. Every answer is rounded and checked."""
+    spec = problem.spec
+    params = material_params(material, spec)
+    evaluation, solves, fallbacks = None, [], []
+    starts = problem.starts()
+    checked = []
+    if method in ("grid", "isres", "direct"):
+        starts = starts[:1]  # global methods do not depend on the start
+    methods = [method, FALLBACK.get(method, "ipopt")]
+    for m in dict.fromkeys(methods):
+        verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
+        for i, x0 in enumerate(starts):
+            s = problem.solve(m, params, x0)
+            solves.append(s)
+            if m == "ipopt" and s.message in IPOPT_INFEASIBLE:
+                verdicts += 1
+            ev = round_and_check(problem.design(s.x, material), spec)
+            if ev is None:
+                fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
+                continue
+            if not s.success:
+                fallbacks.append(f"{m} start {i + 1}: {s.message}")
+            elif not ev.feasible and ev.violations and not (problem.epigraph and _only_targets(ev)):
+                fallbacks.append(f"{m} start {i + 1}: reported success but violates "
+                                      + ", ".join(v.name for v in ev.violations))
+                if m == "ipopt":
+                    s, ev = _back_off(problem, params, material, s, ev, solves, fallbacks,
+                                      f"{m} start {i + 1}")
+            if m == "ipopt" and s.success and problem.epigraph and _only_targets(ev):
+                verdicts += 1  # the least error this family reaches misses the targets
+            checked.append(ev)
+            evaluation = pick(checked)
+            if s.success and ev.feasible and not all_starts:
+                break  # a verified answer: the other starts are kept for failures
+        if evaluation is not None and evaluation.feasible:
+            break
+        if m != method or method == "grid":
+            break
+        if verdicts == len(starts):
+            fallbacks.append(f"{m}: every start ended in a verdict (locally infeasible, or the targets out of "
+                                  "reach); no fallback")
+            break
+    return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks))
+
+
+def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, solves: list, fallbacks: list,
+              where: str):
+    """Rounding broke a limit: re-solve from the answer with the constraints tightened by each of
+    ROUNDING_MARGINS in turn, from the first as large as the violation rounding caused; the first
+    answer whose rounded design breaks no limit of the NLP replaces it (under the error objective
+    it may still miss the targets: that is a verdict)."""
+    broken = max(float(v.normalised) for v in ev.violations if not (problem.epigraph and v.name in model.TARGET_LIMITS))
+    # a margin smaller than the violation rounding caused seldom survives the next rounding
+    margins = [m for m in ROUNDING_MARGINS if m >= broken] or ROUNDING_MARGINS[-1:]
+    for margin in margins:
+        s2 = problem.solve("ipopt", params, s.x, margin=margin)
+        solves.append(s2)
+        ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
+        if ev2 is not None and (ev2.feasible or (problem.epigraph and _only_targets(ev2))):
+            fallbacks.append(f"{where}: re-solved with every limit tightened by {margin:.0e}; "
+                                  "the rounded design " + ("meets every limit" if ev2.feasible else
+                                                           "misses only the accuracy targets"))
+            return s2, ev2
+    return s, ev
+
+
+def _only_targets(ev: Evaluation) -> bool:
+    return all(v.name in model.TARGET_LIMITS for v in ev.violations)
+
+
+def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True) -> SearchResult:
+    """Search every allowed material and section family; return the verified best design.
+
+    ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
+    """
+    if method not in METHODS:
+        raise SpecError(f"method: {method!r} is not allowed; must be {describe_allowed(METHODS)}")
+    t0 = time.perf_counter()
+    mats = [catalogue.material(m, "search.materials") for m in (materials or spec.search.materials)]
+    fams = families(spec)
+    candidates: list[Candidate] = []
+    problems: dict[Family, FamilyProblem] = {}
+    total = len(mats) * len(fams)
+    for fam in fams:
+        problem = FamilyProblem(spec, fam)
+        problems[fam] = problem
+        for mat in mats:
+            candidates.append(solve_candidate(problem, mat, method))
+            if progress is not None:
+                progress(len(candidates), total)
+    if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
+        candidates = break_ties(candidates, problems)
+    seconds = time.perf_counter() - t0
+    evaluations = sum(s.evaluations for c in candidates for s in c.solves)
+    feasible = model.rank([c.evaluation for c in candidates if c.evaluation is not None and c.evaluation.feasible])
+    order = {id(ev): i for i, ev in enumerate(feasible)}
+
+    def cand_key(c):
+        if c.evaluation is None:
+            return (2, True, math.inf, 0)
+        if c.evaluation.feasible:
+            return (0, False, order[id(c.evaluation)], 0)
+        return (1, not buildable(c.evaluation), c.evaluation.worst_violation, c.evaluation.objective)
+
+    candidates.sort(key=cand_key)
+    solver = {"method": method, "seconds": seconds, "evaluations": evaluations,
+              "solves": sum(len(c.solves) for c in candidates),
+              "fallbacks": [f"{c.material} {c.family.label}: {f}" for c in candidates for f in c.fallbacks]}
+    if not any(c.evaluation is not None for c in candidates):
+        raise SolverError("no solver returned a design that could be evaluated; try another method")
+    best = candidates[0].evaluation
+    if best.feasible:
+        status, messages = "optimal", []
+        message = f"{best.design.label()} meets every limit"
+    else:
+        status, messages = "infeasible", diagnose(spec, best, candidates)
+        message = messages[0]
+    return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
+                        candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations)
+
+
+def _start_from(problem: FamilyProblem, ev: Evaluation):
+    """The NLP's variables (mm) at a checked design."""
+    g = ev.design.geometry
+    values = {"width": g.width, "height": g.height, "side": g.width, "diameter": g.diameter, "wall": g.wall,
+              "depth": g.depth, "hole": g.hole}
+    values.update({f"station_{i + 1}": s for i, s in enumerate(g.stations)})
+    x = np.clip([float(values[n]) / MM for n in problem.names], problem.lower, problem.upper)
+    return np.append(x, ev.objective) if problem.epigraph else x
+
+
+def break_ties(candidates: list, problems: dict) -> list:
+    """The tie rule as a second stage (docs/model.md §5).
+
+    Near the optimum the objective is often flat (a strain-limited design has a sensitivity
+    that does not depend on the material), so many designs lie within 0.1 % of the best. Each
+    candidate inside that band is re-solved for the secondary objective (deflection, or mass
+    when deflection is the objective) with its primary objective capped inside the band; the
+    answer is kept only if it checks out and ranks before the candidate's first answer.
+    """
+    feasible = [c for c in candidates if c.evaluation is not None and c.evaluation.feasible]
+    if not feasible:
+        return candidates
+    lead = min(c.evaluation.objective for c in feasible)
+    cap = lead * (1 + model.TIE_TOLERANCE / 2)
+    in_band = {id(c) for c in feasible if c.evaluation.objective <= lead * (1 + model.TIE_TOLERANCE)}
+    out = []
+    for cand in candidates:
+        if id(cand) not in in_band:
+            out.append(cand)
+            continue
+        problem = problems[cand.family]
+        material = cand.evaluation.design.material
+        x0 = _start_from(problem, cand.evaluation)
+        if problem.epigraph:
+            x0[-1] = min(x0[-1], cap)
+        # the NLP's primary objective is in mm (deflection) or g (mass), Evaluation.objective in SI
+        nlp_cap = in_nlp_units(cap, problem.spec.objective)
+        s = problem.solve("ipopt", material_params(material, problem.spec, nlp_cap), x0, stage="secondary")
+        ev = round_and_check(problem.design(s.x, material), problem.spec)
+        better = ev is not None and ev.feasible and ev.objective <= lead * (1 + model.TIE_TOLERANCE) and \
+            model.ranks_before(ev, cand.evaluation)
+        out.append(replace(cand, evaluation=ev if better else cand.evaluation, solves=cand.solves + (s,)))
+    return out
