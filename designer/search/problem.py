@@ -235,25 +235,15 @@ class FamilyProblem:
                                            nlp, opts)
         return self._ipopt[stage]
 
-    def solve(self, method: str, params, x0, stage: str = "primary", margin: float = 0.0) -> Solve:
-        """One run; ``margin`` (IPOPT only) tightens every constraint to ``g <= -margin``."""
+    def solve_ipopt(self, params, x0, stage: str = "primary", margin: float = 0.0) -> Solve:
+        """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``."""
         lo, hi = self.bounds()
-        if method == "ipopt":
-            solver = self.ipopt(stage)
-            try:
-                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
-            except RuntimeError as exc:
-                return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, method)
-            stats = solver.stats()
-            evals = int(stats.get("iter_count", 0))
-            return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
-                         evals, method)
-        if method == "grid":
-            from designer.search.grid import grid_solve
-
-            return grid_solve(self, params)
-        from designer.search.nlopt_adapter import nlopt_solve
-
-        return nlopt_solve(self, method, params, x0)
-
-
+        solver = self.ipopt(stage)
+        try:
+            sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+        except RuntimeError as exc:
+            return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, "ipopt")
+        stats = solver.stats()
+        evals = int(stats.get("iter_count", 0))
+        return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
+                     evals, "ipopt")

@@ -13,6 +13,7 @@ from designer import model
 from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import Evaluation
 from designer.search.diagnosis import diagnose
+from designer.search.methods import solve
 from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
 from designer.search.rounding import buildable, pick, round_and_check
 from designer.spec import catalogue
@@ -92,7 +93,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     for m in dict.fromkeys(methods):
         verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
         for i, x0 in enumerate(starts):
-            s = problem.solve(m, params, x0)
+            s = solve(problem, m, params, x0)
             solves.append(s)
             if m == "ipopt" and s.message in IPOPT_INFEASIBLE:
                 verdicts += 1
@@ -135,7 +136,7 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
     # a margin smaller than the violation rounding caused seldom survives the next rounding
     margins = [m for m in ROUNDING_MARGINS if m >= broken] or ROUNDING_MARGINS[-1:]
     for margin in margins:
-        s2 = problem.solve("ipopt", params, s.x, margin=margin)
+        s2 = problem.solve_ipopt(params, s.x, margin=margin)
         solves.append(s2)
         ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
         if ev2 is not None and (ev2.feasible or (problem.epigraph and _only_targets(ev2))):
@@ -238,7 +239,7 @@ def break_ties(candidates: list, problems: dict) -> list:
             x0[-1] = min(x0[-1], cap)
         # the NLP's primary objective is in mm (deflection) or g (mass), Evaluation.objective in SI
         nlp_cap = in_nlp_units(cap, problem.spec.objective)
-        s = problem.solve("ipopt", material_params(material, problem.spec, nlp_cap), x0, stage="secondary")
+        s = problem.solve_ipopt(material_params(material, problem.spec, nlp_cap), x0, stage="secondary")
         ev = round_and_check(problem.design(s.x, material), problem.spec)
         better = ev is not None and ev.feasible and ev.objective <= lead * (1 + model.TIE_TOLERANCE) and \
             model.ranks_before(ev, cand.evaluation)
