@@ -17,6 +17,6 @@ from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, SECONDA
 from designer.model.ops import NUMERIC, Ops, casadi_ops
 from designer.model.sections import (Geometry, SectionProperties, feature_length, flat_half_angle,
                                      section_properties, segment_area, segment_inertia_across,
-                                     segment_inertia_normal)
+                                     segment_inertia_normal, unbuildable)
 
 __all__ = [name for name in dir() if not name.startswith("_")]

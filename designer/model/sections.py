@@ -133,3 +133,48 @@ def section_properties(g: Geometry, ops: Ops = NUMERIC) -> SectionProperties:
         A_s, I_s = A_s - 2 * seg_A, I_s - 2 * segment_inertia_across(R, alpha, ops)
         faces, y_e = 4, R
     return SectionProperties(A, I, R, A_s, I_s, R - p, y_e, faces * seg_A * lp)
+
+
+def _mm(value) -> str:
+    return f"{float(value) * 1e3:.6g} mm"
+
+
+def _value(value) -> str:
+    """A design.json value as the file holds it (m) and in mm."""
+    return f"{float(value)!r} m ({float(value) * 1e3:.6g} mm)"
+
+
+def unbuildable(g: Geometry) -> tuple[str, str] | None:
+    """The first rule that keeps ``g`` (numbers) from being a beam at all, as ``(key, reason)``
+    with the design.json key under ``design``; None for a buildable beam. These are not limits
+    (a design may break limits and still be drawn, exported and simulated): a pocket deeper
+    than the wall, a hole wider than the bar, a station off the beam."""
+    dims = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}[g.section]
+    for name in dims:
+        if not getattr(g, name) > 0:
+            return f"section.{name}", f"{_value(getattr(g, name))} must be positive"
+    if g.section == "tube" and not g.wall < g.diameter / 2:
+        return "section.wall", f"{_value(g.wall)} must be less than half the diameter ({_mm(g.diameter / 2)})"
+    size = g.size
+    if g.feature == "pocket":
+        if not g.depth > 0:
+            return "feature.depth", f"{_value(g.depth)} must be positive"
+        limit, what = (g.wall, "the tube wall") if g.section == "tube" else (size / 2, "half the section height")
+        if not g.depth < limit:
+            return "feature.depth", f"{_value(g.depth)} is not less than {what} ({_mm(limit)})"
+        if g.section == "rectangle" and not g.pocket_width < g.width:
+            return "feature.width", f"{_value(g.pocket_width)} must be less than the section width ({_mm(g.width)})"
+    if g.feature == "hole":
+        if g.section != "rectangle":
+            return "feature.kind", f"'hole' needs a rectangle section, not {g.section!r}"
+        if not g.hole > 0:
+            return "feature.diameter", f"{_value(g.hole)} must be positive"
+        if not g.hole < size:
+            return "feature.diameter", f"{_value(g.hole)} must be less than the section height ({_mm(size)})"
+    for i, s in enumerate(g.stations):
+        if not 0 < s < g.length:
+            return f"stations[{i}]", (f"{_value(s)} is off the beam; must lie between 0 and the free length "
+                                      f"{_mm(g.length)}")
+    if any(b <= a for a, b in zip(g.stations, g.stations[1:])):
+        return "stations", f"{[round(float(s) * 1e3, 6) for s in g.stations]} mm must increase from the clamp outwards"
+    return None

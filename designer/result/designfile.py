@@ -10,6 +10,7 @@ import json
 import math
 from pathlib import Path
 
+from designer import model
 from designer.errors import DesignFileError, SpecError, describe_allowed
 
 SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
@@ -74,30 +75,11 @@ def validate(record, source: str = "design.json") -> None:
     if not isinstance(kind, str) or kind not in SECTION_KEYS:
         raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; must be {describe_allowed(SECTION_KEYS)}")
     dims = {k: _positive(section, k, "design.section") for k in SECTION_KEYS[kind]}
-    if kind == "tube" and not dims["wall"] < dims["diameter"] / 2:
-        raise DesignFileError(f"design.section.wall: {dims['wall']!r} m must be less than half the diameter "
-                              f"({dims['diameter'] / 2!r} m)")
-    size = dims.get("height", dims.get("diameter"))
     feature = _get(design, "feature", "design")
     fkind = _get(feature, "kind", "design.feature")
     if not isinstance(fkind, str) or fkind not in FEATURE_KEYS:
         raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; must be {describe_allowed(FEATURE_KEYS)}")
     fdims = {k: _positive(feature, k, "design.feature") for k in FEATURE_KEYS[fkind]}
-    if fkind == "pocket":
-        limit = dims["wall"] if kind == "tube" else size / 2
-        what = "the tube wall" if kind == "tube" else "half the section height"
-        if not fdims["depth"] < limit:
-            raise DesignFileError(f"design.feature.depth: {fdims['depth']!r} m is not less than {what} ({limit!r} m)")
-        across = dims.get("width", size)
-        if kind == "rectangle" and not fdims["width"] < across:
-            raise DesignFileError(f"design.feature.width: {fdims['width']!r} m must be less than the section "
-                                  f"width ({across!r} m)")
-    if fkind == "hole":
-        if kind != "rectangle":
-            raise DesignFileError(f"design.feature.kind: 'hole' needs a rectangle section, not {kind!r}")
-        if not fdims["diameter"] < size:
-            raise DesignFileError(f"design.feature.diameter: {fdims['diameter']!r} m must be less than the "
-                                  f"section height ({size!r} m)")
     length = _positive(design, "length", "design")
     stations = _get(design, "stations", "design")
     if not isinstance(stations, list) or len(stations) < 2:
@@ -105,11 +87,15 @@ def validate(record, source: str = "design.json") -> None:
     for i, s in enumerate(stations):
         if isinstance(s, bool) or not isinstance(s, (int, float)) or not math.isfinite(s):
             raise DesignFileError(f"design.stations[{i}]: {s!r} must be a number (m)")
-        if not 0 < s < length:
-            raise DesignFileError(f"design.stations[{i}]: {s!r} m is off the beam; must lie between 0 and the "
-                                  f"free length {length!r} m")
-    if any(b <= a for a, b in zip(stations, stations[1:])):
-        raise DesignFileError(f"design.stations: {stations!r} must increase from the clamp outwards")
+    geometry = model.Geometry(section=kind, feature=fkind, stations=tuple(float(s) for s in stations), length=length,
+                              width=dims.get("width"), height=dims.get("height"), diameter=dims.get("diameter"),
+                              wall=dims.get("wall"), depth=fdims.get("depth", 0.0),
+                              hole=fdims.get("diameter", 0.0) if fkind == "hole" else 0.0,
+                              pocket_width=fdims.get("width", 0.0))
+    problem = model.unbuildable(geometry)
+    if problem is not None:
+        key, reason = problem
+        raise DesignFileError(f"design.{key}: {reason}")
     axes = design.get("axes", 1)
     if axes not in (1, 2):
         raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")

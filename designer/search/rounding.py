@@ -14,8 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from designer import model
-from designer.errors import DesignFileError, InputError
-from designer.result.designfile import validate
+from designer.errors import InputError
 from designer.result.evaluation import ROUNDING, Design, Evaluation, evaluate
 
 
@@ -81,14 +80,9 @@ def pick(evaluations: list) -> Evaluation | None:
 
 
 def buildable(ev: Evaluation) -> bool:
-    """Whether the design is a beam at all (a pocket shallower than the wall, a hole narrower than
-    the bar, ...), as ``designfile.validate`` judges it: a least-infeasible design that is not
-    could not be plotted, exported or simulated from its design.json."""
-    try:
-        validate({"spec": {}, "design": ev.design.shape_dict()})
-    except DesignFileError:
-        return False
-    return True
+    """Whether the design is a beam at all (``model.unbuildable``): a least-infeasible design that
+    is not could not be plotted, exported or simulated from its design.json."""
+    return model.unbuildable(ev.design.geometry) is None
 
 
 def _floor_ceil(v: float) -> tuple:
