@@ -7,7 +7,7 @@ import math
 
 import pytest
 
-from designer.bench import core as bench
+from designer import bench
 from designer.search import optimize
 from designer.cli import main
 from designer.errors import InputError
