@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import math
 
+from designer import model
 from designer.bench.run import BenchResult, gap
 from designer.bench.summary import SPREAD, method_summary
-from designer.search.optimize import METHODS, TIE_TOLERANCE
+from designer.search.optimize import METHODS
 
 
 def chart_data(result: BenchResult) -> dict:
@@ -15,7 +16,7 @@ def chart_data(result: BenchResult) -> dict:
     points = [{"method": r.method, "seconds": r.seconds, "gap": gap(r, result.truth(r))}
               for r in result.runs if result.truth(r).feasible]
     return {"methods": summary, "points": points, "specs": len(result.suite),
-            "feasible_specs": sum(t.feasible for t in result.truths.values()), "tie": TIE_TOLERANCE}
+            "feasible_specs": sum(t.feasible for t in result.truths.values()), "tie": model.TIE_TOLERANCE}
 
 
 def chart(data: dict, ax=None):

@@ -1,8 +1,8 @@
 """Every method on every spec of the suite, and what is known of each spec.
 
 For every spec the best known design is the best verified design over all methods and the
-exhaustive reference search (``reference.reference_best``, no casadi, no nlopt), ranked as
-the optimiser's ranking; the spec is feasible when any of them found a design that meets every limit.
+exhaustive reference search (``reference.reference_best``, no casadi, no nlopt), ranked by
+``model.rank``; the spec is feasible when any of them found a design that meets every limit.
 Every method's answer is re-checked from its design.json record alone (``designfile.rebuild`` +
 ``evaluation.evaluate``); its gap, time and failures are recorded both for the pipeline's final
 answer and for the raw solver runs (``Candidate.solves``).
@@ -17,13 +17,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from designer import model
 from designer.bench.suite import DEFAULT_SEED, KINDS, SuiteSpec
 from designer.errors import FpdError, InputError, describe_allowed
-from designer.search.optimize import METHODS, TIE_TOLERANCE
+from designer.search.optimize import METHODS
 from designer.spec import catalogue
 
 REFERENCE_LEVELS = 5           # grid points per variable of the reference search (coarse, fast)
-VIOLATION_TOLERANCE = 1e-9     # as evaluation.Evaluation.violations
 SOLVER_TOLERANCE = 1e-6        # a solver's unrounded answer within this (normalised) meets a limit
 
 
@@ -61,7 +61,7 @@ class Run:
     @property
     def feasible(self) -> bool:
         """The re-checked answer meets every limit."""
-        return self.worst_violation is not None and self.worst_violation <= VIOLATION_TOLERANCE
+        return self.worst_violation is not None and self.worst_violation <= model.FEASIBILITY_TOLERANCE
 
 
 def run_method(item: SuiteSpec, method: str) -> Run:
@@ -116,7 +116,7 @@ def _recheck(run: Run, record: dict) -> None:
 def _solver_counts(run: Run, spec, outcome) -> None:
     """The raw solver behaviour from the Solve records: successes, false successes, exceptions,
     and the best verified design the method found on its own (without its fallback)."""
-    from designer.search.optimize import FamilyProblem, pick, round_and_check
+    from designer.search.optimize import FamilyProblem, round_and_check
 
     own = []
     for cand in outcome.candidates:
@@ -144,9 +144,9 @@ def _solver_counts(run: Run, spec, outcome) -> None:
                         run.rounding_breaks += 1
             if ev is not None:
                 own.append(ev)
-    best = pick(own)
-    if best is not None and best.feasible:
-        run.raw_objective = float(best.objective)
+    feasible = [ev for ev in own if ev.feasible]
+    if feasible:
+        run.raw_objective = float(model.rank(feasible)[0].objective)
 
 
 def _raised(solve) -> bool:
@@ -165,7 +165,7 @@ def _unrounded_breaks(design, spec) -> bool:
             ev = evaluate(design, spec)
     except (FpdError, ValueError, ArithmeticError):
         return True
-    targets = ("force_error", "position_error") if spec.objective == "error" else ()
+    targets = model.TARGET_LIMITS if spec.objective == "error" else ()
     worst = [float(lim.normalised) for lim in ev.limits if lim.name not in targets]
     return not all(math.isfinite(w) and w <= SOLVER_TOLERANCE for w in worst)
 
@@ -173,7 +173,7 @@ def _unrounded_breaks(design, spec) -> bool:
 def _breaks_limits(ev, spec) -> bool:
     """A limit the solver was asked to meet is broken. With the error objective the targets are
     the objective (e <= 1 is a verdict, not a constraint of the solve)."""
-    targets = ("force_error", "position_error") if spec.objective == "error" else ()
+    targets = model.TARGET_LIMITS if spec.objective == "error" else ()
     return any(v.name not in targets for v in ev.violations)
 
 
@@ -202,11 +202,10 @@ class Truth:
 
 def establish_truth(item: SuiteSpec, runs: list[Run], levels: int = REFERENCE_LEVELS) -> Truth:
     """The best known design of one spec: the reference search and every run's re-checked answer,
-    ranked as the optimiser ranks (MODEL.md 5)."""
+    ranked by ``model.rank`` (MODEL.md 5)."""
     from designer.result import designfile
     from designer.search import reference
     from designer.result.evaluation import evaluate
-    from designer.search.optimize import rank
 
     t0 = time.perf_counter()
     try:
@@ -225,7 +224,7 @@ def establish_truth(item: SuiteSpec, runs: list[Run], levels: int = REFERENCE_LE
     if not found:
         return Truth(item.name, item.kind, item.expected, False, None, None, "", ref_objective, False, ref_seconds,
                      item.spec.objective)
-    best = rank([ev for ev, _ in found])[0]
+    best = model.rank([ev for ev, _ in found])[0]
     who = sorted({w for ev, w in found if _same(ev, best)})
     lead = min(float(ev.objective) for ev, _ in found)
     return Truth(item.name, item.kind, item.expected, True, lead, float(best.objective), ", ".join(who),
@@ -265,8 +264,9 @@ def exact_gap(run: Run, truth: Truth) -> float | None:
 
 
 def _tie_gap(objective: float, lead: float) -> float:
-    excess = objective / lead - 1 if lead > 0 else objective - lead
-    return 0.0 if excess <= TIE_TOLERANCE else excess
+    if model.ties(objective, lead):
+        return 0.0
+    return objective / lead - 1 if lead > 0 else objective - lead
 
 
 FAILURE_KINDS = ("exception", "violating", "missed", "unreadable")

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from designer import model
 from designer.errors import FpdError, InputError, SpecError, describe_allowed
 from designer.spec import catalogue
 
@@ -153,19 +154,19 @@ def _small_gauge(d: _Draft, length: float, width: float) -> None:
     d.gauge_length = length
 
 
-def _feature_length(d: _Draft) -> float:
-    margin = d.limits.get("pocket_margin", 1e-3)
-    if d.feature == "pocket":
-        return d.gauge_length + 2 * margin
-    if d.feature == "hole":
-        return 2 * d.limits.get("min_wall", 1e-3)
-    return d.gauge_length
+def _feature_length(d: _Draft, hole: float | None = None) -> float:
+    """``model.feature_length`` of the draft's numbers: a pocket the gauge plus its margins long,
+    a hole of ``hole`` (by default twice the smallest wall, a typical hole), or the gauge."""
+    min_wall = d.limits.get("min_wall", 1e-3)
+    pocket_length = d.gauge_length + 2 * d.limits.get("pocket_margin", 1e-3)
+    return model.feature_length(d.feature, pocket_length, 2 * min_wall if hole is None else hole, d.gauge_length)
 
 
 def _room(d: _Draft) -> float:
-    """The smallest x_min with room for the stations (as optimize.minimum_room)."""
+    """The smallest x_min with room for the stations, reckoned as ``model.minimum_room`` does (a hole
+    no narrower than the smallest wall) from the draft's numbers: the draft is not a Spec yet."""
     lim = d.limits
-    lf = d.limits.get("min_wall", 1e-3) if d.feature == "hole" else _feature_length(d)
+    lf = _feature_length(d, hole=lim.get("min_wall", 1e-3))
     return (lim.get("clamp_clearance", 5e-3) + d.stations * lf + (d.stations - 1) * lim.get("gauge_gap", 2e-3)
             + lim.get("load_clearance", 5e-3))
 
@@ -368,7 +369,7 @@ def _nearly_infeasible(rng, name):
     best = reference.reference_best(spec, levels=CALIBRATION_LEVELS)
     if best is None or not best.feasible:
         return None
-    scale = rng.uniform(0.95, 0.99) / best.objective
+    scale = rng.uniform(0.95, 0.99) / best.error_ratio
     for _ in range(30):
         trial = replace(d, noise_strain=d.noise_strain * scale)
         raw, _ = _finish(trial, name)

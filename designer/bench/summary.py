@@ -7,9 +7,9 @@ import statistics
 
 import numpy as np
 
+from designer import model
 from designer.bench.run import FAILURE_KINDS, SOLVER_TOLERANCE, BenchResult, exact_gap, failures, gap, raw_gap
 from designer.bench.suite import KIND_NOTES
-from designer.search.optimize import TIE_TOLERANCE
 
 SPREAD = (25, 75)              # percentiles of the spread bars
 
@@ -244,7 +244,7 @@ def markdown(result: BenchResult, chart_file: str = "bench.png") -> str:
         "- **time**: wall time of one `optimize` call (every material x section family, with the method's "
         "start points, checks and fallback), after a warm-up.",
         "- **gap**: reported objective over the lowest verified objective any method or the reference "
-        f"found for that spec, minus one. Within the {TIE_TOLERANCE:.1%} tie band it counts as 0: "
+        f"found for that spec, minus one. Within the {model.TIE_TOLERANCE:.1%} tie band it counts as 0: "
         "there MODEL.md section 5 ranks designs by deflection, then mass, not by objective. *no design*: "
         "the spec is feasible but the method returned no design that meets every limit. Medians are over "
         "the feasible specs; spreads are the "
