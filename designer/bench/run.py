@@ -116,13 +116,11 @@ def _recheck(run: Run, record: dict) -> None:
 def _solver_counts(run: Run, spec, outcome) -> None:
     """The raw solver behaviour from the Solve records: successes, false successes, exceptions,
     and the best verified design the method found on its own (without its fallback)."""
-    from designer.search.optimize import FamilyProblem, round_and_check
+    from designer.search.optimize import round_and_check
 
     own = []
     for cand in outcome.candidates:
-        problem = FamilyProblem.__new__(FamilyProblem)  # variables only: no casadi graph
-        problem.spec, problem.family = spec, cand.family
-        problem.names, problem.lower, problem.upper = problem._variables()
+        design_of = _solver_design(spec, cand.family)
         material = catalogue.material(cand.material)
         for s in cand.solves:
             if s.method != run.method:
@@ -132,13 +130,13 @@ def _solver_counts(run: Run, spec, outcome) -> None:
             if _raised(s):
                 run.solver_exceptions += 1
             try:
-                ev = round_and_check(problem.design(s.x, material), spec)
+                ev = round_and_check(design_of(s.x, material), spec)
             except (FpdError, ValueError, ArithmeticError):
                 ev = None
             if s.success:
                 run.solver_successes += 1
                 if ev is None or _breaks_limits(ev, spec):
-                    if _unrounded_breaks(problem.design(s.x, material), spec):
+                    if _unrounded_breaks(design_of(s.x, material), spec):
                         run.false_successes += 1
                     else:
                         run.rounding_breaks += 1
@@ -147,6 +145,18 @@ def _solver_counts(run: Run, spec, outcome) -> None:
     feasible = [ev for ev in own if ev.feasible]
     if feasible:
         run.raw_objective = float(model.rank(feasible)[0].objective)
+
+
+def _solver_design(spec, family):
+    """``design(x, material)``: the Design a solver's ``x`` (mm) stands for in ``family``, from the
+    family's variables alone; the bench has no use for the casadi graph ``FamilyProblem`` builds."""
+    # uses search internals: replace with the public variables API
+    from designer.search.optimize import FamilyProblem
+
+    problem = FamilyProblem.__new__(FamilyProblem)
+    problem.spec, problem.family = spec, family
+    problem.names, problem.lower, problem.upper = problem._variables()
+    return problem.design
 
 
 def _raised(solve) -> bool:
