@@ -7,9 +7,8 @@ import math
 
 import pytest
 
-from designer.bench import core as bench
-from designer import errors
-from designer.search import run as search_run
+from designer import bench, errors
+from designer import search
 from designer.cli import main
 from designer.errors import InputError
 from designer.spec.reader import parse_spec_text
@@ -74,7 +73,7 @@ def test_specs_built_infeasible_are_reported_infeasible(kind, seed):
 
 def test_nearly_infeasible_spec_is_feasible_with_little_to_spare():
     (item,) = bench.generate_suite(1, seed=0, kinds=["nearly-infeasible"])
-    outcome = optimize.optimize(item.spec)
+    outcome = search.optimize(item.spec)
     assert outcome.success
     assert 0.9 < outcome.best.objective <= 1.0
 
@@ -162,7 +161,7 @@ def test_a_method_that_raises_is_recorded_not_raised(monkeypatch):
     def broken(*args, **kwargs):
         raise errors.SolverError("no solver returned a design that could be evaluated")
 
-    monkeypatch.setattr(search_run, "optimize", broken)
+    monkeypatch.setattr(search, "optimize", broken)
     run = bench.run_method(item, "mma")
     assert run.error.startswith("SolverError: no solver returned")
     truth = bench.Truth(item.name, item.kind, None, True, 1.0, 1.0, "reference", 1.0, True, 0.0, "error")

@@ -73,20 +73,21 @@ def _register_bench(sub) -> None:
 
 
 def run_bench(args) -> int:
-    from designer.bench import core as bench
+    from designer import bench
+    from designer.search.problem import METHODS
 
     if args.count < 0:
         raise InputError(f"--count: {args.count} must be 0 or more")
     levels = bench.REFERENCE_LEVELS if args.levels is None else args.levels
     if levels < 2:
         raise InputError(f"--levels: {levels} must be at least 2")
-    methods = bench.METHODS
+    methods = METHODS
     if args.methods is not None:
         methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
-        bad = [m for m in methods if m not in bench.METHODS]
+        bad = [m for m in methods if m not in METHODS]
         if bad or not methods:
             raise InputError(f"--methods: {bad[0] if bad else args.methods!r} is not a method; give a "
-                             f"comma-separated list from {', '.join(bench.METHODS)}")
+                             f"comma-separated list from {', '.join(METHODS)}")
     folder = Path(args.specs) if args.specs else bench.default_examples_folder()
     examples, skipped = bench.example_suite(folder) if folder is not None else ([], [])
     suite = examples + bench.generate_suite(args.count, args.seed)

@@ -1,0 +1,115 @@
+"""The bench's chart: solve time against objective gap, one point per method over the runs."""
+
+from __future__ import annotations
+
+import math
+
+from designer import model
+from designer.bench.run import BenchResult, gap
+from designer.bench.summary import SPREAD, method_summary
+from designer.search.problem import METHODS
+
+
+def chart_data(result: BenchResult) -> dict:
+    """What ``chart`` draws: per method its medians and spreads; per run its time and gap."""
+    summary = method_summary(result)
+    points = [{"method": r.method, "seconds": r.seconds, "gap": gap(r, result.truth(r))}
+              for r in result.runs if result.truth(r).feasible]
+    return {"methods": summary, "points": points, "specs": len(result.suite),
+            "feasible_specs": sum(t.feasible for t in result.truths.values()), "tie": model.TIE_TOLERANCE}
+
+
+def chart(data: dict, ax=None):
+    """Solve time (log) against objective gap (symlog %), one point per method (median time with
+    its spread, 90th-percentile gap with a bar down to the median gap) over faint per-spec points;
+    the speed-accuracy front dashed. Returns the figure."""
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.ticker import NullFormatter
+
+    if ax is None:
+        fig = Figure(figsize=(9.5, 6.0), layout="constrained")
+        ax = fig.add_subplot()
+    else:
+        fig = ax.figure
+    methods = data["methods"]
+    finite = [p["gap"] * 100 for p in data["points"] if p["gap"] is not None and math.isfinite(p["gap"])]
+    top = 10 ** math.ceil(math.log10(max(finite + [10.0]))) * 3   # the "no design" row, % above every gap
+    colours = {m: f"C{i}" for i, m in enumerate(METHODS)}
+
+    def y(g):
+        return top if g is None or math.isinf(g) else g * 100
+
+    for p in data["points"]:
+        missing = p["gap"] is not None and math.isinf(p["gap"])
+        ax.scatter(p["seconds"], y(p["gap"]), s=22 if missing else 12, color=colours[p["method"]],
+                   alpha=0.6 if missing else 0.28, linewidths=1.2 if missing else 0,
+                   marker="x" if missing else "o", zorder=1)
+    offsets = _label_offsets([(r["median_seconds"], y(r["p90_gap"])) for r in methods])
+    for r, offset in zip(methods, offsets):
+        t, g = r["median_seconds"], r["p90_gap"]
+        if t is None or g is None:
+            continue
+        xerr = [[t - r["seconds_low"]], [r["seconds_high"] - t]]
+        yerr = [[y(g) - y(r["median_gap"])], [0.0]]  # down to the median gap
+        c = colours[r["method"]]
+        default = r["method"] == "ipopt"  # a diamond on top: no other point hides it
+        ax.errorbar(t, y(g), xerr=xerr, yerr=yerr, fmt="D" if default else "o", ms=8 if default else 9, color=c,
+                    mec="black", mew=1.4 if default else 0.8, elinewidth=1.4, capsize=3, zorder=5 if default else 3)
+        label = r["method"] + (" (default)" if r["method"] == "ipopt" else "")
+        ax.annotate(label, (t, y(g)), xytext=offset, textcoords="offset points", fontsize=9,
+                    fontweight="bold" if r["method"] == "ipopt" else "normal", color=c, zorder=4)
+    front = sorted((r["median_seconds"], y(r["p90_gap"])) for r in methods if r["on_front"])
+    if front:
+        xs, ys = zip(*front)
+        ax.plot(xs, ys, ls="--", color="0.3", lw=1.2, zorder=2, drawstyle="steps-post")
+    linthresh = data["tie"] * 100
+    ax.set_xscale("log")
+    ax.xaxis.set_minor_formatter(NullFormatter())  # minor labels collide when times span under a decade
+    ax.set_yscale("symlog", linthresh=linthresh, linscale=0.6)
+    ax.set_ylim(-linthresh * 0.3, top * 2.5)
+    ax.axhline(top / 1.8, color="0.75", lw=0.8)
+    ticks = [0] + [10.0 ** k for k in range(int(round(math.log10(linthresh))), int(math.log10(top)))]
+    ax.set_yticks(ticks + [top])
+    ax.set_yticklabels([_tick(v) for v in ticks] + ["no design"])
+    ax.set_xlabel("wall time of one optimize call, s (log scale)")
+    ax.set_ylabel(f"objective gap to the best known design, %\n(symlog; 0 = within the {data['tie']:.1%} tie band)")
+    ax.set_title(f"Speed against accuracy: {len(methods)} methods on {data['feasible_specs']} feasible specs "
+                 f"(of {data['specs']})", fontsize=11)
+    ax.grid(True, which="major", alpha=0.3)
+    handles = [Line2D([], [], marker="D" if r["method"] == "ipopt" else "o", ls="", color=colours[r["method"]],
+                      mec="black", ms=7 if r["method"] == "ipopt" else 8, label=r["method"])
+               for r in methods]
+    handles += [Line2D([], [], marker="o", ls="", color="0.5", alpha=0.3, ms=5, label="one spec"),
+                Line2D([], [], marker="x", ls="", color="0.5", ms=5, label="one spec, no design"),
+                Line2D([], [], color="black", lw=1.2, label=f"median time (p{SPREAD[0]}-p{SPREAD[1]} bar),\n"
+                                                             "p90 gap (bar down to the median gap)"),
+                Line2D([], [], ls="--", color="0.3", label="speed-accuracy front")]
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8.5, frameon=False)
+    return fig
+
+
+def _label_offsets(points) -> list:
+    """Text offsets (points) that keep the labels of nearby method points apart: labels of
+    points less than a factor 4 apart in time and at about the same gap (equal, or within a
+    factor 1.6) are stacked."""
+    out = [(7, 7)] * len(points)
+    order = sorted(range(len(points)), key=lambda i: (points[i][1] or 0, points[i][0] or 0))
+    stack = []
+    for i in order:
+        t, g = points[i]
+        if t is None or g is None:
+            continue
+        stack = [j for j in stack if _about(points[j][1], g) and t / points[j][0] < 4]
+        used = {out[j] for j in stack}
+        out[i] = next(o for o in ((7, 7 + 12 * k) for k in range(len(points) + 1)) if o not in used)
+        stack.append(i)
+    return out
+
+
+def _about(a: float, b: float) -> bool:
+    return a == b or (a > 0 and b > 0 and max(a, b) / min(a, b) < 1.6)
+
+
+def _tick(v: float) -> str:
+    return "0" if v == 0 else f"{v:g}"
