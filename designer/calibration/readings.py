@@ -17,10 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.calibration.fit import (STANDARD_GRAVITY, Bridge, Calibration, CalibrationFileError, LoadSet, Measurement,
-                          Readings, bridges_for, design_constants, scheme_loads, axis_force, SCHEMES)
+from designer.calibration.data import STANDARD_GRAVITY, Bridge, LoadSet, Readings, axis_force, bridges_for
+from designer.calibration.design import design_constants
+from designer.calibration.measurement import Measurement
+from designer.calibration.schemes import SCHEMES, scheme_loads
+from designer.calibration.record import Calibration
+from designer.errors import CalibrationFileError, CsvError, InputError
 from designer.result.designfile import load_design, read_json
-from designer.errors import CsvError, InputError
 from designer.outputs.files import atomic_write_json, atomic_write_text
 
 LOAD_COLUMNS = ("force_N", "mass_g", "position_mm", "angle_deg")
