@@ -12,6 +12,7 @@ import numpy as np
 
 from designer.checks.fea.geometry_mesh import CONVERGENCE_COARSENING
 from designer.checks.fea.readout import StressPeak
+from designer.model import FEASIBILITY_TOLERANCE
 
 # The strain plot's axis reaches this many times the largest beam-model strain; peaks at sharp
 # corners beyond it are named in a note instead.
@@ -27,7 +28,6 @@ RATIO_NOTE = 0.03
 
 MPA = 1e6
 MICRO = 1e-6
-LIMIT_TOLERANCE = 1e-9  # as evaluation.Evaluation.violations
 
 
 @dataclass(frozen=True)
@@ -62,10 +62,10 @@ class LimitCheck:
     scale: float | None = None  # as model.Limit: the normalising scale (None: the limit itself)
 
     def _holds(self, value: float) -> bool:
-        """The model's rule: the normalised violation at most 1e-9 (model.Limit, evaluation)."""
+        """The model's rule: the normalised violation at most FEASIBILITY_TOLERANCE (model.Limit)."""
         gap = value - self.limit if self.upper else self.limit - value
         scale = self.scale if self.scale is not None else abs(self.limit)
-        return gap / (scale or 1.0) <= LIMIT_TOLERANCE
+        return gap / (scale or 1.0) <= FEASIBILITY_TOLERANCE
 
     @property
     def satisfied(self) -> bool:
