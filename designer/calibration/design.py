@@ -139,4 +139,3 @@ def design_constants(record: dict) -> DesignConstants:
     name = spec.get("name") or "design"
     return DesignConstants(str(name), stations, k, _noise_from(record), int(axes), force, position,
                            _prototype(design.get("section")))
-

@@ -249,4 +249,3 @@ def _span_warnings(design: DesignConstants, force_span, position_span) -> list[s
                        f"design's region is {lo * factor:.4g}-{hi * factor:.4g} {unit}: measurements outside the "
                        "calibrated span are extrapolated; add loads at the region's corners (fpdesign plan)")
     return out
-

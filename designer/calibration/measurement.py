@@ -162,4 +162,3 @@ def predicted_sigma(k, d, loads: LoadSet, sigma_v: float, calibration_loads: Loa
         cov[axis] = axis_covariance(k, d, z[axis][0], z[axis][1], sigma_v, ccov)
     _, _, _, sf, sx, sa = combine(z, cov)
     return sf, sx, sa
-

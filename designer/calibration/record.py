@@ -193,4 +193,3 @@ def _calibration_from_dict(record) -> Calibration:
         _cal_number(noise, "design", "noise", True, True), span_pair("force"), span_pair("position"),
         None if record.get("design") is None else str(record["design"]),
         tuple(str(w) for w in record.get("warnings") or []), str(record.get("source", "")))
-

@@ -106,4 +106,3 @@ def rank_problem(force, position) -> tuple[str, str] | None:
     if np.linalg.cond(X / scale) > MAX_CONDITION:
         return "position", "the loads are too close to one another to determine k, d and c"
     return None
-

@@ -60,7 +60,6 @@ def scheme_loads(design: DesignConstants, scheme: str) -> LoadSet:
     raise InputError(f"scheme: {scheme!r} is not allowed; must be one of {list(SCHEMES)}")
 
 
-
 # --------------------------------------------------------------------- the calibration plan
 
 @dataclass(frozen=True)

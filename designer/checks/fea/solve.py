@@ -141,4 +141,3 @@ def solve(points, tets, pb: Problem) -> Solution:
     u = np.zeros(3 * basis.N)
     u[free] = x
     return Solution(mesh, basis, u.reshape(-1, 3).T, count[0])
-
