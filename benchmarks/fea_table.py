@@ -1,6 +1,6 @@
 """Benchmark: where the beam model stops being true, by section family and strain feature.
 
-Runs the 3-D check (``designer.fea.verify_design``) on one design per section family
+Runs the 3-D check (``designer.checks.fea.verify_design``) on one design per section family
 (rectangle, round, tube) and feature kind (pocket or flat, hole, none), among them the
 paper's Prototypes A, B and C (Noh et al. 2025, Table 1), and prints a Markdown table of the
 FEA / beam-model ratios of the gauge strains, the free-end deflection and the peak stress,
@@ -21,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from designer import fea  # noqa: E402
+from designer.checks import fea  # noqa: E402
 from designer.result.evaluation import evaluate, fixed_design  # noqa: E402
 from designer.outputs.files import atomic_write_text  # noqa: E402
 from designer.result.record import build_record  # noqa: E402

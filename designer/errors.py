@@ -29,6 +29,10 @@ class CsvError(InputError):
     """A readings CSV that cannot be used."""
 
 
+class CalibrationFileError(InputError):
+    """A calibration.json that is missing keys or holds impossible values."""
+
+
 class SolverError(FpdError, RuntimeError):
     """A numerical method failed in a way the caller must hear about."""
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from designer.calibration import fit as cal
+from designer import calibration as cal
 from designer.model import estimator
 from designer.calibration import readings as rd
 from designer.cli import main

@@ -96,7 +96,7 @@ def test_load_inside_the_span_with_piecewise_rigidity_matches_the_beam_model_for
                        width=0.01, height=0.01, hole=0.008)
     props = model.section_properties(g)
     E = 70e9
-    segs = elastica.design_rigidity(g, props, E)
+    segs = model.rigidity_segments(g, props, E)
     assert [s[2] for s in segs] == pytest.approx([E * props.I, E * props.I_s, E * props.I, E * props.I_s, E * props.I])
     force, x = 1e-3, 0.3
     e = elastica.solve_elastica(force, x, g.length, segs)

@@ -17,10 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
-from designer.calibration.fit import (STANDARD_GRAVITY, Bridge, Calibration, CalibrationFileError, LoadSet, Measurement,
-                          Readings, bridges_for, design_constants, scheme_loads, axis_force, SCHEMES)
+from designer.calibration.data import STANDARD_GRAVITY, Bridge, LoadSet, Readings, axis_force, bridges_for
+from designer.calibration.design import design_constants
+from designer.calibration.measurement import Measurement
+from designer.calibration.schemes import SCHEMES, scheme_loads
+from designer.calibration.record import Calibration
+from designer.errors import CalibrationFileError, CsvError, InputError
+from designer.model import estimator
 from designer.result.designfile import load_design, read_json
-from designer.errors import CsvError, InputError
 from designer.outputs.files import atomic_write_json, atomic_write_text
 
 LOAD_COLUMNS = ("force_N", "mass_g", "position_mm", "angle_deg")
@@ -283,8 +287,11 @@ def simulate_readings(design: dict, forces, positions, rng, angles=None, offsets
     if offsets.shape != (len(bridges),):
         raise InputError(f"offsets: {offsets.size} values for {len(bridges)} bridges; give one per bridge")
     k, d = constants.bridge_k(), constants.bridge_d()
-    columns = [axis_force(force, angle, b.axis) for b in bridges]
-    clean = np.column_stack(columns) * k * (position[:, None] - d) + offsets
+    clean = np.empty((len(force), len(bridges)))
+    for axis in sorted({b.axis for b in bridges}):   # each axis's bridges see their force component
+        cols = [i for i, b in enumerate(bridges) if b.axis == axis]
+        clean[:, cols] = estimator.bridge_voltages(k[cols], d[cols], offsets[cols], axis_force(force, angle, axis),
+                                                   position)
     voltages = clean + rng.normal(0.0, constants.noise, clean.shape)
     return Readings(bridges, voltages, force, position, angle, (), constants.name, True)
 

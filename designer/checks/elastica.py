@@ -10,9 +10,9 @@ the downward deflection, along the arc length ``s``:
     theta' = F (X_F - X(s)) / EI(s)   for s < x,   theta' = 0 beyond,
     X' = cos(theta),   W' = sin(theta),   theta(0) = X(0) = W(0) = 0,
 
-with ``EI(s)`` piecewise as in the beam model (the reduced section over each feature). The
-unknown ``X_F`` is found by shooting: integrate for a guess and solve ``X(x) = X_F`` with
-Brent's method.
+with ``EI(s)`` piecewise as in the beam model (``model.rigidity_segments``: the reduced section
+over each feature). The unknown ``X_F`` is found by shooting: integrate for a guess and solve
+``X(x) = X_F`` with Brent's method.
 
 ``large_deflection(record)`` applies this to a design: the free end under ``F_max`` at
 ``x_max`` and the nonlinearity the bending of the beam puts into a linearly calibrated
@@ -26,8 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.errors import DesignFileError, SolverError
-from designer.model import LARGE_DEFLECTION_RATIO
+from designer.errors import DesignFileError, InputError, SolverError
+from designer.model import is_large_deflection
+
 # Integration tolerances: far below the 1e-4 relative accuracy the results are quoted to.
 ODE_RTOL = 1e-11
 ODE_ATOL = 1e-14
@@ -70,7 +71,7 @@ def _segments(free_length: float, rigidity) -> list[tuple[float, float, float]]:
     segs = sorted((float(a), float(b), float(ei)) for a, b, ei in rigidity)
     if abs(segs[0][0]) > 1e-12 or abs(segs[-1][1] - free_length) > 1e-9 * free_length or any(
             abs(p[1] - q[0]) > 1e-12 for p, q in zip(segs, segs[1:])):
-        raise ValueError(f"flexural rigidity segments {segs!r} must cover 0 .. {free_length!r} without gaps")
+        raise InputError(f"flexural rigidity segments {segs!r} must cover 0 .. {free_length!r} without gaps")
     return segs
 
 
@@ -85,7 +86,7 @@ def solve_elastica(force: float, position: float, free_length: float, rigidity,
     from scipy.optimize import brentq
 
     if not 0 < position <= free_length:
-        raise ValueError(f"load position {position!r} m must lie on the beam (0, {free_length!r}]")
+        raise InputError(f"load position {position!r} m must lie on the beam (0, {free_length!r}]")
     segs = _segments(free_length, rigidity)
     stations = tuple(float(s) for s in stations)
     # integration breaks where EI jumps; stations are read from the dense solution
@@ -142,7 +143,7 @@ def solve_elastica(force: float, position: float, free_length: float, rigidity,
             if a <= s <= b:
                 y = dense(s)
                 return float(y[0]), float(y[1]), float(y[2])
-        raise ValueError(s)  # pragma: no cover - pieces cover 0..position
+        raise SolverError(f"the elastica has no solution at arc length {s!r} m")  # pragma: no cover
 
     read = [at(s) for s in stations]
     return Elastica(force=float(force), position=float(position), free_length=float(free_length),
@@ -195,8 +196,8 @@ class LargeDeflection:
 
     @property
     def applies(self) -> bool:
-        """Linear theory's free-end deflection is past LARGE_DEFLECTION_RATIO of the free length."""
-        return self.linear_ratio > LARGE_DEFLECTION_RATIO
+        """Linear theory's free-end deflection is past ``model.LARGE_DEFLECTION_RATIO`` of the free length."""
+        return is_large_deflection(self.linear_deflection, self.free_length)
 
     def summary(self) -> str:
         return (f"large deflection: under F_max at x_max the elastica's free end drops "
@@ -221,24 +222,6 @@ class LargeDeflection:
                 "grid": list(self.grid), "bridge": self.bridge, "applies": self.applies}
 
 
-def design_rigidity(geometry, props, E: float) -> list[tuple[float, float, float]]:
-    """``EI(s)`` segments of a design: the reduced section over each feature's length."""
-    ell = float(geometry.length)
-    half = float(geometry.feature_length) / 2
-    EI, EI_s = E * float(props.I), E * float(props.I_s)
-    segs, s = [], 0.0
-    for d in geometry.stations:
-        a, b = max(float(d) - half, 0.0), min(float(d) + half, ell)
-        if a > s:
-            segs.append((s, a, EI))
-        if b > a:
-            segs.append((a, b, EI_s))
-        s = b
-    if s < ell:
-        segs.append((s, ell, EI))
-    return segs
-
-
 def large_deflection(design: dict, forces: int = GRID_FORCES, positions: int = GRID_POSITIONS) -> LargeDeflection:
     """The elastica of a design.json record and the nonlinearity it puts into the sensor.
 
@@ -250,15 +233,16 @@ def large_deflection(design: dict, forces: int = GRID_FORCES, positions: int = G
     force and position read back with the least-squares estimator.
     """
     from designer import model
-    from designer.result.designfile import rebuild, validate
+    from designer.calibration.regression import regress
     from designer.model.estimator import estimate
+    from designer.result.designfile import rebuild, validate
 
     validate(design)
     spec, d = rebuild(design)
     g = d.geometry
     E = float(d.material.E)
     props = model.section_properties(g)
-    segs = design_rigidity(g, props, E)
+    segs = model.rigidity_segments(g, props, E)
     load = spec.load
     if load.position_max > float(g.length):
         raise DesignFileError(f"spec.load.position: x_max {load.position_max!r} m lies beyond the free length "
@@ -283,11 +267,9 @@ def large_deflection(design: dict, forces: int = GRID_FORCES, positions: int = G
     xs = np.linspace(load.position_min, load.position_max, positions)
     F, X = (a.ravel() for a in np.meshgrid(fs, xs, indexing="ij"))
     V = np.array([bridge_moments(solve_elastica(f, x, float(g.length), segs, stations)) for f, x in zip(F, X)])
-    # calibrate each bridge: V_i = a F x + b F + c  ->  k = a, d = -b / a
-    A = np.column_stack([F * X, F, np.ones_like(F)])
-    coef, *_ = np.linalg.lstsq(A, V, rcond=None)
-    k, d_fit, c = coef[0], -coef[1] / coef[0], coef[2]
-    F_hat, x_hat = estimate(V, k, d_fit, c)
+    # calibrate each bridge by eq. 27, V_i = c + k F x - k d F, as a sensor would be
+    fit = regress(F, X, V)
+    F_hat, x_hat = estimate(V, fit.k, fit.d, fit.c)
     rel_force = (F_hat - F) / F
     pos = x_hat - X
     return LargeDeflection(

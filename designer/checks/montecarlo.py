@@ -109,10 +109,9 @@ def _draw(rng, k, d, c, sigma_v, F, x, draws, angle, buffers):
 def estimate_biaxial(vy, vz, k, d, cy, cz):
     """Force magnitude, angle (rad, from the y axis) and position from two axes of bridges.
 
-    Each axis is a 1-D least-squares problem giving ``(F_y, F_y x)`` and ``(F_z, F_z x)``; the
-    position comes from the projection on the force direction: ``x = (F_y z1_y + F_z z1_z)/|F|^2``.
+    Each axis is a 1-D least-squares problem giving ``(F_y x, F_y)`` and ``(F_z x, F_z)``, combined
+    by ``estimator.combine_axes`` (the position is the projection on the force direction).
     """
     fy, xy = estimator.estimate(vy, k, d, cy)
     fz, xz = estimator.estimate(vz, k, d, cz)
-    mag2 = fy * fy + fz * fz
-    return np.sqrt(mag2), np.arctan2(fz, fy), (fy * fy * xy + fz * fz * xz) / mag2
+    return estimator.combine_axes((fy * xy, fy), (fz * xz, fz))

@@ -1,6 +1,6 @@
 """Commands ``plan``, ``calibrate``, ``measure`` and ``simulate-readings`` (issue 6).
 
-Thin: parse arguments, call ``designer.calibration`` and ``designer.readings``, print with rich.
+Thin: parse arguments, call ``designer.calibration`` and ``designer.calibration.readings``, print with rich.
 """
 
 from __future__ import annotations
@@ -23,7 +23,8 @@ def _positive_int(text: str) -> int:
 
 
 def register(subparsers) -> None:
-    from designer.calibration.fit import NOISE_CHOICES, SCHEMES
+    from designer.calibration.fit import NOISE_CHOICES
+    from designer.calibration.schemes import SCHEMES
 
     p = subparsers.add_parser(
         "plan", help="the calibration loads (4- and 9-point schemes) and their effect on accuracy",
@@ -96,11 +97,13 @@ def run_plan(args) -> int:
     from rich.markup import escape
     from rich.table import Table
 
-    from designer.calibration import fit as calibration
     from designer.calibration import readings
+    from designer.calibration.data import STANDARD_GRAVITY
+    from designer.calibration.design import design_constants
+    from designer.calibration.schemes import plan
 
-    design = calibration.design_constants(readings.read_design(args.design))
-    result = calibration.plan(design, args.repeats)
+    design = design_constants(readings.read_design(args.design))
+    result = plan(design, args.repeats)
     if args.output:
         readings.write_plan(args.output, result)
     console = _console()
@@ -123,7 +126,7 @@ def run_plan(args) -> int:
     for s in result.schemes:
         for i in range(len(s.loads)):
             f = s.loads.force[i]
-            row = [s.scheme, str(i + 1), f"{f / calibration.STANDARD_GRAVITY * 1e3:.5g}", f"{f:.4g}",
+            row = [s.scheme, str(i + 1), f"{f / STANDARD_GRAVITY * 1e3:.5g}", f"{f:.4g}",
                    f"{s.loads.position[i] * MM:.5g}"]
             if biaxial:
                 row.append(f"{math.degrees(s.loads.angle[i]):.0f}")
@@ -142,12 +145,13 @@ def run_calibrate(args) -> int:
     from rich.markup import escape
     from rich.table import Table
 
-    from designer.calibration import fit as calibration
     from designer.calibration import readings
+    from designer.calibration.design import design_constants
+    from designer.calibration.fit import calibrate
 
     data = readings.read_readings(args.readings, need_loads=True)
-    design = calibration.design_constants(readings.read_design(args.design)) if args.design else None
-    result = calibration.calibrate(data, design, args.noise)
+    design = design_constants(readings.read_design(args.design)) if args.design else None
+    result = calibrate(data, design, args.noise, design_option="--design")
     readings.write_calibration(args.output, result)
 
     console = _console()
@@ -185,14 +189,14 @@ def run_measure(args) -> int:
     from rich.markup import escape
     from rich.table import Table
 
-    from designer.calibration import fit as calibration
     from designer.calibration import readings
+    from designer.calibration.measurement import measure_readings
     from designer.spec import units
 
     cal = readings.read_calibration(args.calibration)
     data = readings.read_readings(args.readings)
     noise = units.parse(args.noise, "voltage", "--noise") if args.noise else None
-    m = calibration.measure_readings(cal, data, noise)
+    m = measure_readings(cal, data, noise)
     if args.output:
         readings.write_results(args.output, m)
     console = _console()
@@ -235,13 +239,14 @@ def run_measure(args) -> int:
 # --------------------------------------------------------------------- simulate-readings
 
 def run_simulate_readings(args) -> int:
-    from designer.calibration import fit as calibration
     from designer.calibration import readings
+    from designer.calibration.design import design_constants
+    from designer.calibration.schemes import scheme_loads
 
     record = readings.read_design(args.design)
-    design = calibration.design_constants(record)
+    design = design_constants(record)
     readings.write_simulated_readings(record, args.output, args.scheme, args.seed, args.repeats)
-    loads = calibration.scheme_loads(design, args.scheme)
+    loads = scheme_loads(design, args.scheme)
     source = ("the paper's Table 2" if args.scheme == "paper" and design.prototype
               else f"scheme {args.scheme} over the design's region")
     _console().print(f"wrote {args.output}: {len(loads) * args.repeats} readings of {design.name} at {source}, "

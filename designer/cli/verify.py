@@ -1,4 +1,4 @@
-"""verify: the 3-D finite-element check of a design.json (designer.fea)."""
+"""verify: the 3-D finite-element check of a design.json (designer.checks.fea)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ def run_verify(args) -> int:
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for the verify report")
     record = load_design(args.design)
-    result = fea.verify_design(record, mesh=args.mesh, out_dir=out_dir)
+    result = fea.verify_design(record, mesh=args.mesh, out_dir=out_dir, mesh_option="--mesh")
     _print_summary(result)
     print(f"wrote {out_dir / 'verify.md'}, {out_dir / 'verify.json'} and {out_dir / 'surface-strain.png'}")
     return 0 if result.passed else 1

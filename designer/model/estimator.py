@@ -88,3 +88,30 @@ def estimate(voltages, k, d, c):
     z1 = m11 * b1 + m12 * b2
     z2 = m12 * b1 + m22 * b2
     return z2, z1 / z2
+
+
+# ----------------------------------------------------------------- two bending axes (biaxial)
+
+def combine_axes(y, z):
+    """Force magnitude, angle (rad, from the y axis towards z) and position from the two axes of
+    a biaxial sensor, each given as its estimate ``(z1, z2) = (F_a x, F_a)``:
+    ``F = hypot(F_y, F_z)``, ``theta = atan2(F_z, F_y)`` and ``x = (F_y z1_y + F_z z1_z) / F^2``,
+    the projection of the moments onto the force direction. Numpy, any leading shape."""
+    (z1y, fy), (z1z, fz) = y, z
+    f2 = fy * fy + fz * fz
+    return np.sqrt(f2), np.arctan2(fz, fy), (fy * z1y + fz * z1z) / f2
+
+
+def combine_axes_sigmas(y, z, cov_y, cov_z):
+    """1-sigma ``(sigma_F, sigma_theta, sigma_x)`` of ``combine_axes`` by linear propagation from
+    each axis's covariance ``(c11, c12, c22)`` of its ``(z1, z2)``, the two axes independent."""
+    (_, fy), (_, fz) = y, z
+    f2 = fy * fy + fz * fz
+    x = combine_axes(y, z)[2]
+    var_f = (fy * fy * cov_y[2] + fz * fz * cov_z[2]) / f2
+    var_a = (fz * fz * cov_y[2] + fy * fy * cov_z[2]) / (f2 * f2)
+    var_x = 0.0
+    for (z1a, fa), (c11, c12, c22) in ((y, cov_y), (z, cov_z)):
+        g1, g2 = fa / f2, (z1a - 2 * fa * x) / f2      # dx/dz1_a, dx/dz2_a
+        var_x = var_x + g1 * g1 * c11 + 2 * g1 * g2 * c12 + g2 * g2 * c22
+    return np.sqrt(var_f), np.sqrt(var_a), np.sqrt(np.clip(var_x, 0, None))

@@ -1,0 +1,52 @@
+"""A 3-D finite-element check of a design against the beam model (MODEL.md sections 2-4).
+
+The beam model is Euler-Bernoulli theory with closed-form sections. Features that disturb
+the strain field (pockets, flats and above all transverse holes) and the clamp are where it
+stops being exact; this package measures by how much for one design.
+
+How the check is made:
+
+- The design's CAD solid (``designer.cad``) is written as STEP and read back by gmsh, which
+  cuts it at the clamp face ``X = 0`` (the clamp block is not meshed: the clamp face is held
+  fixed) and a few section sizes past the last gauge station, ``X = x_cut``. Every design is
+  symmetric about the ``XZ`` plane and, under a load along ``Z``, antisymmetric about the
+  ``XY`` plane, so only the quarter ``Y >= 0, Z >= 0`` is meshed, with ``u_y = 0`` on
+  ``Y = 0`` and ``u_x = u_y = 0`` on ``Z = 0``.
+- Linear elasticity with quadratic tetrahedra (scikit-fem's ``ElementTetP2``), assembled here
+  in vectorised form and solved by conjugate gradients preconditioned with a two-level
+  (quadratic / linear) cycle.
+- The load ``F_max`` at ``x_max`` enters at the cut face as its resultant (Saint-Venant): a
+  uniform shear ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with
+  ``M = F (x_max - x_cut)``; ``A`` and ``I`` are integrated over the meshed cut face.
+- The free-end deflection is the cut face's mean deflection ``w_c`` and slope ``w'_c`` (least
+  squares of ``u_x = -z w'``) carried to the free end with Euler-Bernoulli over the plain rest:
+  ``w(l) = w_c + w'_c (l - x_cut) + F a^3/(3EI) + F a^2/(2EI) (l - x_max)``, ``a = x_max - x_cut``.
+- A gauge reads the mean of ``eps_xx`` over its grid's footprint (``grid_length x grid_width``
+  centred on the station, on the gauge face: the pocket floor, or the beam's surface). Along
+  each line of the grid that mean is exactly ``(u_x(end) - u_x(start)) / grid_length``; the
+  lines are combined with Gauss-Legendre weights across the grid's width.
+- The peak stress is the von Mises stress averaged at the mesh vertices, away from the
+  clamp face, whose idealised full fixity is singular at its edges; the root stress stays
+  the beam model's.
+- Every run is repeated on a mesh one step coarser, and the change is reported as the
+  mesh-convergence check.
+
+``verify_design(record, mesh, out_dir)`` returns a complete ``VerifyResult``; gmsh, scikit-fem,
+cadquery and matplotlib are imported only inside the functions that need them.
+
+Modules, one job each: ``geometry_mesh`` (the problem's numbers and the gmsh quarter model),
+``solve`` (the elasticity solve), ``readout`` (strains, deflection and stresses from the
+solution), ``compare`` (the runs set beside the beam model: ``verify_design``) and ``report``
+(the verdict, its messages, verify.md, verify.json and the plot).
+"""
+
+from designer.checks.fea.compare import verify_design
+from designer.checks.fea.geometry_mesh import CONVERGENCE_COARSENING, MESH_LEVELS
+from designer.checks.fea.readout import StressPeak
+from designer.checks.fea.report import (CONVERGED_DEFLECTION, CONVERGED_STRAIN, CONVERGED_STRESS, GaugeCheck,
+                                        LimitCheck, MeshRun, VerifyResult, plot_surface_strain, report_markdown,
+                                        write_outputs)
+
+__all__ = ["CONVERGED_DEFLECTION", "CONVERGED_STRAIN", "CONVERGED_STRESS", "CONVERGENCE_COARSENING", "GaugeCheck",
+           "LimitCheck", "MESH_LEVELS", "MeshRun", "StressPeak", "VerifyResult", "plot_surface_strain",
+           "report_markdown", "verify_design", "write_outputs"]

@@ -1,0 +1,222 @@
+"""Reading the 3-D solution: gauge strains, the surface strain profile, the free-end
+deflection and the peak stresses.
+
+- A gauge reads the mean of ``eps_xx`` over its grid's footprint (``grid_length x grid_width``
+  centred on the station, on the gauge face: the pocket floor, or the beam's surface). Along
+  each line of the grid that mean is exactly ``(u_x(end) - u_x(start)) / grid_length``; the
+  lines are combined with Gauss-Legendre weights across the grid's width.
+- The free-end deflection is the cut face's mean deflection ``w_c`` and slope ``w'_c`` (least
+  squares of ``u_x = -z w'``) carried to the free end with Euler-Bernoulli over the plain rest:
+  ``w(l) = w_c + w'_c (l - x_cut) + F a^3/(3EI) + F a^2/(2EI) (l - x_max)``, ``a = x_max - x_cut``.
+- The peak stress is the von Mises stress averaged at the mesh vertices, away from the clamp
+  face, whose idealised full fixity is singular at its edges.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from designer.checks.fea.geometry_mesh import PLANE_TOLERANCE, Problem
+from designer.checks.fea.solve import Solution, lame
+from designer.errors import SolverError
+
+# Stress is not taken closer to the clamp face or the cut face than this many section depths:
+# the idealised clamp (every node fixed) is singular at the edges of the clamp face; nor closer
+# than this many elements, over which the singular peak spreads.
+STRESS_EXCLUSION = 0.5
+STRESS_EXCLUSION_ELEMENTS = 2.0
+# Gauss-Legendre lines across half a gauge grid's width (the other half is the mirror image).
+GAUGE_LINES = 4
+# Points along the surface-strain profile, from this fraction of an element off the clamp face.
+PROFILE_POINTS = 400
+PROFILE_START = 0.25
+# Upward surface facets: outward normal's Z component at least this.
+UP_FACING = 0.2
+# Candidate facets searched for each surface point.
+FACET_CANDIDATES = 64
+
+
+@dataclass(frozen=True)
+class StressPeak:
+    """The largest von Mises stress of a run and where it sits."""
+
+    value: float            # von Mises, Pa
+    location: tuple         # (X, Y, Z), m
+    where: str              # "pocket corner", "hole edge", ...
+
+
+def _probe_matrix(basis, points: np.ndarray, cells: np.ndarray, derivative: int | None = None):
+    """Values (or the derivative along axis ``derivative``) at ``points`` (3, n) lying in or on
+    the given ``cells``, as a sparse matrix acting on a scalar P2 field."""
+    from scipy.sparse import coo_matrix
+
+    local = basis.mapping.invF(points[:, :, None], tind=cells)
+    local = np.clip(local, 0.0, 1.0)
+    fields = [basis.elem.gbasis(basis.mapping, local, k, tind=cells)[0] for k in range(basis.Nbfun)]
+    phis = np.array([np.asarray(f) if derivative is None else f.grad[derivative] for f in fields]).reshape(basis.Nbfun, -1)
+    n = points.shape[1]
+    rows = np.tile(np.arange(n), basis.Nbfun)
+    cols = basis.element_dofs[:, cells].ravel()
+    return coo_matrix((phis.ravel(), (rows, cols)), shape=(n, basis.N)).tocsr()
+
+
+def _up_facets(mesh):
+    """Boundary facets whose outward normal points up (+Z), with their triangles."""
+    facets = mesh.boundary_facets()
+    tri = mesh.p[:, mesh.facets[:, facets]]                    # (3 coords, 3 nodes, n)
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0], axis=0)
+    normal /= np.linalg.norm(normal, axis=0)
+    cell = mesh.f2t[0, facets]
+    outward = tri.mean(axis=1) - mesh.p[:, mesh.t[:, cell]].mean(axis=1)
+    normal *= np.sign(np.sum(normal * outward, axis=0))
+    up = normal[2] > UP_FACING
+    return tri[:, :, up], cell[up]
+
+
+def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
+    """The top surface of the mesh above each ``(x, y)``: points (3, n) and their cells.
+
+    ``below``: only surface at or below this Z (skips walls' tops over a pocket floor).
+    """
+    from scipy.spatial import cKDTree
+
+    tri, cell = _up_facets(mesh)
+    tree = cKDTree(tri[:2].mean(axis=1).T)
+    k = min(FACET_CANDIDATES, tri.shape[2])
+    _, cand = tree.query(xy.T, k=k)
+    cand = cand.reshape(xy.shape[1], k)
+    a, b, c = tri[:, 0][:, cand], tri[:, 1][:, cand], tri[:, 2][:, cand]   # (3, n, k)
+    px, py = xy[0][:, None], xy[1][:, None]
+    det = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+    l1 = ((px - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (py - a[1])) / det
+    l2 = ((b[0] - a[0]) * (py - a[1]) - (px - a[0]) * (b[1] - a[1])) / det
+    l0 = 1 - l1 - l2
+    eps = 1e-9
+    inside = (l0 >= -eps) & (l1 >= -eps) & (l2 >= -eps)
+    z = l0 * a[2] + l1 * b[2] + l2 * c[2]
+    if below is not None:
+        inside &= z <= below
+    z = np.where(inside, z, -np.inf)
+    best = np.argmax(z, axis=1)
+    rows = np.arange(xy.shape[1])
+    if not np.all(np.isfinite(z[rows, best])):
+        missing = xy[:, ~np.isfinite(z[rows, best])][:, 0]
+        raise SolverError(f"no beam surface found above X = {missing[0] * 1e3:.2f} mm, "
+                          f"Y = {missing[1] * 1e3:.2f} mm; please report this design")
+    points = np.vstack([xy, z[rows, best]])
+    return points, cell[cand[rows, best]]
+
+
+def _axial_displacement(sol: Solution, points, cells):
+    return _probe_matrix(sol.basis, points, cells) @ sol.u[0]
+
+
+def gauge_strains(sol: Solution, pb: Problem) -> list[float]:
+    """Mean eps_xx over each gauge grid's footprint on the gauge face."""
+    t, w = np.polynomial.legendre.leggauss(GAUGE_LINES)
+    ys = (t + 1) / 2 * pb.grid_width / 2
+    out = []
+    for d in pb.stations:
+        x1, x2 = d - pb.grid_length / 2, d + pb.grid_length / 2
+        xy = np.array([np.r_[np.full(GAUGE_LINES, x1), np.full(GAUGE_LINES, x2)], np.r_[ys, ys]])
+        points, cells = _surface_points(sol.mesh, xy, below=pb.gauge_z + PLANE_TOLERANCE * pb.size)
+        ux = _axial_displacement(sol, points, cells)
+        strain = (ux[GAUGE_LINES:] - ux[:GAUGE_LINES]) / pb.grid_length
+        out.append(float(np.sum(w * strain) / np.sum(w)))
+    return out
+
+
+def surface_profile(sol: Solution, pb: Problem, refinement: float):
+    """eps_xx at the surface along the top centre line (the element's own value at each point),
+    from PROFILE_START of an element off either end."""
+    start = PROFILE_START * pb.global_size / refinement
+    x = np.linspace(start, pb.cut - start, PROFILE_POINTS)
+    xy = np.array([x, np.full_like(x, PLANE_TOLERANCE * 1e3 * pb.size)])
+    points, cells = _surface_points(sol.mesh, xy)
+    return x, points[2], _probe_matrix(sol.basis, points, cells, derivative=0) @ sol.u[0]
+
+
+def _cut_face_motion(sol: Solution, pb: Problem) -> tuple[float, float]:
+    """Mean deflection ``w_c`` and slope ``w'_c`` of the cut face (least squares of u_x = -z w')."""
+    from skfem import FacetBasis, Functional, asm
+
+    tol = PLANE_TOLERANCE * pb.size
+    facets = sol.mesh.facets_satisfying(lambda x: np.abs(x[0] - pb.cut) < tol, boundaries_only=True)
+    fb = FacetBasis(sol.mesh, sol.basis.elem, facets=facets)
+    ux, uz = fb.interpolate(sol.u[0]), fb.interpolate(sol.u[2])
+    area = asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb)
+    zz = asm(Functional(lambda w: w.x[2] ** 2), fb)
+    w_c = asm(Functional(lambda w: w["uz"]), fb, uz=uz) / area
+    slope = -asm(Functional(lambda w: w["ux"] * w.x[2]), fb, ux=ux) / zz
+    return float(w_c), float(slope)
+
+
+def free_end_deflection(sol: Solution, pb: Problem) -> float:
+    """Downward deflection of the free end: the cut's motion carried on by beam theory."""
+    w_c, slope = _cut_face_motion(sol, pb)
+    a = pb.position - pb.cut
+    beyond = pb.force * a ** 3 / (3 * pb.EI) + pb.force * a ** 2 / (2 * pb.EI) * (pb.free_length - pb.position)
+    return -(w_c + slope * (pb.free_length - pb.cut)) + beyond
+
+
+def vertex_von_mises(sol: Solution, pb: Problem) -> np.ndarray:
+    """Von Mises stress at the mesh vertices, the stress tensor averaged over the elements at each."""
+    from skfem import Basis
+
+    corners = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    vb = Basis(sol.mesh, sol.basis.elem, quadrature=(corners, np.ones(4) / 24))
+    G = np.array([vb.basis[i][0].grad for i in range(vb.Nbfun)])      # (i, a, e, q)
+    ue = sol.u[:, vb.element_dofs]                                     # (c, i, e)
+    grad = np.einsum("cie,iaeq->caeq", ue, G)
+    strain = (grad + grad.transpose(1, 0, 2, 3)) / 2
+    lam, mu = lame(pb.E, pb.poisson)
+    trace = np.einsum("cceq->eq", strain)
+    stress = 2 * mu * strain
+    for a in range(3):
+        stress[a, a] += lam * trace
+    nv = sol.mesh.p.shape[1]
+    total = np.zeros((3, 3, nv))
+    count = np.zeros(nv)
+    for q in range(4):
+        np.add.at(total.transpose(2, 0, 1), sol.mesh.t[q], stress[:, :, :, q].transpose(2, 0, 1))
+        np.add.at(count, sol.mesh.t[q], 1.0)
+    s = total / count
+    return np.sqrt(0.5 * ((s[0, 0] - s[1, 1]) ** 2 + (s[1, 1] - s[2, 2]) ** 2 + (s[2, 2] - s[0, 0]) ** 2)
+                   + 3 * (s[0, 1] ** 2 + s[1, 2] ** 2 + s[0, 2] ** 2))
+
+
+def _stress_zone(x: np.ndarray, pb: Problem) -> np.ndarray:
+    """Where the features' stress is sought: each reduced span widened by half a section depth."""
+    margin = pb.depth / 2
+    return np.any([(x >= a - margin) & (x <= b + margin) for a, b in pb.spans], axis=0)
+
+
+def _where(point: np.ndarray, pb: Problem) -> str:
+    """Words for where ``point`` lies: at a feature (its reduced span and a quarter depth on
+    either side), between the clamp and the first station, or on the plain beam."""
+    x = point[0]
+    margin = pb.depth / 4
+    for i, (d, (a, b)) in enumerate(zip(pb.stations, pb.spans)):
+        if a - margin <= x <= b + margin:
+            kind = {"pocket": "pocket", "hole": "hole", "none": "gauge"}[pb.feature]
+            return f"{kind} at station {i + 1} ({d * 1e3:.1f} mm)"
+    if x < pb.stations[0]:
+        return "between the clamp and the first station"
+    return "plain beam"
+
+
+def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float]:
+    """The peak von Mises stress away from the clamp and cut faces, and the largest within the
+    feature zones (the whole kept beam when no vertex lies in one)."""
+    vm = vertex_von_mises(sol, pb)
+    x = sol.mesh.p[0]
+    margin = max(STRESS_EXCLUSION * pb.depth, STRESS_EXCLUSION_ELEMENTS * pb.global_size / refinement)
+    keep = (x >= margin) & (x <= pb.cut - margin)
+    i_peak = np.flatnonzero(keep)[np.argmax(vm[keep])]
+    location = tuple(float(v) for v in sol.mesh.p[:, i_peak])
+    peak = StressPeak(float(vm[i_peak]), location, _where(sol.mesh.p[:, i_peak], pb))
+    zone = keep & _stress_zone(x, pb)
+    feature_peak = float(vm[zone].max()) if zone.any() else float(vm[keep].max())
+    return peak, feature_peak
