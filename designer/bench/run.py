@@ -323,7 +323,7 @@ def run_bench(suite: list, methods=METHODS, levels: int = REFERENCE_LEVELS, prog
     methods = tuple(methods)
     for m in methods:
         if m not in METHODS:
-            raise InputError(f"--methods: {m!r} is not allowed; must be {describe_allowed(METHODS)}")
+            raise InputError(f"methods: {m!r} is not allowed; must be {describe_allowed(METHODS)}")
     t0 = time.perf_counter()
     if suite:
         _warm_up(suite[0], methods)

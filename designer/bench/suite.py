@@ -424,13 +424,13 @@ def example_suite(folder) -> tuple[list[SuiteSpec], list[str]]:
     left out and named in the second list."""
     folder = Path(folder)
     if not folder.is_dir():
-        raise InputError(f"--specs: {folder} is not a folder; give a folder of spec.yaml files")
+        raise InputError(f"specs folder: {folder} is not a folder; give a folder of spec.yaml files")
     suite, skipped = [], []
     for path in sorted(folder.glob("*.yaml")) + sorted(folder.glob("*.yml")):
         try:
             text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"--specs: {path} cannot be read ({exc})") from exc
+            raise InputError(f"specs folder: {path} cannot be read ({exc})") from exc
         try:
             spec = _parse(text, path.stem)
         except SpecError as exc:

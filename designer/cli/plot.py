@@ -89,6 +89,8 @@ def run_bench(args) -> int:
             raise InputError(f"--methods: {bad[0] if bad else args.methods!r} is not a method; give a "
                              f"comma-separated list from {', '.join(METHODS)}")
     folder = Path(args.specs) if args.specs else bench.default_examples_folder()
+    if args.specs and not folder.is_dir():
+        raise InputError(f"--specs: {folder} is not a folder; give a folder of spec.yaml files")
     examples, skipped = bench.example_suite(folder) if folder is not None else ([], [])
     suite = examples + bench.generate_suite(args.count, args.seed)
     if not suite:
