@@ -8,6 +8,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from designer import model
 from designer.errors import DesignFileError
 from designer.outputs.plots.common import C_GRID, C_STATUS, ERROR_OBJECTIVE_LABEL, figure_axes, fmt_number
 from designer.outputs.plots.sensor import SensorData, is_number, optional_number
@@ -114,8 +115,6 @@ def rank_candidates(rows: Sequence[Mapping]) -> list:
     """Order candidates as MODEL.md section 5 ranks designs: the ones that meet every limit by
     objective, where objectives within 0.1 % tie and the lower deflection, then the lower mass,
     goes first; then the infeasible ones, least violating first; then those without a design."""
-    from designer.search.optimize import TIE_TOLERANCE  # the search's own tie rule
-
     def number(row, key):
         value = row.get(key)
         return math.inf if value is None else float(value)
@@ -127,8 +126,8 @@ def rank_candidates(rows: Sequence[Mapping]) -> list:
     ranked = []
     while rest:
         lead = rest[0]["objective"]
-        ties = [r for r in rest if r["objective"] - lead <= TIE_TOLERANCE * abs(lead)]
-        pick = min(ties, key=lambda r: (number(r, "deflection"), number(r, "mass"), r["objective"]))
+        tied = [r for r in rest if model.ties(r["objective"], lead)]  # the model's tie rule
+        pick = min(tied, key=lambda r: (number(r, "deflection"), number(r, "mass"), r["objective"]))
         ranked.append(pick)
         rest.remove(pick)
     ranked += sorted(bad, key=lambda r: (number(r, "worst_violation"), r["objective"]))

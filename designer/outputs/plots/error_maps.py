@@ -37,8 +37,7 @@ def error_map(design: Mapping, force=None, position=None, n: int = 61) -> ErrorM
     position = np.linspace(s.position_min, s.position_max, n) if position is None \
         else np.asarray(position, float)
     f, x = np.meshgrid(force, position, indexing="ij")
-    sigma_f = estimator.sigma_force(s.sensitivity, s.stations, s.noise)
-    sigma_x = estimator.sigma_position(s.sensitivity, s.stations, s.noise, f, x)
+    sigma_f, sigma_x = estimator.sigmas(s.sensitivity, s.stations, s.noise, f, x)
     return ErrorMap(force, position, np.broadcast_to(sigma_f / f, f.shape).copy(), np.asarray(sigma_x))
 
 
