@@ -17,6 +17,8 @@ import re
 import unicodedata
 from dataclasses import dataclass
 
+from designer import model
+
 MM = 1e-3  # metres per millimetre; CAD files are in millimetres (SPEC.md, the CAD frame)
 
 FACES = ("+z", "-z", "+y", "-y")
@@ -88,9 +90,20 @@ class BeamCad:
         return self.end_mill / 2 if self.end_mill else 0.0
 
     @property
+    def geometry(self) -> model.Geometry:
+        """The beam as the sensor model describes it (docs/model.md §1)."""
+        rectangle = self.section == "rectangle"
+        return model.Geometry(section=self.section, feature=self.feature, stations=self.stations,
+                              length=self.length, width=self.width if rectangle else None,
+                              height=self.height if rectangle else None,
+                              diameter=None if rectangle else self.width, wall=self.wall,
+                              depth=self.pocket_depth, hole=self.hole_diameter, pocket_length=self.pocket_length,
+                              pocket_width=self.pocket_width, gauge_length=self.gauge_length, axes=self.axes)
+
+    @property
     def feature_length(self) -> float:
         """l_f of MODEL.md section 1: pocket length, hole diameter, or the gauge's length."""
-        return {"pocket": self.pocket_length, "hole": self.hole_diameter, "none": self.gauge_length}[self.feature]
+        return model.feature_length(self.feature, self.pocket_length, self.hole_diameter, self.gauge_length)
 
     @property
     def faces(self) -> tuple:

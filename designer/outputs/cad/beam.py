@@ -17,8 +17,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from designer import model
 from designer.errors import DesignFileError, describe_allowed
-from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, fmt_mm
+from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 
 SECTION_KINDS = ("rectangle", "round", "tube")
 FEATURE_KINDS = ("pocket", "hole", "none")
@@ -166,7 +167,7 @@ def resolve(record: dict) -> BeamCad:
                                   f"({fmt_mm(height)} mm)")
 
     length = _length(d, "length", "design")
-    l_f = {"pocket": p_len, "hole": hole, "none": gauge_length}[fkind]
+    l_f = model.feature_length(fkind, p_len, hole, gauge_length)
     stations = _check_stations(d.get("stations"), length, l_f, fkind)
 
     end_mill = None
@@ -207,7 +208,7 @@ def _check_pocket(kind, width, height, wall, depth, p_wid, axes) -> None:
     if not depth < limit:
         raise DesignFileError(f"{where}.depth: {_mm(depth)} is too deep; a flat must be shallower than {what} "
                               f"({fmt_mm(limit)} mm)")
-    half_chord = math.sqrt(R * R - (R - depth) ** 2)
+    half_chord = flat_half_chord(R, depth)
     if 2 * half_chord < p_wid - LENGTH_EPS:
         raise DesignFileError(f"{where}.depth: {_mm(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
                               f"than the pocket width {fmt_mm(p_wid)} mm the gauge needs; the depth must be at least "

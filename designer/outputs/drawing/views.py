@@ -58,7 +58,7 @@ def length_axis(beam: BeamCad) -> LengthAxis:
     c = beam.clamp
     size = max(beam.width, beam.height, c.width)
     spans = [(-c.length, 0.0)]
-    spans += [(d - beam.feature_length / 2, d + beam.feature_length / 2) for d in beam.stations]
+    spans += list(beam.geometry.reduced_spans)
     if beam.grooves is not None:
         spans += [(x - beam.grooves.width / 2, x + beam.grooves.width / 2) for x in beam.grooves.positions]
     spans.append((beam.length, beam.length))

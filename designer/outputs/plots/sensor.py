@@ -7,6 +7,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+from designer import model
 from designer.errors import DesignFileError
 
 
@@ -184,13 +185,9 @@ def _feature_edge(body, spec, d1: float) -> float | None:
     """s of the first feature's clamp-side edge, d_1 - l_f/2 (MODEL.md sections 1 and 4)."""
     feature = body.get("feature") or {}
     kind = feature.get("kind", "none")
-    if kind == "hole":
-        length = feature.get("diameter")
-    elif kind == "pocket":
-        length = feature.get("length")
-    else:
-        gauge = body.get("gauge") or spec.get("gauge") or {}
-        length = gauge.get("length") if isinstance(gauge, Mapping) else None
+    gauge = body.get("gauge") or spec.get("gauge") or {}
+    length = model.feature_length(kind if kind in ("pocket", "hole") else "none", feature.get("length"),
+                                  feature.get("diameter"), gauge.get("length") if isinstance(gauge, Mapping) else None)
     if not is_number(length) or not 0 <= length / 2 < d1:
         return None
     return d1 - length / 2
