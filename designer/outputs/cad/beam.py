@@ -18,11 +18,9 @@ import math
 from typing import Any
 
 from designer import model
-from designer.errors import DesignFileError, describe_allowed
+from designer.errors import DesignFileError
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
-
-SECTION_KINDS = ("rectangle", "round", "tube")
-FEATURE_KINDS = ("pocket", "hole", "none")
+from designer.result.designfile import validate
 
 # ISO 273 medium-series clearance holes for ISO metric coarse bolts: nominal -> hole, m.
 ISO_273_MEDIUM = {0.0016: 0.0018, 0.002: 0.0024, 0.0025: 0.0029, 0.003: 0.0034, 0.004: 0.0045,
@@ -95,45 +93,38 @@ def _round_down(value: float, step: float = ROUND_STEP) -> float:
 def resolve(record: dict) -> BeamCad:
     """The validated, fully specified beam of a design.json record (SI).
 
-    Raises DesignFileError naming the key, its value and what is allowed when the design
-    cannot be built: missing or non-positive sizes, pockets or flats as deep as the wall,
-    stations whose features run off the beam or into each other, CAD options that do not fit.
+    The record must first pass ``designer.result.designfile.validate`` (the rules every reader
+    of design.json applies: known kinds, positive sizes, pockets shallower than half the section
+    or the wall, holes in rectangles only, stations on the beam). Then raises DesignFileError
+    naming the key, its value and what is allowed when the part cannot be machined: flats too
+    narrow for the gauge, features on four faces that meet, stations whose features run off the
+    beam or into each other, CAD options that do not fit.
     """
-    record = _mapping(record, "design.json")
-    if "design" not in record:
-        raise DesignFileError("design: missing; a design.json record needs its 'design' object "
-                              "(written by fpdesign optimize or evaluate)")
-    d = _mapping(record["design"], "design")
-    spec = _mapping(record.get("spec") or {}, "spec")
+    validate(record)
+    d = record["design"]
+    spec = record["spec"]
     cad = _mapping(spec.get("cad") or {}, "spec.cad")
     limits = _mapping(spec.get("limits") or {}, "spec.limits")
 
     name = spec.get("name") or "design"
     if not isinstance(name, str):
         raise DesignFileError(f"spec.name: {name!r} must be text")
-    material = d.get("material")
-    if not isinstance(material, str) or not material.strip():
+    material = d["material"]
+    if not material.strip():
         raise DesignFileError(f"design.material: {material!r} must be a material name")
 
-    section = _mapping(d.get("section"), "design.section")
-    kind = section.get("kind")
-    if kind not in SECTION_KINDS:
-        raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; "
-                              f"must be {describe_allowed(SECTION_KINDS)}")
+    section = d["section"]
+    kind = section["kind"]
     wall = None
     if kind == "rectangle":
-        width = _length(section, "width", "design.section")
-        height = _length(section, "height", "design.section")
+        width, height = float(section["width"]), float(section["height"])
     else:
-        width = height = _length(section, "diameter", "design.section")
+        width = height = float(section["diameter"])
         if kind == "tube":
-            wall = _length(section, "wall", "design.section")
-            if not wall < width / 2:
-                raise DesignFileError(f"design.section.wall: {_mm(wall)} must be less than half the diameter "
-                                      f"({fmt_mm(width / 2)} mm)")
+            wall = float(section["wall"])
 
     axes = d.get("axes", 1)
-    if axes not in (1, 2) or isinstance(axes, bool):
+    if isinstance(axes, bool):
         raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")
     if axes == 2 and kind == "rectangle" and abs(width - height) > LENGTH_EPS:
         raise DesignFileError(f"design.axes: 2 needs a square, round or tube section; the rectangle is "
@@ -145,30 +136,20 @@ def resolve(record: dict) -> BeamCad:
     gauge_width = _length(gauge, "width", "design.gauge")
     gauge_name = str(gauge.get("name") or "strain gauge")
 
-    feature = _mapping(d.get("feature"), "design.feature")
-    fkind = feature.get("kind")
-    if fkind not in FEATURE_KINDS:
-        raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; "
-                              f"must be {describe_allowed(FEATURE_KINDS)}")
+    feature = d["feature"]
+    fkind = feature["kind"]
     depth = p_len = p_wid = hole = 0.0
     if fkind == "pocket":
-        depth = _length(feature, "depth", "design.feature")
-        p_len = _length(feature, "length", "design.feature")
-        p_wid = _length(feature, "width", "design.feature")
-        _check_pocket(kind, width, height, wall, depth, p_wid, axes)
+        depth, p_len, p_wid = float(feature["depth"]), float(feature["length"]), float(feature["width"])
+        _check_pocket(kind, width, wall, depth, p_wid, axes)
     elif fkind == "hole":
-        hole = _length(feature, "diameter", "design.feature")
-        if kind != "rectangle":
-            raise DesignFileError(f"design.feature.kind: 'hole' needs a rectangle section, not {kind!r}")
+        hole = float(feature["diameter"])
         if axes != 1:
             raise DesignFileError("design.feature.kind: 'hole' is not allowed with axes: 2; use pocket or none")
-        if not hole < height:
-            raise DesignFileError(f"design.feature.diameter: {_mm(hole)} must be less than the section height "
-                                  f"({fmt_mm(height)} mm)")
 
-    length = _length(d, "length", "design")
+    length = float(d["length"])
     l_f = model.feature_length(fkind, p_len, hole, gauge_length)
-    stations = _check_stations(d.get("stations"), length, l_f, fkind)
+    stations = _check_stations(d["stations"], length, l_f, fkind)
 
     end_mill = None
     if fkind == "pocket" and kind == "rectangle":
@@ -189,25 +170,17 @@ def resolve(record: dict) -> BeamCad:
                    gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
 
 
-def _check_pocket(kind, width, height, wall, depth, p_wid, axes) -> None:
+def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
+    """What machining needs beyond designfile.validate (which keeps pockets and flats shallower
+    than half the section or the wall, and slots narrower than the section)."""
     where = "design.feature"
     if kind == "rectangle":
-        if not depth < height / 2:
-            raise DesignFileError(f"{where}.depth: {_mm(depth)} is too deep; the pockets on both faces must "
-                                  f"leave material between them: less than half the height ({fmt_mm(height / 2)} mm)")
-        if not p_wid < width:
-            raise DesignFileError(f"{where}.width: {_mm(p_wid)} must be less than the section width "
-                                  f"({fmt_mm(width)} mm) so that the slot keeps its side walls")
         if axes == 2 and not depth + p_wid / 2 < width / 2:
             raise DesignFileError(f"{where}.depth: {_mm(depth)} with a {fmt_mm(p_wid)} mm wide pocket on all four "
                                   f"faces makes neighbouring pockets meet; depth + width/2 must be less than "
                                   f"{fmt_mm(width / 2)} mm")
         return
     R = width / 2
-    limit, what = (wall, "the tube wall") if kind == "tube" else (R, "the radius")
-    if not depth < limit:
-        raise DesignFileError(f"{where}.depth: {_mm(depth)} is too deep; a flat must be shallower than {what} "
-                              f"({fmt_mm(limit)} mm)")
     half_chord = flat_half_chord(R, depth)
     if 2 * half_chord < p_wid - LENGTH_EPS:
         raise DesignFileError(f"{where}.depth: {_mm(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
@@ -220,12 +193,8 @@ def _check_pocket(kind, width, height, wall, depth, p_wid, axes) -> None:
 
 def _check_stations(stations, length: float, l_f: float, fkind: str) -> tuple:
     what = {"pocket": "pocket", "hole": "hole", "none": "gauge"}[fkind]
-    if not isinstance(stations, list) or not stations:
-        raise DesignFileError(f"design.stations: {stations!r} must be a list of gauge positions (m)")
     out = []
     for i, s in enumerate(stations):
-        if isinstance(s, bool) or not isinstance(s, (int, float)) or not math.isfinite(s):
-            raise DesignFileError(f"design.stations[{i}]: {s!r} must be a number (m from the clamp face)")
         lo, hi = l_f / 2, length - l_f / 2
         if not lo < s < hi:
             raise DesignFileError(f"design.stations[{i}]: {_mm(s)} is off the beam: with its {fmt_mm(l_f)} mm "
