@@ -121,6 +121,11 @@ class BeamCad:
         return flat_half_chord(self.radius, self.pocket_depth)
 
     @property
+    def block_is_bar(self) -> bool:
+        """True when the clamp block is simply the bar continued (no edge at the clamp face)."""
+        return self.section == "rectangle" and abs(self.clamp.width - self.width) < 1e-12
+
+    @property
     def overall_length(self) -> float:
         return self.clamp.length + self.length
 

@@ -31,7 +31,7 @@ def build_solid(beam: BeamCad):
     Wc, Hc = beam.clamp.width * s, beam.clamp.height * s
     R = W / 2
 
-    if beam.section == "rectangle" and abs(Wc - W) < 1e-9:
+    if beam.block_is_bar:
         base = cq.Solid.makeBox(Lc + L, W, H, pnt=V(-Lc, -W / 2, -H / 2))
     else:
         if beam.section == "rectangle":

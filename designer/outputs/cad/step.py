@@ -6,13 +6,12 @@ cadquery and OCP are imported only inside the functions that need them.
 
 from __future__ import annotations
 
-import contextlib
 import os
 import re
-import tempfile
 from pathlib import Path
 
 from designer.errors import FpdError
+from designer.outputs.files import temporary_sibling
 from designer.outputs.part import ascii_text
 
 # STL tessellation: 0.01 mm chordal deviation, 0.1 rad angular deviation.
@@ -28,7 +27,7 @@ def step_name(name: str) -> str:
 def write_step(solid, path: str | os.PathLike, name: str) -> Path:
     """Write ``solid`` (mm) as STEP AP214 in millimetres with one product named ``name``."""
     path = Path(path)
-    with _temporary_sibling(path) as tmp:
+    with temporary_sibling(path) as tmp:
         step_file(solid, tmp, name)
         os.replace(tmp, path)
     return path
@@ -37,7 +36,7 @@ def write_step(solid, path: str | os.PathLike, name: str) -> Path:
 def write_stl(solid, path: str | os.PathLike) -> Path:
     """Write ``solid`` (mm) as binary STL, 0.01 mm chordal tolerance."""
     path = Path(path)
-    with _temporary_sibling(path) as tmp:
+    with temporary_sibling(path) as tmp:
         stl_file(solid, tmp)
         os.replace(tmp, path)
     return path
@@ -74,27 +73,6 @@ def stl_file(solid, path: Path) -> None:
                          ascii=False, relative=False)
     if not ok:
         raise FpdError(f"{path}: the STL file could not be written")
-
-
-def file_mode() -> int:
-    """The permissions an ordinary new file gets (temporary files are private until moved)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
-
-
-@contextlib.contextmanager
-def _temporary_sibling(path: Path):
-    """A temporary file name next to ``path``; removed again unless it was moved into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    os.chmod(tmp, file_mode())
-    try:
-        yield Path(tmp)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
 
 
 def read_step(path: str | os.PathLike):

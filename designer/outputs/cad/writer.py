@@ -16,10 +16,11 @@ from pathlib import Path
 from designer.outputs.cad.beam import resolve
 from designer.outputs.cad.mesh import model_meshes
 from designer.outputs.cad.solid import build_solid
-from designer.outputs.cad.step import file_mode, step_file, stl_file
+from designer.outputs.cad.step import step_file, stl_file
 from designer.outputs.drawing.figures import figure_bytes
 from designer.outputs.drawing.picture import plot_model
 from designer.outputs.drawing.sheet import plot_drawing
+from designer.outputs.files import file_mode
 from designer.outputs.part import BeamCad
 
 

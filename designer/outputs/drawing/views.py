@@ -105,11 +105,6 @@ def _block_half(beam: BeamCad, axis: str) -> float:
     return (beam.clamp.height if axis == "z" else beam.clamp.width) / 2
 
 
-def _block_is_bar(beam: BeamCad) -> bool:
-    """True when the clamp block is simply the bar continued (no edge at the clamp face)."""
-    return beam.section == "rectangle" and abs(beam.clamp.width - beam.width) < 1e-12
-
-
 def draw_view(pen: Pen, beam: BeamCad, X: LengthAxis, v: ViewSetup) -> None:
     def Y(t):  # model transverse coordinate (m) -> paper
         return v.centre + t / MM * v.scale
@@ -134,7 +129,7 @@ def draw_view(pen: Pen, beam: BeamCad, X: LengthAxis, v: ViewSetup) -> None:
     for s in (+1, -1):
         hline(-c.length, 0.0, s * hb)
     vline(-c.length, -hb, hb)
-    if not _block_is_bar(beam):
+    if not beam.block_is_bar:
         vline(0.0, -hb, hb)
     # silhouette of the free length, notched by grooves and by flats seen edge-on
     for s, face in ((+1, f"+{v.axis}"), (-1, f"-{v.axis}")):
