@@ -20,7 +20,7 @@ C_BRIDGES = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#8c564b", "#e377c2")
 C_STATUS = {"optimal": "#2e8b57", "feasible": "#2e8b57", "infeasible": "#c0392b", "failed": "#7f7f7f"}
 SECTION_MARKERS = {"rectangle": "s", "round": "o", "tube": "D"}
 MATERIAL_COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
-                     "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")
+                    "#e377c2", "#7f7f7f", "#bcbd22", "#17becf")
 
 ERROR_OBJECTIVE_LABEL = ("error objective  e = max(σ_F/F_min ÷ target, σ_x ÷ target)\n"
                          "e ≤ 1 meets both targets")

@@ -98,7 +98,7 @@ class SensorData:
             axes=axes, objective_kind=str(spec.get("objective", "error")),
             objective=optional_number(pred.get("objective")),
             error_ratio=optional_number(pred.get("error_ratio", pred.get("objective")
-                                                  if spec.get("objective", "error") == "error" else None)),
+                                                 if spec.get("objective", "error") == "error" else None)),
             deflection=optional_number(pred.get("deflection")),
             natural_frequency=optional_number(pred.get("natural_frequency")),
         )

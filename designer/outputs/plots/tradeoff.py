@@ -18,7 +18,7 @@ TRADEOFF_AXES = {
     "min_frequency": ("minimum first natural frequency (Hz)", 1.0, "tradeoff-frequency"),
 }
 TRADEOFF_ALIASES = {"deflection": "max_deflection", "frequency": "min_frequency",
-                     "natural_frequency": "min_frequency"}
+                    "natural_frequency": "min_frequency"}
 TRADEOFF_GROUPS = ("material", "section", "both")
 
 
