@@ -40,8 +40,14 @@ def main(argv=None) -> int:
     t0 = time.perf_counter()
     import matplotlib.figure  # noqa: F401
     t_mpl = time.perf_counter() - t0
-    from designer.outputs import cad
-    from designer.outputs import drawing
+    from designer.outputs.cad.beam import resolve
+    from designer.outputs.cad.mesh import model_meshes
+    from designer.outputs.cad.solid import build_solid
+    from designer.outputs.cad.step import write_step, write_stl
+    from designer.outputs.cad.writer import export
+    from designer.outputs.drawing.figures import save_figure
+    from designer.outputs.drawing.picture import plot_model
+    from designer.outputs.drawing.sheet import plot_drawing
     from designer.result.designfile import load_design
 
     print(f"import cadquery {t_cq:.2f} s, matplotlib {t_mpl:.2f} s (once per process, not below)")
@@ -53,24 +59,24 @@ def main(argv=None) -> int:
         out = Path(tmp)
         # warm up: fonts, OCCT statics
         record = load_design(paths[0])
-        cad.export(record, step=out / "w.step", svg=out / "w.svg", png=out / "w.png")
+        export(record, step=out / "w.step", svg=out / "w.svg", png=out / "w.png")
         for path in paths:
             record = load_design(path)
-            beam = cad.resolve(record)
-            solid = cad.build_solid(beam)
-            t_solid = median_time(lambda: cad.build_solid(cad.resolve(record)), args.repeat)
-            t_step = median_time(lambda: cad.write_step(solid, out / "b.step", beam.name), args.repeat)
-            t_stl = median_time(lambda: cad.write_stl(solid, out / "b.stl"), args.repeat)
-            t_export = median_time(lambda: cad.export(record, step=out / "e.step", stl=out / "e.stl"), args.repeat)
+            beam = resolve(record)
+            solid = build_solid(beam)
+            t_solid = median_time(lambda: build_solid(resolve(record)), args.repeat)
+            t_step = median_time(lambda: write_step(solid, out / "b.step", beam.name), args.repeat)
+            t_stl = median_time(lambda: write_stl(solid, out / "b.stl"), args.repeat)
+            t_export = median_time(lambda: export(record, step=out / "e.step", stl=out / "e.stl"), args.repeat)
 
             def draw():
-                fig = drawing.plot_drawing(beam)
-                drawing.save_figure(fig, out / "d.svg", "svg")
-                drawing.save_figure(fig, out / "d.png", "png")
+                fig = plot_drawing(beam)
+                save_figure(fig, out / "d.svg", "svg")
+                save_figure(fig, out / "d.png", "png")
 
             def picture():
-                fig = drawing.plot_model(cad.model_meshes(beam, solid), beam)
-                drawing.save_figure(fig, out / "p.png", "png")
+                fig = plot_model(model_meshes(beam, solid), beam)
+                save_figure(fig, out / "p.png", "png")
 
             t_draw = median_time(draw, args.repeat)
             t_pic = median_time(picture, args.repeat)

@@ -312,12 +312,12 @@ def test_drawing_of_flats_gives_across_flats_and_bore():
 
 
 def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
-    from designer.outputs import drawing
+    from designer.outputs.drawing import views
 
-    a = drawing._length_axis(cad.resolve(record("prototype_a")))
+    a = views.length_axis(cad.resolve(record("prototype_a")))
     assert len(a.gaps) == 1                                  # 123 -> 800 mm shortened
     assert a(0.02) < a(0.12) < a(0.5) < a(0.8)
-    p = drawing._length_axis(cad.resolve(record("rect_pockets")))
+    p = views.length_axis(cad.resolve(record("rect_pockets")))
     assert p.gaps == ()                                      # short runs stay to scale
     assert p(0.1) - p(0.0) == pytest.approx(100 * p.scale)
 
@@ -325,13 +325,13 @@ def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
 def test_depth_buffer_keeps_the_nearer_triangle():
     import numpy as np
 
-    from designer.outputs import drawing
+    from designer.outputs.drawing import picture
 
     # two triangles over the same 10 x 10 pixel square at depths 1 and 2 (larger is nearer)
     square = np.array([[0, 0], [10, 0], [0, 10]], float)
     xy = np.stack([square, square])
     depth = np.array([[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]])
-    z = drawing._zbuffer(xy, depth, np.zeros(2), 1.0, (12, 12))
+    z = picture._zbuffer(xy, depth, np.zeros(2), 1.0, (12, 12))
     covered = np.isfinite(z)
     assert np.all(z[covered] == 2.0)
     # the lower-left half of the square: pixel centres with x + y < 10 -> 45 pixels (+ 10 on the diagonal)

@@ -30,6 +30,7 @@ import pytest
 
 from designer.model import estimator
 from designer.outputs import plots
+from designer.outputs.plots import candidates, common, write
 from designer.cli import main
 from designer.result.designfile import load_design
 from designer.errors import DesignFileError, InputError
@@ -276,8 +277,8 @@ def test_error_map_plot_marks_the_worst_case_and_targets(proto_b):
     maps = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"][:3]
     force_error, position_error = plots.worst_errors(proto_b)
     legends = [" ".join(t.get_text() for t in ax.get_legend().get_texts()) for ax in maps]
-    assert f"worst case {plots._fmt(force_error * 100)} %" in legends[0]
-    assert f"worst case {plots._fmt(position_error * 1e3)} mm" in legends[1]
+    assert f"worst case {common.fmt_number(force_error * 100)} %" in legends[0]
+    assert f"worst case {common.fmt_number(position_error * 1e3)} mm" in legends[1]
     assert "target 4 %: met" in legends[0] and "target 13.5 mm: met" in legends[1]
     for ax in maps:
         star = [line for line in ax.get_lines() if line.get_marker() == "*"][0]
@@ -314,7 +315,7 @@ def test_voltage_isolines_cross_at_the_example_load(proto_b):
     single = sorted(float(c.levels[0]) for c in ax.collections if hasattr(c, "levels") and len(c.levels) == 1)
     np.testing.assert_allclose(single, sorted(v_e * 1e3), rtol=1e-12)   # drawn in mV
     legend = " ".join(t.get_text() for t in ax.get_legend().get_texts())
-    assert f"V1 = {plots._fmt(v_e[0] * 1e3)} mV" in legend and "V2" in legend
+    assert f"V1 = {common.fmt_number(v_e[0] * 1e3)} mV" in legend and "V2" in legend
     assert "(mm)" in ax.get_xlabel() and "(N)" in ax.get_ylabel()
 
 
@@ -323,7 +324,7 @@ def test_voltage_isolines_cross_at_the_example_load(proto_b):
 def test_candidates_follow_the_ranking_rule(optimized):
     """MODEL.md section 5: the optimiser's list is already ranked; the chart keeps its order,
     and the chosen design is first and outlined."""
-    rows = plots._candidate_rows(optimized, plots.SensorData.from_design(optimized))
+    rows = candidates._candidate_rows(optimized, plots.SensorData.from_design(optimized))
     assert [(r["material"], r["section"]) for r in rows] == \
         [(c["material"], c["section"]) for c in optimized["candidates"]]
     assert rows[0]["chosen"] and sum(r["chosen"] for r in rows) == 1
@@ -468,7 +469,7 @@ def test_write_design_plots_leaves_nothing_behind_on_failure(proto_b, tmp_path, 
     def broken(design, ax=None):
         raise RuntimeError("drawing failed")
 
-    monkeypatch.setattr(plots, "plot_voltage_isolines", broken)
+    monkeypatch.setattr(write, "plot_voltage_isolines", broken)
     with pytest.raises(RuntimeError):
         plots.write_design_plots(proto_b, tmp_path / "out", formats=("png",))
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())

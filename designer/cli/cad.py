@@ -22,14 +22,14 @@ def register(subparsers) -> None:
 
 
 def run_export(args) -> int:
-    from designer.outputs import cad
+    from designer.outputs.cad.writer import export
     from designer.result.designfile import load_design
 
     outputs = {"step": args.step, "stl": args.stl, "svg": args.svg, "png": args.png, "drawing_png": args.drawing_png}
     if not any(outputs.values()):
         raise InputError("export: nothing to write; give at least one of --step, --stl, --svg, --drawing-png, --png")
     record = load_design(args.design)
-    written = cad.export(record, **outputs)
+    written = export(record, **outputs)
     for kind, path in written.items():
         print(f"wrote {path}")
     return 0

@@ -32,16 +32,14 @@ def _register_plot(sub) -> None:
 
 
 def run_plot(args) -> int:
-    from designer.outputs import plots
-
+    from designer.outputs.plots.write import write_design_plots
     from designer.result.designfile import load_design, read_json
 
     design = load_design(args.design)
     tradeoff = read_json(args.tradeoff, what="--tradeoff") if args.tradeoff else None
     out_dir = Path(args.output) if args.output else Path(args.design).resolve().parent
     try:
-        paths = plots.write_design_plots(design, out_dir, formats=FORMAT_CHOICES[args.format],
-                                         tradeoff=tradeoff)
+        paths = write_design_plots(design, out_dir, formats=FORMAT_CHOICES[args.format], tradeoff=tradeoff)
     except OSError as exc:
         raise InputError(f"{out_dir}: cannot write the plots there ({exc.strerror or exc}); "
                          "choose another folder with -o") from exc

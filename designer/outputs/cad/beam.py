@@ -1,0 +1,332 @@
+"""The beam to build: a design.json record resolved into a ``BeamCad`` (SI, every default picked).
+
+``resolve(record)`` checks that the design can be machined and picks what the record leaves
+open from the spec's ``cad`` keys or the documented defaults:
+
+- the clamp block ``-clamp_length <= X < 0``: the section's bounding box (widened when the
+  bolts need it) with two bolt clearance holes along ``Z`` on the axis;
+- the end mill of slot pockets on a rectangle (corner radii equal to its radius);
+- a shallow wire channel on each pocketed face, from the farthest pocket to the clamp face;
+- optionally shallow load-position grooves all around the beam at the calibration positions.
+
+Every problem raises DesignFileError naming the key, its value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from designer import model
+from designer.errors import DesignFileError
+from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
+from designer.result.designfile import validate
+
+# ISO 273 medium-series clearance holes for ISO metric coarse bolts: nominal -> hole, m.
+ISO_273_MEDIUM = {0.0016: 0.0018, 0.002: 0.0024, 0.0025: 0.0029, 0.003: 0.0034, 0.004: 0.0045,
+                  0.005: 0.0055, 0.006: 0.0066, 0.008: 0.0090, 0.010: 0.0110, 0.012: 0.0135,
+                  0.016: 0.0175, 0.020: 0.0220}
+# Other sizes: ISO 273 medium holes run about 10-14 % over the nominal diameter.
+CLEARANCE_RATIO = 1.12
+# Bolts picked by default for the clamp: M2 ... M8 (a sensor clamp does not need more).
+DEFAULT_BOLTS = (0.002, 0.0025, 0.003, 0.004, 0.005, 0.006, 0.008)
+# Bolt centre to the edge of the block, in bolt diameters: the usual 1.5 d of bolted joints.
+BOLT_EDGE = 1.5
+# Default clamp length: 1.5 times the section's larger side, rounded up to 5 mm.
+CLAMP_LENGTH_PER_SIZE = 1.5
+CLAMP_LENGTH_STEP = 0.005
+# Standard metric end mill diameters, m.
+END_MILLS = (0.001, 0.0015, 0.002, 0.0025, 0.003, 0.004, 0.005, 0.006, 0.008, 0.010, 0.012)
+# Default end mill: at most 60 % of the slot width, so that the slot keeps straight side walls.
+END_MILL_FRACTION = 0.6
+# Wire channel: 1.5 mm takes four 0.3 mm lead wires side by side; 0.5 mm deep covers one.
+CHANNEL_WIDTH = 0.0015
+CHANNEL_DEPTH = 0.0005
+# Load grooves: 0.5 mm wide holds the "very thin string" the paper hung its masses from
+# (Noh et al. 2025, section 4.2.1); 0.3 mm deep, at most 5 % of the section's smaller side.
+GROOVE_WIDTH = 0.0005
+GROOVE_DEPTH = 0.0003
+GROOVE_DEPTH_FRACTION = 0.05
+# Defaults are rounded down to this step (0.01 mm, as designs are reported, MODEL.md 5).
+ROUND_STEP = 1e-5
+# Lengths closer than this are equal (m): below the 0.01 mm resolution of design.json.
+LENGTH_EPS = 1e-9
+
+
+def _mm(value_m: float) -> str:
+    return f"{value_m!r} m ({fmt_mm(value_m)} mm)"
+
+
+def _mapping(obj: Any, where: str) -> dict:
+    if not isinstance(obj, dict):
+        raise DesignFileError(f"{where}: {obj!r} must be an object")
+    return obj
+
+
+def _length(obj: dict, key: str, where: str, required: bool = True) -> float | None:
+    """A positive finite number (a length in metres) at ``obj[key]``."""
+    value = obj.get(key)
+    if value is None:
+        if required:
+            raise DesignFileError(f"{where}.{key}: missing; it is required (a length in metres)")
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DesignFileError(f"{where}.{key}: {value!r} must be a number (a length in metres)")
+    if value <= 0:
+        raise DesignFileError(f"{where}.{key}: {value!r} must be positive (a length in metres)")
+    return float(value)
+
+
+def _flag(obj: dict, key: str, where: str, default: bool) -> bool:
+    value = obj.get(key)
+    if value is None:
+        return default
+    if not isinstance(value, bool):
+        raise DesignFileError(f"{where}.{key}: {value!r} must be true or false")
+    return value
+
+
+def _round_down(value: float, step: float = ROUND_STEP) -> float:
+    return math.floor(value / step + 1e-9) * step
+
+
+def resolve(record: dict) -> BeamCad:
+    """The validated, fully specified beam of a design.json record (SI).
+
+    The record must first pass ``designer.result.designfile.validate`` (the rules every reader
+    of design.json applies: known kinds, positive sizes, pockets shallower than half the section
+    or the wall, holes in rectangles only, stations on the beam). Then raises DesignFileError
+    naming the key, its value and what is allowed when the part cannot be machined: flats too
+    narrow for the gauge, features on four faces that meet, stations whose features run off the
+    beam or into each other, CAD options that do not fit.
+    """
+    validate(record)
+    d = record["design"]
+    spec = record["spec"]
+    cad = _mapping(spec.get("cad") or {}, "spec.cad")
+    limits = _mapping(spec.get("limits") or {}, "spec.limits")
+
+    name = spec.get("name") or "design"
+    if not isinstance(name, str):
+        raise DesignFileError(f"spec.name: {name!r} must be text")
+    material = d["material"]
+    if not material.strip():
+        raise DesignFileError(f"design.material: {material!r} must be a material name")
+
+    section = d["section"]
+    kind = section["kind"]
+    wall = None
+    if kind == "rectangle":
+        width, height = float(section["width"]), float(section["height"])
+    else:
+        width = height = float(section["diameter"])
+        if kind == "tube":
+            wall = float(section["wall"])
+
+    axes = d.get("axes", 1)
+    if isinstance(axes, bool):
+        raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")
+    if axes == 2 and kind == "rectangle" and abs(width - height) > LENGTH_EPS:
+        raise DesignFileError(f"design.axes: 2 needs a square, round or tube section; the rectangle is "
+                              f"{fmt_mm(width)} x {fmt_mm(height)} mm")
+
+    gauge = d.get("gauge") or spec.get("gauge")
+    gauge = _mapping(gauge, "design.gauge")
+    gauge_length = _length(gauge, "length", "design.gauge")
+    gauge_width = _length(gauge, "width", "design.gauge")
+    gauge_name = str(gauge.get("name") or "strain gauge")
+
+    feature = d["feature"]
+    fkind = feature["kind"]
+    depth = p_len = p_wid = hole = 0.0
+    if fkind == "pocket":
+        depth, p_len, p_wid = float(feature["depth"]), float(feature["length"]), float(feature["width"])
+        _check_pocket(kind, width, wall, depth, p_wid, axes)
+    elif fkind == "hole":
+        hole = float(feature["diameter"])
+        if axes != 1:
+            raise DesignFileError("design.feature.kind: 'hole' is not allowed with axes: 2; use pocket or none")
+
+    length = float(d["length"])
+    l_f = model.feature_length(fkind, p_len, hole, gauge_length)
+    stations = _check_stations(d["stations"], length, l_f, fkind)
+
+    end_mill = None
+    if fkind == "pocket" and kind == "rectangle":
+        end_mill = _end_mill(cad, p_len, p_wid, gauge_length, gauge_width)
+    clamp = _clamp(cad, width, height)
+    channels = None
+    if fkind == "pocket" and _flag(cad, "wire_channels", "spec.cad", True):
+        channels = _channels(cad, kind, depth, p_wid, end_mill)
+    grooves = None
+    if _flag(cad, "load_grooves", "spec.cad", False):
+        grooves = _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits)
+
+    status = record.get("status") or "unknown"
+    return BeamCad(name=name.strip(), material=material.strip(), status=str(status), section=kind,
+                   width=width, height=height, wall=wall, length=length, stations=stations, axes=axes,
+                   feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
+                   hole_diameter=hole, end_mill=end_mill, gauge_name=gauge_name, gauge_length=gauge_length,
+                   gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
+
+
+def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
+    """What machining needs beyond designfile.validate (which keeps pockets and flats shallower
+    than half the section or the wall, and slots narrower than the section)."""
+    where = "design.feature"
+    if kind == "rectangle":
+        if axes == 2 and not depth + p_wid / 2 < width / 2:
+            raise DesignFileError(f"{where}.depth: {_mm(depth)} with a {fmt_mm(p_wid)} mm wide pocket on all four "
+                                  f"faces makes neighbouring pockets meet; depth + width/2 must be less than "
+                                  f"{fmt_mm(width / 2)} mm")
+        return
+    R = width / 2
+    half_chord = flat_half_chord(R, depth)
+    if 2 * half_chord < p_wid - LENGTH_EPS:
+        raise DesignFileError(f"{where}.depth: {_mm(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
+                              f"than the pocket width {fmt_mm(p_wid)} mm the gauge needs; the depth must be at least "
+                              f"{fmt_mm(R - math.sqrt(max(R * R - p_wid * p_wid / 4, 0.0)))} mm")
+    if axes == 2 and not half_chord < R - depth:
+        raise DesignFileError(f"{where}.depth: {_mm(depth)} is too deep for flats on four faces: neighbouring flats "
+                              f"would meet; the depth must be less than {fmt_mm(R - R / math.sqrt(2))} mm")
+
+
+def _check_stations(stations, length: float, l_f: float, fkind: str) -> tuple:
+    what = {"pocket": "pocket", "hole": "hole", "none": "gauge"}[fkind]
+    out = []
+    for i, s in enumerate(stations):
+        lo, hi = l_f / 2, length - l_f / 2
+        if not lo < s < hi:
+            raise DesignFileError(f"design.stations[{i}]: {_mm(s)} is off the beam: with its {fmt_mm(l_f)} mm "
+                                  f"{what} it must lie between {fmt_mm(lo)} mm and {fmt_mm(hi)} mm from the clamp "
+                                  f"face (free length {fmt_mm(length)} mm)")
+        out.append(float(s))
+    for i in range(len(out) - 1):
+        if not out[i + 1] - out[i] > l_f:
+            raise DesignFileError(f"design.stations[{i + 1}]: {_mm(out[i + 1])} is too close to station {i} at "
+                                  f"{fmt_mm(out[i])} mm: the {fmt_mm(l_f)} mm {what}s would overlap; stations must "
+                                  f"increase by more than {fmt_mm(l_f)} mm")
+    return tuple(out)
+
+
+def bolt_clearance(bolt: float) -> float:
+    """The clearance hole for a bolt: ISO 273 medium series, else 1.12 d rounded up to 0.1 mm."""
+    for nominal, hole in ISO_273_MEDIUM.items():
+        if abs(nominal - bolt) < LENGTH_EPS:
+            return hole
+    return math.ceil(CLEARANCE_RATIO * bolt / 1e-4 - 1e-6) * 1e-4
+
+
+def _clamp(cad: dict, width: float, height: float) -> Clamp:
+    bolt = _length(cad, "bolt_diameter", "spec.cad", required=False)
+    if bolt is None:
+        fitting = [b for b in DEFAULT_BOLTS if 2 * BOLT_EDGE * b <= width + LENGTH_EPS]
+        bolt = fitting[-1] if fitting else DEFAULT_BOLTS[0]
+    clearance = bolt_clearance(bolt)
+    block_width = max(width, 2 * BOLT_EDGE * bolt)
+    minimum = 4 * BOLT_EDGE * bolt  # two holes at L/4 and 3L/4, each 1.5 d from an end
+    length = _length(cad, "clamp_length", "spec.cad", required=False)
+    if length is None:
+        length = max(CLAMP_LENGTH_PER_SIZE * max(width, height), minimum)
+        length = math.ceil(length / CLAMP_LENGTH_STEP - 1e-6) * CLAMP_LENGTH_STEP
+    elif length < minimum - LENGTH_EPS:
+        raise DesignFileError(f"spec.cad.clamp_length: {_mm(length)} is too short for two {fmt_mm(bolt)} mm bolts; "
+                              f"it must be at least {fmt_mm(minimum)} mm (holes {BOLT_EDGE:g} bolt diameters from "
+                              f"the block's ends); or give a smaller spec.cad.bolt_diameter")
+    return Clamp(length=length, width=block_width, height=height, bolt_diameter=bolt, bolt_clearance=clearance,
+                 bolt_positions=(-length / 4, -3 * length / 4))
+
+
+def _end_mill(cad: dict, p_len: float, p_wid: float, g_len: float, g_wid: float) -> float:
+    given = _length(cad, "end_mill_diameter", "spec.cad", required=False)
+
+    def gauge_fits(tool: float) -> bool:
+        r = tool / 2
+        cx, cy = p_len / 2 - r, p_wid / 2 - r  # centre of the corner arc
+        gx, gy = g_len / 2, g_wid / 2          # corner of the gauge backing
+        if gx > p_len / 2 + LENGTH_EPS or gy > p_wid / 2 + LENGTH_EPS:
+            return False
+        return gx <= cx or gy <= cy or math.hypot(gx - cx, gy - cy) <= r + LENGTH_EPS
+
+    if given is None:
+        fitting = [t for t in END_MILLS if t <= END_MILL_FRACTION * p_wid + LENGTH_EPS and gauge_fits(t)]
+        if not fitting:
+            raise DesignFileError(f"design.feature.width: {_mm(p_wid)} leaves no standard end mill (from 1 mm) "
+                                  f"that cuts the slot and keeps the {fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge clear "
+                                  f"of its corners; give spec.cad.end_mill_diameter")
+        return fitting[-1]
+    if given > p_wid + LENGTH_EPS:
+        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} is wider than the {fmt_mm(p_wid)} mm pocket; "
+                              f"it must be at most the pocket width")
+    if not gauge_fits(given):
+        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} leaves corner radii that cut into the "
+                              f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge backing in its "
+                              f"{fmt_mm(p_len)} x {fmt_mm(p_wid)} mm pocket; use a smaller end mill")
+    return given
+
+
+def _channels(cad: dict, kind: str, depth: float, p_wid: float, end_mill: float | None) -> Channels:
+    # On a slot the channel must enter through the straight part of the pocket's end wall.
+    room = p_wid - end_mill if kind == "rectangle" else p_wid
+    width = _length(cad, "channel_width", "spec.cad", required=False)
+    if width is None:
+        width = _round_down(min(CHANNEL_WIDTH, room if kind == "rectangle" else room / 2))
+    if not 0 < width <= room + LENGTH_EPS:
+        what = ("the pocket width less the end mill diameter, so that the channel enters the pocket's straight "
+                "end wall" if kind == "rectangle" else "the pocket width")
+        raise DesignFileError(f"spec.cad.channel_width: {_mm(width)} is too wide; it must be at most "
+                              f"{fmt_mm(room)} mm ({what}); or set spec.cad.wire_channels: false")
+    c_depth = _length(cad, "channel_depth", "spec.cad", required=False)
+    if c_depth is None:
+        c_depth = _round_down(min(CHANNEL_DEPTH, depth / 2))
+    if not 0 < c_depth < depth:
+        raise DesignFileError(f"spec.cad.channel_depth: {_mm(c_depth)} must be less than the pocket depth "
+                              f"({fmt_mm(depth)} mm)")
+    return Channels(width=width, depth=c_depth)
+
+
+def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits) -> Grooves:
+    positions = cad.get("groove_positions")
+    key = "spec.cad.groove_positions"
+    if positions is None:
+        key = "spec.cad.load_grooves"
+        load = _mapping(spec.get("load") or {}, "spec.load")
+        rng = load.get("position")
+        if (not isinstance(rng, list) or len(rng) != 2
+                or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in rng)):
+            raise DesignFileError(f"spec.load.position: {rng!r} must be [x_min, x_max] in metres to place the "
+                                  f"default load grooves; or give spec.cad.groove_positions")
+        x_min, x_max = float(rng[0]), float(rng[1])
+        positions = [x_min, (x_min + x_max) / 2, x_max]
+    if not isinstance(positions, list) or not positions:
+        raise DesignFileError(f"spec.cad.groove_positions: {positions!r} must be a list of positions (m)")
+    g_depth = _length(cad, "groove_depth", "spec.cad", required=False)
+    if g_depth is None:
+        g_depth = _round_down(min(GROOVE_DEPTH, GROOVE_DEPTH_FRACTION * min(width, height)))
+    if kind == "tube":
+        min_wall = float(limits.get("min_wall") or 0.0)
+        deepest, what = wall - min_wall, f"the tube wall less spec.limits.min_wall ({fmt_mm(min_wall)} mm)"
+    else:
+        deepest, what = min(width, height) / 2, "half the section's smaller side"
+    if not 0 < g_depth < deepest:
+        raise DesignFileError(f"spec.cad.groove_depth: {_mm(g_depth)} is too deep; it must be less than "
+                              f"{fmt_mm(deepest)} mm ({what})")
+    half = GROOVE_WIDTH / 2
+    lo, hi = stations[-1] + l_f / 2 + half, length - half
+    out = []
+    for i, x in enumerate(positions):
+        if isinstance(x, bool) or not isinstance(x, (int, float)) or not math.isfinite(x):
+            raise DesignFileError(f"spec.cad.groove_positions[{i}]: {x!r} must be a number (m from the clamp face)")
+        if not lo - LENGTH_EPS <= x <= hi + LENGTH_EPS:
+            which = f"{key}" if key.endswith("positions") else f"{key} (default groove at {fmt_mm(x)} mm)"
+            raise DesignFileError(f"{which}: a groove at {_mm(x)} does not fit: grooves must lie between the last "
+                                  f"gauge feature and the free end, from {fmt_mm(lo)} mm to {fmt_mm(hi)} mm; "
+                                  f"give spec.cad.groove_positions or set spec.cad.load_grooves: false")
+        out.append(float(x))
+    out.sort()
+    for a, b in zip(out, out[1:]):
+        if not b - a > GROOVE_WIDTH:
+            raise DesignFileError(f"{key}: grooves at {fmt_mm(a)} mm and {fmt_mm(b)} mm overlap; they must be more "
+                                  f"than {fmt_mm(GROOVE_WIDTH)} mm apart")
+    return Grooves(positions=tuple(out), width=GROOVE_WIDTH, depth=g_depth)
+

@@ -1,0 +1,108 @@
+"""The solid: a designed beam as one machinable cadquery ``Solid`` in millimetres.
+
+Built in the CAD frame of SPEC.md (origin on the beam's axis at the clamp face, ``+X`` to the
+free end, the clamp block at ``X < 0``, ``Z`` the load direction, ``Y`` across). Besides the
+section it carries the clamp block with its bolt holes, the feature of MODEL.md section 1 at
+every station on both bending faces (all four when biaxial): a slot pocket with corner radii
+equal to the end mill's radius on a rectangle, a flat on a round or tube, a through-hole along
+``Y`` for ``hole``; the wire channels (through the nearer pockets, ending in a half circle of
+their own width centred on the clamp face, as the cutter leaves them) and the load grooves.
+cadquery is imported only inside ``build_solid``.
+"""
+
+from __future__ import annotations
+
+from designer.errors import FpdError
+from designer.outputs.part import MM, BeamCad
+
+# Cutting tools run this far past the surfaces they break, so that no faces coincide (mm).
+TOOL_OVERRUN_MM = 1.0
+
+
+def build_solid(beam: BeamCad):
+    """The beam as one cadquery ``Solid`` in millimetres (SPEC.md CAD frame)."""
+    import cadquery as cq
+
+    V = cq.Vector
+    s = 1.0 / MM
+    E = TOOL_OVERRUN_MM
+    L, Lc = beam.length * s, beam.clamp.length * s
+    W, H = beam.width * s, beam.height * s
+    Wc, Hc = beam.clamp.width * s, beam.clamp.height * s
+    R = W / 2
+
+    if beam.block_is_bar:
+        base = cq.Solid.makeBox(Lc + L, W, H, pnt=V(-Lc, -W / 2, -H / 2))
+    else:
+        if beam.section == "rectangle":
+            bar = cq.Solid.makeBox(L, W, H, pnt=V(0, -W / 2, -H / 2))
+        else:
+            bar = cq.Solid.makeCylinder(R, L, pnt=V(0, 0, 0), dir=V(1, 0, 0))
+        block = cq.Solid.makeBox(Lc, Wc, Hc, pnt=V(-Lc, -Wc / 2, -Hc / 2))
+        base = block.fuse(bar).clean()
+
+    tools = []
+    if beam.section == "tube":
+        bore = (R - beam.wall * s)
+        tools.append(cq.Solid.makeCylinder(bore, L + E, pnt=V(0, 0, 0), dir=V(1, 0, 0)))
+    half = H / 2  # the face's distance from the axis (square when biaxial)
+
+    def on_faces(tool_on_plus_z):
+        """Copies of a tool made for the +Z face, turned onto every featured face."""
+        angles = {"+z": 0.0, "-z": 180.0, "+y": -90.0, "-y": 90.0}
+        out = []
+        for face in beam.cut_faces:
+            angle = angles[face]
+            out.append(tool_on_plus_z if angle == 0 else tool_on_plus_z.rotate(V(0, 0, 0), V(1, 0, 0), angle))
+        return out
+
+    if beam.feature == "pocket":
+        p, lp, wp = beam.pocket_depth * s, beam.pocket_length * s, beam.pocket_width * s
+        if beam.section == "rectangle":
+            r = beam.corner_radius * s
+            sketch = cq.Sketch()
+            if abs(2 * r - wp) < 1e-9:
+                sketch = sketch.slot(lp - wp, wp)
+            else:
+                sketch = sketch.rect(lp, wp).vertices().fillet(r)
+            pocket = cq.Workplane("XY", origin=(0, 0, half - p)).placeSketch(sketch).extrude(p + E).val()
+        else:
+            pocket = cq.Solid.makeBox(lp, 2 * R + 2 * E, p + E, pnt=V(-lp / 2, -R - E, R - p))
+        for d in beam.stations:
+            tools += on_faces(pocket.translate(V(d * s, 0, 0)))
+    elif beam.feature == "hole":
+        dh = beam.hole_diameter * s
+        for d in beam.stations:
+            tools.append(cq.Solid.makeCylinder(dh / 2, W + 2 * E, pnt=V(d * s, -W / 2 - E, 0), dir=V(0, 1, 0)))
+
+    if beam.channels is not None:
+        cw, cd = beam.channels.width * s, beam.channels.depth * s
+        reach = beam.stations[-1] * s
+        straight = cq.Solid.makeBox(reach, cw, cd + E, pnt=V(0, -cw / 2, half - cd))
+        end = cq.Solid.makeCylinder(cw / 2, cd + E, pnt=V(0, 0, half - cd), dir=V(0, 0, 1))
+        tools += on_faces(straight.fuse(end).clean())
+
+    c = beam.clamp
+    for xb in c.bolt_positions:
+        tools.append(cq.Solid.makeCylinder(c.bolt_clearance * s / 2, Hc + 2 * E,
+                                           pnt=V(xb * s, 0, -Hc / 2 - E), dir=V(0, 0, 1)))
+
+    if beam.grooves is not None:
+        gw, gd = beam.grooves.width * s, beam.grooves.depth * s
+        for xg in beam.grooves.positions:
+            x0 = xg * s - gw / 2
+            if beam.section == "rectangle":
+                outer = cq.Solid.makeBox(gw, W + 2 * E, H + 2 * E, pnt=V(x0, -W / 2 - E, -H / 2 - E))
+                inner = cq.Solid.makeBox(gw, W - 2 * gd, H - 2 * gd, pnt=V(x0, -W / 2 + gd, -H / 2 + gd))
+            else:
+                outer = cq.Solid.makeCylinder(R + E, gw, pnt=V(x0, 0, 0), dir=V(1, 0, 0))
+                inner = cq.Solid.makeCylinder(R - gd, gw, pnt=V(x0, 0, 0), dir=V(1, 0, 0))
+            tools.append(outer.cut(inner))
+
+    shape = base.cut(*tools).clean() if tools else base
+    solids = shape.Solids()
+    if len(solids) != 1 or not solids[0].isValid():
+        raise FpdError(f"the CAD kernel did not produce one valid solid for {beam.name!r} "
+                       f"({len(solids)} solids); please report this design")
+    return solids[0]
+

@@ -1,0 +1,138 @@
+"""The candidates chart: every material and section family the search tried, ranked as
+MODEL.md section 5 ranks designs, coloured by status, the chosen design outlined."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from designer import model
+from designer.errors import DesignFileError
+from designer.outputs.plots.common import C_GRID, C_STATUS, ERROR_OBJECTIVE_LABEL, figure_axes, fmt_number
+from designer.outputs.plots.sensor import SensorData, is_number, optional_number
+
+
+def plot_candidates(design: Mapping, ax=None):
+    """Every material x section family the search tried, ranked by its objective (horizontal
+    bars, best at the top), coloured by status; infeasible ones hatched, the chosen design
+    outlined. A design without candidates (``evaluate``) shows itself alone."""
+    s = SensorData.from_design(design)
+    rows = _candidate_rows(design, s)
+    fig, ax = figure_axes(ax, (10.0, max(3.0, 0.36 * len(rows) + 1.8)))
+    kind = s.objective_kind
+    scale, axis_label = {"error": (1.0, ERROR_OBJECTIVE_LABEL),
+                         "deflection": (1e3, "objective: free-end deflection under F_max at x_max (mm)"),
+                         "mass": (1e3, "objective: mass of the free length (g)")}.get(kind, (1.0, "objective"))
+    values = [r["objective"] * scale if r["objective"] is not None else None for r in rows]
+    known = [v for v in values if v is not None and v > 0]
+    log = bool(known) and max(known) / min(known) > 30
+    bottom = min(known) / 2 if log else 0.0
+    missing_at = (max(known) if known else 1.0)
+
+    y = np.arange(len(rows))
+    for yi, row, value in zip(y, rows, values):
+        colour = C_STATUS.get(row["status"], "#7f7f7f")
+        infeasible = row["status"] in ("infeasible", "failed")
+        if value is None:
+            ax.text(bottom if log else 0.0, yi, "  no design found", va="center", fontsize=8, color=colour)
+            continue
+        ax.barh(yi, value - bottom, left=bottom, height=0.7, color=colour, alpha=0.45 if infeasible else 0.85,
+                hatch="xx" if infeasible else None, edgecolor="black" if row["chosen"] else colour,
+                linewidth=2.2 if row["chosen"] else 0.6, zorder=3)
+        detail = [f"{fmt_number(row['deflection'] * 1e3)} mm" if row.get("deflection") is not None else "",
+                  f"{fmt_number(row['mass'] * 1e3)} g" if row.get("mass") is not None else ""]
+        detail = ", ".join(d for d in detail if d)
+        text = fmt_number(value, 4) + (f"  ({detail})" if detail and kind == "error" else "") + \
+            ("   ◀ chosen" if row["chosen"] else "")
+        ax.text(value, yi, "  " + text, va="center", fontsize=8,
+                fontweight="bold" if row["chosen"] else "normal", zorder=4)
+    ax.set_yticks(y, [_candidate_label(r) for r in rows], fontsize=8.5)
+    for tick, row in zip(ax.get_yticklabels(), rows):
+        if row["chosen"]:
+            tick.set_fontweight("bold")
+    ax.set_ylim(len(rows) - 0.3, -0.7)  # best at the top
+    if log:
+        ax.set_xscale("log")
+    if kind == "error":
+        ax.axvline(1.0, color="black", linestyle="--", linewidth=1.2, zorder=5)
+    right = max(known + [1.0 if kind == "error" else missing_at]) * (3.0 if log else 1.45)
+    ax.set_xlim(bottom if log else 0.0, right)
+    ax.set_xlabel(axis_label, fontsize=9)
+    from matplotlib.patches import Patch
+
+    statuses = list(dict.fromkeys(r["status"] for r in rows))
+    handles = [Patch(facecolor=C_STATUS.get(st, "#7f7f7f"), alpha=0.45 if st in ("infeasible", "failed") else 0.85,
+                     hatch="xx" if st in ("infeasible", "failed") else None, label=st) for st in statuses]
+    handles.append(Patch(facecolor="white", edgecolor="black", linewidth=2.2, label="chosen design"))
+    if kind == "error":
+        from matplotlib.lines import Line2D
+
+        handles.append(Line2D([], [], color="black", linestyle="--", linewidth=1.2,
+                              label="e = 1: targets met to the left"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
+    ax.grid(True, axis="x", which="major", color=C_GRID, linewidth=0.6, zorder=0)
+    if len(rows) > 1:
+        ax.set_title(f"Candidates, best first: {s.name} ({len(rows)} material × section)\n"
+                     "objectives within 0.1 % tie: lower deflection, then lower mass first (in brackets)",
+                     fontsize=10.5)
+    else:
+        ax.set_title(f"The evaluated design: {s.name} (no search, no other candidates)", fontsize=10.5)
+    return fig
+
+
+def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
+    raw = design.get("candidates") or []
+    if not isinstance(raw, Sequence) or isinstance(raw, str):
+        raise DesignFileError(f"candidates: {raw!r} must be a list of objects")
+    chosen_labels = {s.section, f"{s.section}+{s.feature}"}
+    rows = []
+    for i, c in enumerate(raw):
+        if not isinstance(c, Mapping):
+            raise DesignFileError(f"candidates[{i}]: {c!r} must be an object")
+        objective = c.get("objective")
+        if objective is not None and not is_number(objective):
+            raise DesignFileError(f"candidates[{i}].objective: {objective!r} must be a number or null")
+        rows.append({"material": str(c.get("material", "?")), "section": str(c.get("section", "?")),
+                     "status": str(c.get("status", "")), "objective": objective,
+                     "deflection": optional_number(c.get("deflection")),
+                     "mass": optional_number(c.get("mass")),
+                     "worst_violation": optional_number(c.get("worst_violation")),
+                     "chosen": str(c.get("material")) == s.material and str(c.get("section")) in chosen_labels})
+    if not any(r["chosen"] for r in rows):
+        rows.append({"material": s.material, "section": s.section, "status": s.status or "feasible",
+                     "objective": s.objective, "deflection": s.deflection,
+                     "mass": optional_number((design.get("predicted") or {}).get("mass")),
+                     "worst_violation": None, "chosen": True})
+    chosen = [r for r in rows if r["chosen"]]
+    for r in chosen[1:]:  # the same material and family twice: only the first is the design
+        r["chosen"] = False
+    return rank_candidates(rows)
+
+
+def rank_candidates(rows: Sequence[Mapping]) -> list:
+    """Order candidates as MODEL.md section 5 ranks designs: the ones that meet every limit by
+    objective, where objectives within 0.1 % tie and the lower deflection, then the lower mass,
+    goes first; then the infeasible ones, least violating first; then those without a design."""
+    def number(row, key):
+        value = row.get(key)
+        return math.inf if value is None else float(value)
+
+    good = [r for r in rows if r.get("objective") is not None and r.get("status") not in ("infeasible", "failed")]
+    bad = [r for r in rows if r.get("objective") is not None and r.get("status") in ("infeasible", "failed")]
+    none = [r for r in rows if r.get("objective") is None]
+    rest = sorted(good, key=lambda r: r["objective"])
+    ranked = []
+    while rest:
+        lead = rest[0]["objective"]
+        tied = [r for r in rest if model.ties(r["objective"], lead)]  # the model's tie rule
+        pick = min(tied, key=lambda r: (number(r, "deflection"), number(r, "mass"), r["objective"]))
+        ranked.append(pick)
+        rest.remove(pick)
+    ranked += sorted(bad, key=lambda r: (number(r, "worst_violation"), r["objective"]))
+    return ranked + none
+
+
+def _candidate_label(row: dict) -> str:
+    return f"{row['material']} · {row['section']}"
