@@ -1,0 +1,242 @@
+"""The parametric 3-D study behind the beam model's feature corrections (docs/model.md §7).
+
+Each case is a beam of one section x feature family with two gauge stations: the first as
+close to the clamp as the clamp clearance allows, the second far enough from the clamp and from
+the first that neither disturbs it. ``fpdesign verify``'s own 3-D check (``checks.fea``) is run
+on it, and the case yields, in dimensionless form:
+
+- ``strain_far``: the 3-D gauge strain over the beam model's at the far station (the feature's
+  gauge-strain factor), and ``strain_near``, the same at the station near the clamp (its ratio
+  to ``strain_far`` is the clamp's effect);
+- ``extra_length``: the length by which each feature's reduced section must be extended, as a
+  fraction of the section size, for Euler-Bernoulli theory with EI(s) piecewise to give the 3-D
+  free-end deflection (the extra compliance of the feature);
+- ``stress_ratio``: the 3-D peak stress in the feature zones over the beam model's nominal
+  stress at the feature's clamp-side edge (K_t, once the CAD gives the ends a tool radius);
+- the mesh-convergence figures of the check, so that a fit can weight or drop poor points.
+
+``python -m designer.checks.study -o FILE.csv [--mesh normal] [--family F ...]`` regenerates the
+table; ``cases()`` lists the grid. The fitted factors live beside the catalogue in ``materials/``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import sys
+import time
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+MATERIAL = "6061-T6"
+GAUGE = "BF350-3AA"
+POCKET_LENGTH = 8.9e-3   # the gauge's 6.9 mm backing + 2 x 1 mm pocket margin (spec defaults)
+POCKET_WIDTH = 5.5e-3
+CLAMP_CLEARANCE = 5e-3
+# The far station sits this many section sizes beyond the near station's feature, and the
+# load this many beyond the far station's: both outside the reach of end effects.
+FAR_GAP = 4.0
+LOAD_GAP = 4.0
+FORCE = 10.0             # N; linear elasticity: every ratio is independent of it
+
+
+@dataclass(frozen=True)
+class Case:
+    """One beam of the study. Lengths in m; ``size`` is the section's size in the load direction."""
+
+    family: str              # rectangle-pocket | rectangle-hole | round-pocket | tube-pocket | rectangle-none ...
+    width: float = 0.0       # rectangle b
+    height: float = 0.0      # rectangle h
+    diameter: float = 0.0    # round, tube D
+    wall: float = 0.0        # tube t
+    depth: float = 0.0       # pocket depth p
+    hole: float = 0.0        # hole diameter
+
+    @property
+    def section(self) -> str:
+        return self.family.split("-")[0]
+
+    @property
+    def feature(self) -> str:
+        return self.family.split("-")[1]
+
+    @property
+    def size(self) -> float:
+        return self.height if self.section == "rectangle" else self.diameter
+
+    @property
+    def feature_length(self) -> float:
+        from designer import model
+
+        return model.feature_length(self.feature, POCKET_LENGTH, self.hole, 6.9e-3)
+
+    def stations(self) -> tuple[float, float]:
+        near = CLAMP_CLEARANCE + self.feature_length / 2
+        return near, near + self.feature_length + FAR_GAP * max(self.size, self.width)
+
+    def spec_text(self) -> str:
+        """A spec with this case as its fixed ``design:`` block."""
+        near, far = self.stations()
+        x = far + self.feature_length / 2 + LOAD_GAP * max(self.size, self.width)
+        mm = lambda v: f"{v * 1e3:.6g} mm"  # noqa: E731 - a local formatter
+        section = {"rectangle": f"{{kind: rectangle, width: {mm(self.width)}, height: {mm(self.height)}}}",
+                   "round": f"{{kind: round, diameter: {mm(self.diameter)}}}",
+                   "tube": f"{{kind: tube, diameter: {mm(self.diameter)}, wall: {mm(self.wall)}}}"}[self.section]
+        feature = {"pocket": f"{{kind: pocket, depth: {mm(self.depth)}}}",
+                   "hole": f"{{kind: hole, diameter: {mm(self.hole)}}}",
+                   "none": "{kind: none}"}[self.feature]
+        return (f"name: study-{self.family}\n"
+                f"load: {{force: [{FORCE / 10:g} N, {FORCE:g} N], position: [{mm(x - 1e-3)}, {mm(x)}]}}\n"
+                "electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}\n"
+                f"gauge: {GAUGE}\nbridge: half\n"
+                "limits: {max_pocket_fraction: 0.49, min_wall: 0.3 mm, load_clearance: 0 mm}\n"
+                f"design:\n  material: {MATERIAL}\n  section: {section}\n  stations: [{mm(near)}, {mm(far)}]\n"
+                f"  feature: {feature}\n")
+
+    def parameters(self) -> dict:
+        """The dimensionless parameters the corrections are fitted over."""
+        s = self.size
+        out = {"length_ratio": self.feature_length / s, "width_ratio": (self.width or self.diameter) / s}
+        if self.feature == "pocket":
+            out["depth_ratio"] = self.depth / (self.wall if self.section == "tube" else s)
+        if self.feature == "hole":
+            out["hole_ratio"] = self.hole / s
+        if self.section == "tube":
+            out["wall_ratio"] = self.wall / s
+        near, _ = self.stations()
+        out["clamp_ratio"] = (near - self.feature_length / 2) / s
+        return out
+
+
+def cases(families=None) -> list[Case]:
+    """The study's grid, family by family."""
+    mm = 1e-3
+    out = []
+    for h in (6 * mm, 10 * mm, 16 * mm):
+        for b_ratio in (1.0, 2.0):
+            b = max(b_ratio * h, POCKET_WIDTH + 2 * 0.6 * mm)
+            for p in (0.1, 0.2, 0.3, 0.4):
+                out.append(Case("rectangle-pocket", width=b, height=h, depth=p * h))
+    for h in (8 * mm, 12.7 * mm, 20 * mm):
+        for d in (0.3, 0.5, 0.7, 0.8):
+            out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
+    for D in (8 * mm, 12 * mm, 20 * mm):
+        for p in (0.1, 0.2, 0.3, 0.4):
+            chord_ok = 2 * math.sqrt((D / 2) ** 2 - (D / 2 - p * D) ** 2) >= POCKET_WIDTH
+            if chord_ok:
+                out.append(Case("round-pocket", diameter=D, depth=p * D))
+    for D in (10 * mm, 16 * mm):
+        for t in (0.2, 0.35):
+            for p in (0.3, 0.6, 0.8):
+                depth = p * t * D
+                chord_ok = 2 * math.sqrt((D / 2) ** 2 - (D / 2 - depth) ** 2) >= POCKET_WIDTH
+                if chord_ok:
+                    out.append(Case("tube-pocket", diameter=D, wall=t * D, depth=depth))
+    for h in (3 * mm, 6 * mm, 12 * mm):
+        for b_ratio in (1.0, 4.0, 16.0):
+            out.append(Case("rectangle-none", width=b_ratio * h, height=h))
+    return [c for c in out if families is None or c.family in families]
+
+
+@dataclass(frozen=True)
+class Row:
+    """One case's 3-D figures, dimensionless (see the module docstring)."""
+
+    family: str
+    parameters: dict
+    strain_near: float
+    strain_far: float
+    deflection_ratio: float
+    extra_length: float
+    stress_ratio: float
+    strain_mesh_change: float
+    stress_mesh_change: float
+    seconds: float
+
+
+def run_case(case: Case, mesh: str = "normal") -> Row:
+    """The 3-D check of one case and its dimensionless figures."""
+    from designer.checks.fea import verify_design
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    spec = parse_spec_text(case.spec_text(), source=case.family)
+    result = evaluate_fixed(spec)
+    t0 = time.perf_counter()
+    v = verify_design(result.record, mesh=mesh)
+    near, far = v.gauges[0].ratio, v.gauges[1].ratio
+    return Row(case.family, case.parameters(), near, far, v.deflection_fea / v.deflection_model,
+               extra_length(result.evaluation, spec, v.deflection_fea) / case.size,
+               v.stress_feature_fea / float(result.evaluation.analysis.stress_feature),
+               max(g.mesh_change for g in v.gauges), v.stress_change, time.perf_counter() - t0)
+
+
+def extra_length(evaluation, spec, deflection: float) -> float:
+    """The extension Δ of each reduced-section span (Δ/2 at each end) for which beam theory with
+    EI(s) piecewise gives ``deflection`` under F_max at x_max; negative if the beam is stiffer."""
+    from scipy.optimize import brentq
+
+    from designer import model
+
+    g = evaluation.design.geometry
+    sp = evaluation.analysis.props
+    E = float(evaluation.design.material.E)
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+
+    def tip(delta):
+        widened = _Widened(g, delta)
+        return float(model.tip_deflection(widened, sp, E, f_max, x_max)) - deflection
+
+    span = g.stations[1] - g.stations[0] - g.feature_length
+    lo, hi = -g.feature_length * 0.99, span * 0.99
+    if tip(lo) * tip(hi) > 0:
+        return math.nan
+    return brentq(tip, lo, hi, xtol=1e-9)
+
+
+class _Widened:
+    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end)."""
+
+    def __init__(self, g, delta: float):
+        self._g, self._delta = g, delta
+
+    def __getattr__(self, name):
+        return getattr(self._g, name)
+
+    @property
+    def reduced_spans(self):
+        return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
+
+
+def write_csv(rows: list[Row], path: Path) -> None:
+    keys = sorted({k for r in rows for k in r.parameters})
+    names = [f.name for f in fields(Row) if f.name != "parameters"]
+    with open(path, "w", newline="", encoding="utf-8") as fh:
+        w = csv.writer(fh)
+        w.writerow(names[:1] + keys + names[1:])
+        for r in rows:
+            values = [getattr(r, n) for n in names]
+            w.writerow(values[:1] + [f"{r.parameters[k]:.6g}" if k in r.parameters else "" for k in keys]
+                       + [f"{v:.6g}" if isinstance(v, float) else v for v in values[1:]])
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description="Regenerate the 3-D study table of the feature corrections.")
+    p.add_argument("-o", "--output", type=Path, required=True, help="CSV to write")
+    p.add_argument("--mesh", default="normal", choices=("coarse", "normal", "fine"))
+    p.add_argument("--family", action="append", help="only these families (repeatable)")
+    args = p.parse_args(argv)
+    rows = []
+    for case in cases(args.family):
+        row = run_case(case, args.mesh)
+        rows.append(row)
+        print(f"{case.family} {case.parameters()}: near {row.strain_near:.4f} far {row.strain_far:.4f} "
+              f"deflection {row.deflection_ratio:.4f} extra {row.extra_length:.4f} stress {row.stress_ratio:.3f} "
+              f"({row.seconds:.1f} s)", flush=True)
+        write_csv(rows, args.output)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
