@@ -235,10 +235,10 @@ def large_deflection(design: dict, forces: int = GRID_FORCES, positions: int = G
     from designer import model
     from designer.calibration.regression import regress
     from designer.model.estimator import estimate
-    from designer.result.designfile import rebuild, validate
+    from designer.result.designfile import parse_design
 
-    validate(design)
-    spec, d = rebuild(design)
+    record = parse_design(design)
+    spec, d = record.spec, record.design
     g = d.geometry
     E = float(d.material.E)
     props = model.section_properties(g)

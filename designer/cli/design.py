@@ -168,11 +168,12 @@ def _design_record(path: str) -> dict:
     from designer.result.record import build_record
 
     if path.endswith(".json"):
-        from designer.result.designfile import load_design, rebuild
+        from designer.result.designfile import read_design
 
         # Judge the design afresh from what the file describes: its "predicted" block may be
         # stale, edited or absent (docs/spec.md does not list every key simulate needs).
-        spec, design = rebuild(load_design(path))
+        record = read_design(path)
+        spec, design = record.spec, record.design
         ev = evaluate(design, spec)
     else:
         from designer.spec.reader import load_spec

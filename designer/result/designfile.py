@@ -1,13 +1,17 @@
-"""Reading design.json back: validation with clear messages, and rebuilding the design.
+"""Reading design.json back: the one reader and validator of the record, with clear messages.
 
-``load_design(path)`` returns the validated dictionary (SI); ``rebuild(record)`` returns the
-``Spec`` and ``Design`` it describes, so that a design can be re-checked from the file alone.
+``read_design(path)`` (or ``parse_design(record)`` for a record in memory) returns a
+``DesignRecord``: the validated dictionary (SI) with the ``Spec`` and ``Design`` it describes,
+so that every consumer (CAD, plots, calibration, the 3-D check, the elastica, simulate) judges a
+design from the file alone without checking it again. ``load_design`` returns the validated
+dictionary only; ``validate`` and ``rebuild`` are the two halves.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 from designer import model
@@ -31,6 +35,38 @@ def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
         return json.loads(text)
     except json.JSONDecodeError as exc:
         raise error(f"{where}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
+
+
+@dataclass(frozen=True)
+class DesignRecord:
+    """A design.json record, read and checked once (docs/spec.md §4)."""
+
+    data: dict          # the record as read (SI)
+    spec: object        # spec.reader.Spec
+    design: object      # result.evaluation.Design
+    source: str = "design.json"
+
+    @property
+    def status(self) -> str:
+        return self.data.get("status", "")
+
+    @property
+    def predicted(self) -> dict:
+        return self.data.get("predicted") or {}
+
+
+def parse_design(record, source: str = "design.json") -> DesignRecord:
+    """Validate a record in memory and rebuild what it describes (a DesignRecord passes through)."""
+    if isinstance(record, DesignRecord):
+        return record
+    validate(record, source=source)
+    spec, design = rebuild(record)
+    return DesignRecord(record, spec, design, source)
+
+
+def read_design(path: str | Path) -> DesignRecord:
+    """design.json at ``path``, read, validated and rebuilt."""
+    return parse_design(read_json(path), source=str(path))
 
 
 def load_design(path: str | Path) -> dict:

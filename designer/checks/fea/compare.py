@@ -79,14 +79,14 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     """
     from designer import model
     from designer.outputs import cad
-    from designer.result.designfile import rebuild, validate
+    from designer.result.designfile import parse_design
     from designer.result.evaluation import evaluate
 
     if mesh not in MESH_LEVELS:
         raise InputError(f"mesh: {mesh!r} is not allowed; must be {describe_allowed(MESH_LEVELS)}")
     start = time.perf_counter()
-    validate(design)
-    spec, model_design = rebuild(design)
+    record = parse_design(design)
+    spec, model_design = record.spec, record.design
     ev = evaluate(model_design, spec)
     beam = cad.resolve(design)
     pb = build_problem(design, beam, ev.analysis, spec, model_design.material, model_design.geometry)
