@@ -52,6 +52,7 @@ class Case:
     wall: float = 0.0        # tube t
     depth: float = 0.0       # pocket depth p
     hole: float = 0.0        # hole diameter
+    clamp_clearance: float = CLAMP_CLEARANCE  # from the clamp face to the near station's feature
 
     @property
     def section(self) -> str:
@@ -72,7 +73,7 @@ class Case:
         return model.feature_length(self.feature, POCKET_LENGTH, self.hole, 6.9e-3)
 
     def stations(self) -> tuple[float, float]:
-        near = CLAMP_CLEARANCE + self.feature_length / 2
+        near = self.clamp_clearance + self.feature_length / 2
         return near, near + self.feature_length + FAR_GAP * max(self.size, self.width)
 
     def spec_text(self) -> str:
@@ -90,32 +91,21 @@ class Case:
                 f"load: {{force: [{FORCE / 10:g} N, {FORCE:g} N], position: [{mm(x - 1e-3)}, {mm(x)}]}}\n"
                 "electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}\n"
                 f"gauge: {GAUGE}\nbridge: half\n"
-                "limits: {max_pocket_fraction: 0.49, min_wall: 0.3 mm, load_clearance: 0 mm}\n"
+                f"limits: {{max_pocket_fraction: 0.49, min_wall: 0.3 mm, load_clearance: 0 mm, "
+                f"clamp_clearance: {mm(min(self.clamp_clearance, CLAMP_CLEARANCE))}}}\n"
                 f"design:\n  material: {MATERIAL}\n  section: {section}\n  stations: [{mm(near)}, {mm(far)}]\n"
                 f"  feature: {feature}\n")
-
-    def parameters(self) -> dict:
-        """The dimensionless parameters the corrections are fitted over."""
-        s = self.size
-        out = {"length_ratio": self.feature_length / s, "width_ratio": (self.width or self.diameter) / s}
-        if self.feature == "pocket":
-            out["depth_ratio"] = self.depth / (self.wall if self.section == "tube" else s)
-        if self.feature == "hole":
-            out["hole_ratio"] = self.hole / s
-        if self.section == "tube":
-            out["wall_ratio"] = self.wall / s
-        near, _ = self.stations()
-        out["clamp_ratio"] = (near - self.feature_length / 2) / s
-        return out
 
 
 def cases(families=None) -> list[Case]:
     """The study's grid, family by family."""
     mm = 1e-3
     out = []
-    for h in (6 * mm, 10 * mm, 16 * mm):
-        for b_ratio in (1.0, 2.0):
-            b = max(b_ratio * h, POCKET_WIDTH + 2 * 0.6 * mm)
+    for h in (6 * mm, 12 * mm, 24 * mm):
+        for b_ratio in (0.35, 0.7, 1.4):
+            b = b_ratio * h
+            if b < POCKET_WIDTH + 2 * 0.6 * mm:
+                continue
             for p in (0.1, 0.2, 0.3, 0.4):
                 out.append(Case("rectangle-pocket", width=b, height=h, depth=p * h))
     for h in (8 * mm, 12.7 * mm, 20 * mm):
@@ -133,9 +123,10 @@ def cases(families=None) -> list[Case]:
                 chord_ok = 2 * math.sqrt((D / 2) ** 2 - (D / 2 - depth) ** 2) >= POCKET_WIDTH
                 if chord_ok:
                     out.append(Case("tube-pocket", diameter=D, wall=t * D, depth=depth))
-    for h in (3 * mm, 6 * mm, 12 * mm):
+    for h in (3 * mm, 6 * mm):
         for b_ratio in (1.0, 4.0, 16.0):
-            out.append(Case("rectangle-none", width=b_ratio * h, height=h))
+            for clearance in (2 * mm, 6 * mm, 15 * mm):
+                out.append(Case("rectangle-none", width=b_ratio * h, height=h, clamp_clearance=clearance))
     return [c for c in out if families is None or c.family in families]
 
 
@@ -157,7 +148,9 @@ class Row:
 
 def run_case(case: Case, mesh: str = "normal") -> Row:
     """The 3-D check of one case and its dimensionless figures."""
+    from designer import model
     from designer.checks.fea import verify_design
+    from designer.model import corrections
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
@@ -165,27 +158,33 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
     result = evaluate_fixed(spec)
     t0 = time.perf_counter()
     v = verify_design(result.record, mesh=mesh)
-    near, far = v.gauges[0].ratio, v.gauges[1].ratio
-    return Row(case.family, case.parameters(), near, far, v.deflection_fea / v.deflection_model,
-               extra_length(result.evaluation, spec, v.deflection_fea) / case.size,
-               v.stress_feature_fea / float(result.evaluation.analysis.stress_feature),
-               max(g.mesh_change for g in v.gauges), v.stress_change, time.perf_counter() - t0)
+    # the ratios are to the plain beam model, whatever corrections the shipped table makes
+    design = result.evaluation.design
+    raw = model.analyse(design.geometry, design.material_params(spec), spec, table=corrections.Corrections({}))
+    near, far = (gc.fea_strain / float(s) for gc, s in zip(v.gauges, raw.gauge_strain))
+    g = design.geometry
+    params = {k: float(val) for k, val in corrections.parameters(g).items()}
+    params["clamp_ratio"] = float(corrections.clamp_ratios(g)[0])
+    return Row(case.family, params, near, far, v.deflection_fea / float(raw.deflection),
+               extra_length(g, raw, design.material, spec, v.deflection_fea) / case.size,
+               v.stress_feature_fea / float(raw.stress_feature),
+               max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0)
 
 
-def extra_length(evaluation, spec, deflection: float) -> float:
+def extra_length(g, analysis, material, spec, deflection: float) -> float:
     """The extension Δ of each reduced-section span (Δ/2 at each end) for which beam theory with
     EI(s) piecewise gives ``deflection`` under F_max at x_max; negative if the beam is stiffer."""
     from scipy.optimize import brentq
 
     from designer import model
+    from designer.model import corrections
 
-    g = evaluation.design.geometry
-    sp = evaluation.analysis.props
-    E = float(evaluation.design.material.E)
+    sp = analysis.props
+    E = float(material.E)
     f_max, x_max = spec.load.force_max, spec.load.position_max
 
     def tip(delta):
-        widened = _Widened(g, delta)
+        widened = corrections.Widened(g, delta)
         return float(model.tip_deflection(widened, sp, E, f_max, x_max)) - deflection
 
     span = g.stations[1] - g.stations[0] - g.feature_length
@@ -193,20 +192,6 @@ def extra_length(evaluation, spec, deflection: float) -> float:
     if tip(lo) * tip(hi) > 0:
         return math.nan
     return brentq(tip, lo, hi, xtol=1e-9)
-
-
-class _Widened:
-    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end)."""
-
-    def __init__(self, g, delta: float):
-        self._g, self._delta = g, delta
-
-    def __getattr__(self, name):
-        return getattr(self._g, name)
-
-    @property
-    def reduced_spans(self):
-        return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
 
 
 def write_csv(rows: list[Row], path: Path) -> None:
@@ -221,6 +206,39 @@ def write_csv(rows: list[Row], path: Path) -> None:
                        + [f"{v:.6g}" if isinstance(v, float) else v for v in values[1:]])
 
 
+def read_csv(path: Path) -> list[dict]:
+    """The study table as dictionaries of floats (the family as text)."""
+    with open(path, newline="", encoding="utf-8") as fh:
+        return [{k: (v if k == "family" else float(v)) for k, v in row.items() if v != ""} for row in csv.DictReader(fh)]
+
+
+def monomials(n: int, degree: int) -> list[tuple]:
+    """Exponent tuples of every monomial of ``n`` variables up to total ``degree``, constant first."""
+    out = [()]
+    for _ in range(n):
+        out = [e + (k,) for e in out for k in range(degree + 1)]
+    return sorted((e for e in out if sum(e) <= degree), key=lambda e: (sum(e), [-k for k in e]))
+
+
+def fit_polynomial(rows: list[dict], variables: tuple, target, degree: int = 2):
+    """Least-squares polynomial of ``target(row)`` over ``variables``, with its RMS residual and
+    largest leave-one-out residual (from the hat matrix: r_i / (1 - h_ii))."""
+    import numpy as np
+
+    from designer.model.corrections import Fit
+
+    exps = monomials(len(variables), degree)
+    X = np.array([[np.prod([r[v] ** e for v, e in zip(variables, ex)]) for ex in exps] for r in rows])
+    y = np.array([target(r) for r in rows])
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    resid = y - X @ coef
+    hat = np.einsum("ij,ji->i", X, np.linalg.pinv(X))
+    loo = resid / np.clip(1 - hat, 1e-9, None)
+    domain = {v: (min(r[v] for r in rows), max(r[v] for r in rows)) for v in variables}
+    return Fit(tuple(variables), tuple(exps), tuple(float(c) for c in coef), domain,
+               float(np.sqrt(np.mean(resid ** 2))), float(np.max(np.abs(loo))))
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description="Regenerate the 3-D study table of the feature corrections.")
     p.add_argument("-o", "--output", type=Path, required=True, help="CSV to write")
@@ -231,7 +249,7 @@ def main(argv=None) -> int:
     for case in cases(args.family):
         row = run_case(case, args.mesh)
         rows.append(row)
-        print(f"{case.family} {case.parameters()}: near {row.strain_near:.4f} far {row.strain_far:.4f} "
+        print(f"{case.family} {row.parameters}: near {row.strain_near:.4f} far {row.strain_far:.4f} "
               f"deflection {row.deflection_ratio:.4f} extra {row.extra_length:.4f} stress {row.stress_ratio:.3f} "
               f"({row.seconds:.1f} s)", flush=True)
         write_csv(rows, args.output)

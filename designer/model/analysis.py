@@ -5,7 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from designer.model import corrections
 from designer.model.beam import natural_frequency, tip_deflection
+from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
 from designer.model.estimator import sigmas
 from designer.model.ops import NUMERIC, Ops
@@ -45,7 +47,8 @@ class Analysis:
     """Every predicted quantity of docs/model.md §3-4 for one design (SI)."""
 
     props: SectionProperties
-    sensitivity: Any          # k, V/(N m), the same at every station
+    sensitivity: Any          # k of the beam model at a reduced section, V/(N m), before the corrections
+    sensitivities: tuple      # k_i per station with the feature and clamp corrections (what is reported)
     sigma_v: float            # V
     force_error: Any          # sigma_F / F_min
     position_error: Any       # sigma_x(F_min, x_max), m
@@ -63,27 +66,33 @@ class Analysis:
         return max(self.stress_root, self.stress_feature)
 
 
-def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC) -> Analysis:
-    """The forward model for geometry ``g`` of material ``m`` under ``spec`` (a Spec)."""
+def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Corrections | None = None) -> Analysis:
+    """The forward model for geometry ``g`` of material ``m`` under ``spec`` (a Spec), with the
+    feature corrections of ``table`` (the shipped one by default; ``Corrections({})``: none)."""
     load, e = spec.load, spec.electronics
     sp = section_properties(g, ops)
     gain = volts_per_strain(e.excitation, spec.gauge.factor, e.gain, spec.bridge_factor)
     k = 4 * gain * sp.y_g / (4 * m.E * sp.I_s)
+    factors = corrections.strain_factors(g, corrections.load() if table is None else table)
+    ks = [k * c for c in factors] if factors else [k] * len(g.stations)
     sigma_v = spec.sigma_v
     d = list(g.stations)
     f_min, f_max, x_min, x_max = load.force_min, load.force_max, load.position_min, load.position_max
-    sigma_f, position_error = sigmas([k] * len(d), d, sigma_v, f_min, x_max, ops)
+    sigma_f, position_error = sigmas(ks, d, sigma_v, f_min, x_max, ops)
     force_error = sigma_f / f_min
 
     l_f = g.feature_length
     stress_root = f_max * x_max * sp.y_root / sp.I
     stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
     strains = tuple(f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d)
-    snr = k * f_min * (x_min - d[-1]) / sigma_v
+    if factors:
+        strains = tuple(s * c for s, c in zip(strains, factors))
+    snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
-    deflection = tip_deflection(g, sp, m.E, f_max, x_max)
+    widened = corrections.widened(g, corrections.load() if table is None else table)
+    deflection = tip_deflection(widened, sp, m.E, f_max, x_max)
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
     noise_strain = sigma_v / gain
-    return Analysis(sp, k, sigma_v, force_error, position_error, stress_root, stress_feature, strains,
+    return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, strains,
                     snr, deflection, frequency, mass, noise_strain)

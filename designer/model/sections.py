@@ -32,6 +32,7 @@ class Geometry:
     pocket_length: float = 0.0     # l_p
     pocket_width: float = 0.0      # w_p
     gauge_length: float = 0.0
+    grid_length: float = 0.0       # the gauge's active grid along the beam
     axes: int = 1
 
     @property

@@ -106,7 +106,7 @@ class Evaluation:
             "stress_allowable": float(self.limits[0].limit),
             "gauge_strain": [float(s) for s in a.gauge_strain],
             "min_signal_snr": float(a.min_signal_snr),
-            "sensitivity": [float(a.sensitivity)] * len(self.design.geometry.stations),
+            "sensitivity": [float(k) for k in a.sensitivities],
             "noise_voltage": float(a.sigma_v), "noise_strain": float(a.noise_strain),
             "mass": float(a.mass), "natural_frequency": float(a.natural_frequency),
             "mean_abs_force_error": float(a.force_error) * (2 / 3.141592653589793) ** 0.5,
@@ -145,7 +145,7 @@ def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometr
         hole=feature.diameter if feature.kind == "hole" else 0.0,
         pocket_length=feature.length if feature.kind == "pocket" else lp,
         pocket_width=feature.width if feature.kind == "pocket" else wp,
-        gauge_length=spec.gauge.length, axes=axes or spec.axes)
+        gauge_length=spec.gauge.length, grid_length=spec.gauge.grid_length, axes=axes or spec.axes)
 
 
 def fixed_design(spec) -> Design:

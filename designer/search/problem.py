@@ -109,7 +109,8 @@ class FamilyVariables:
         return Geometry(section=fam.section, feature=fam.feature, stations=stations, length=spec.free_length,
                         width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
                         wall=named.get("wall"), depth=named.get("depth", 0.0), hole=named.get("hole", 0.0),
-                        pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length, axes=spec.axes)
+                        pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length,
+                        grid_length=spec.gauge.grid_length, axes=spec.axes)
 
     def design(self, x, material) -> Design:
         return Design(material, self.geometry([float(v) * MM for v in x[: len(self.names)]]))

@@ -66,7 +66,8 @@ GAUGE_FIELDS = {
 }
 
 
-def _data_dir() -> Path:
+def data_folder() -> Path:
+    """The folder of the catalogue files (package data of ``designer.materials``)."""
     try:
         return Path(str(resources.files("designer.materials")))
     except ModuleNotFoundError:  # running from a source checkout that is not installed
@@ -74,7 +75,7 @@ def _data_dir() -> Path:
 
 
 def _read(name: str) -> list[dict]:
-    path = _data_dir() / name
+    path = data_folder() / name
     try:
         entries = yaml.safe_load(path.read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError) as exc:

@@ -126,7 +126,7 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
     """Every limit of the beam model again, with the 3-D figures where the check gives them."""
     from designer.model.estimator import sigmas
 
-    k = [float(a.sensitivity) * g.ratio for g in gauges]
+    k = [float(ki) * g.ratio for ki, g in zip(a.sensitivities, gauges)]
     d = [g.station for g in gauges]
     load = spec.load
     sigma_f, sigma_x = sigmas(k, d, float(a.sigma_v), load.force_min, load.position_max)

@@ -1,0 +1,160 @@
+"""Feature corrections of the beam model, fitted to the project's own 3-D study (docs/model.md §7).
+
+Euler-Bernoulli theory with closed-form sections misjudges a feature's neighbourhood: the gauge
+strain over a pocket or a hole, the compliance of a reduced section (its influence spreads past
+its ends) and the strain near the clamp. Each is corrected by a factor of dimensionless geometry,
+fitted to ``fpdesign verify``'s 3-D elasticity over a parametric grid (``checks.study``) and
+shipped as ``materials/corrections.yaml``:
+
+- ``strain``: 3-D gauge strain over the beam model's, away from the clamp;
+- ``extra_length``: how much longer, in section sizes, each reduced span acts (``Δ/2`` at each
+  end), so that beam theory with EI(s) piecewise gives the 3-D free-end deflection;
+- ``clamp``: the strain of a station near the clamp over the same station far from it.
+
+A fit is a polynomial in its family's parameters, smooth so that IPOPT keeps exact
+derivatives, and valid over the box of the study (its ``domain``): designs are kept inside it
+by limits (``model.limits``). The parameters are computed here, once, for the study and for the
+model alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+from designer.model.sections import Geometry
+
+TABLE = "corrections.yaml"
+
+
+def family(g: Geometry) -> str:
+    """``section-feature``, e.g. ``rectangle-pocket``: the key of a geometry's fits."""
+    return f"{g.section}-{g.feature}"
+
+
+def parameters(g: Geometry) -> dict:
+    """The dimensionless parameters of a geometry's feature (numbers or casadi expressions)."""
+    size = g.size
+    out = {"length_ratio": g.feature_length / size,
+           "width_ratio": (g.width if g.section == "rectangle" else g.diameter) / size,
+           "grid_ratio": g.grid_length / size}
+    if g.feature == "pocket":
+        out["depth_ratio"] = g.depth / (g.wall if g.section == "tube" else size)
+    if g.feature == "hole":
+        out["hole_ratio"] = g.hole / size
+    if g.section == "tube":
+        out["wall_ratio"] = g.wall / size
+    return out
+
+
+def clamp_ratios(g: Geometry) -> tuple:
+    """Each station's distance from the clamp face to its feature's clamp-side end, in sizes."""
+    return tuple(a / g.size for a, _ in g.reduced_spans)
+
+
+@dataclass(frozen=True)
+class Fit:
+    """``sum_k c_k prod_j p_j^e_kj`` over ``variables``, valid inside ``domain``."""
+
+    variables: tuple
+    exponents: tuple        # one tuple of exponents per term
+    coefficients: tuple
+    domain: dict            # variable -> (low, high) of the study
+    rms: float = 0.0        # fit residual, and the largest leave-one-out residual
+    loo_max: float = 0.0
+
+    def __call__(self, values: dict):
+        total = 0.0
+        for exps, c in zip(self.exponents, self.coefficients):
+            term = c
+            for name, e in zip(self.variables, exps):
+                if e:
+                    term = term * values[name] ** e
+            total = total + term
+        return total
+
+
+@dataclass(frozen=True)
+class Corrections:
+    """Every family's fits; a family or quantity without a fit is not corrected (factor 1, no extra)."""
+
+    fits: dict              # family -> {quantity -> Fit}
+    source: str = ""
+
+    def fit(self, fam: str, quantity: str) -> Fit | None:
+        return self.fits.get(fam, {}).get(quantity)
+
+
+@lru_cache(maxsize=1)
+def load() -> Corrections:
+    """The shipped table, or no corrections when it is absent."""
+    from designer.spec.catalogue import data_folder
+
+    path = data_folder() / TABLE
+    if not path.exists():
+        return Corrections({})
+    return from_dict(_read_yaml(path))
+
+
+def _read_yaml(path):
+    import yaml
+
+    with open(path, encoding="utf-8") as fh:
+        return yaml.safe_load(fh)
+
+
+def from_dict(raw: dict) -> Corrections:
+    fits = {}
+    for fam, quantities in (raw.get("families") or {}).items():
+        fits[fam] = {q: Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
+                            tuple(float(c) for c in f["coefficients"]),
+                            {k: (float(v[0]), float(v[1])) for k, v in f["domain"].items()},
+                            float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
+                     for q, f in quantities.items()}
+    return Corrections(fits, raw.get("source", ""))
+
+
+def to_dict(c: Corrections) -> dict:
+    return {"source": c.source,
+            "families": {fam: {q: {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
+                                   "coefficients": list(f.coefficients),
+                                   "domain": {k: list(v) for k, v in f.domain.items()},
+                                   "rms": f.rms, "loo_max": f.loo_max}
+                               for q, f in quantities.items()}
+                         for fam, quantities in c.fits.items()}}
+
+
+def strain_factors(g: Geometry, table: Corrections) -> tuple:
+    """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at
+    the station's distance from the clamp; empty when the table corrects neither."""
+    fam = family(g)
+    strain, clamp = table.fit(fam, "strain"), table.fit(fam, "clamp") or table.fit("plain", "clamp")
+    if strain is None and clamp is None:
+        return ()
+    values = parameters(g)
+    base = strain(values) if strain is not None else 1.0
+    if clamp is None:
+        return tuple(base for _ in g.stations)
+    return tuple(base * clamp({**values, "clamp_ratio": r}) for r in clamp_ratios(g))
+
+
+def widened(g: Geometry, table: Corrections) -> Geometry:
+    """``g`` with each reduced span longer by the ``extra_length`` fit (half at each end)."""
+    fit = table.fit(family(g), "extra_length")
+    if fit is None:
+        return g
+    return Widened(g, fit(parameters(g)) * g.size)
+
+
+class Widened:
+    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end)."""
+
+    def __init__(self, g: Geometry, delta):
+        self._g, self._delta = g, delta
+
+    def __getattr__(self, name):
+        return getattr(self._g, name)
+
+    @property
+    def reduced_spans(self) -> tuple:
+        return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
