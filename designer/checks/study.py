@@ -239,12 +239,72 @@ def fit_polynomial(rows: list[dict], variables: tuple, target, degree: int = 2):
                float(np.sqrt(np.mean(resid ** 2))), float(np.max(np.abs(loo))))
 
 
+# What each family's fits depend on (the other parameters are fixed by the spec's pocket rule
+# or do not vary in the study), and the polynomial degree.
+FIT_VARIABLES = {
+    "rectangle-pocket": ("depth_ratio", "length_ratio", "width_ratio"),
+    "rectangle-hole": ("hole_ratio", "grid_ratio"),
+    "round-pocket": ("depth_ratio", "length_ratio"),
+    "tube-pocket": ("depth_ratio", "wall_ratio", "length_ratio"),
+}
+FIT_DEGREE = 2
+CLAMP_VARIABLES = ("clamp_decay", "width_ratio")
+
+
+def fit_table(rows: list[dict], source: str = ""):
+    """The corrections of every family from the study's rows: ``strain`` (far station) and
+    ``extra_length`` per feature family, and the ``clamp`` effect from the plain-surface rows."""
+    import math as _math
+
+    from designer.model.corrections import Corrections, Fit
+
+    fits = {}
+    for fam, variables in FIT_VARIABLES.items():
+        mine = [r for r in rows if r["family"] == fam]
+        if len(mine) < 2 * len(monomials(len(variables), FIT_DEGREE)):
+            continue
+        fits[fam] = {"strain": fit_polynomial(mine, variables, lambda r: r["strain_far"], FIT_DEGREE)}
+        with_extra = [r for r in mine if _math.isfinite(r.get("extra_length", _math.nan))]
+        fits[fam]["extra_length"] = fit_polynomial(with_extra, variables, lambda r: r["extra_length"], FIT_DEGREE)
+    plain = [{**r, "clamp_decay": 1 / (1 + r["clamp_ratio"])} for r in rows if r["family"] == "rectangle-none"]
+    if plain:
+        # near/far - 1 = u (c1 + c2 w + c3 u): the effect vanishes far from the clamp (u -> 0)
+        raw = fit_polynomial(plain, CLAMP_VARIABLES, lambda r: r["strain_near"] / r["strain_far"] - 1, 2)
+        keep = [i for i, e in enumerate(raw.exponents) if e[0] >= 1]
+        import numpy as np
+
+        exps = [raw.exponents[i] for i in keep]
+        X = np.array([[r["clamp_decay"] ** e[0] * r["width_ratio"] ** e[1] for e in exps] for r in plain])
+        y = np.array([r["strain_near"] / r["strain_far"] - 1 for r in plain])
+        coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+        resid = y - X @ coef
+        hat = np.einsum("ij,ji->i", X, np.linalg.pinv(X))
+        domain = {"clamp_decay": (-_math.inf, max(r["clamp_decay"] for r in plain)),
+                  "width_ratio": (min(r["width_ratio"] for r in plain), max(r["width_ratio"] for r in plain))}
+        fits["plain"] = {"clamp": Fit(CLAMP_VARIABLES, ((0, 0), *exps), (1.0, *map(float, coef)), domain,
+                                      float(np.sqrt(np.mean(resid ** 2))),
+                                      float(np.max(np.abs(resid / np.clip(1 - hat, 1e-9, None)))))}
+    return Corrections(fits, source)
+
+
 def main(argv=None) -> int:
-    p = argparse.ArgumentParser(description="Regenerate the 3-D study table of the feature corrections.")
-    p.add_argument("-o", "--output", type=Path, required=True, help="CSV to write")
+    p = argparse.ArgumentParser(description="Regenerate the 3-D study table of the feature corrections, or fit it.")
+    p.add_argument("-o", "--output", type=Path, required=True, help="CSV to write (with --fit: the YAML table)")
     p.add_argument("--mesh", default="normal", choices=("coarse", "normal", "fine"))
     p.add_argument("--family", action="append", help="only these families (repeatable)")
+    p.add_argument("--fit", type=Path, metavar="CSV", help="fit this study table instead of running the study")
     args = p.parse_args(argv)
+    if args.fit is not None:
+        import yaml
+
+        from designer.model.corrections import to_dict
+
+        table = fit_table(read_csv(args.fit), source=f"fpdesign 3-D study ({args.fit.name}), python -m designer.checks.study")
+        args.output.write_text(yaml.safe_dump(to_dict(table), sort_keys=False, width=110), encoding="utf-8")
+        for fam, quantities in table.fits.items():
+            for q, f in quantities.items():
+                print(f"{fam} {q}: rms {f.rms:.4f}, leave-one-out max {f.loo_max:.4f}, domain {f.domain}")
+        return 0
     rows = []
     for case in cases(args.family):
         row = run_case(case, args.mesh)

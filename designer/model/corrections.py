@@ -52,6 +52,11 @@ def clamp_ratios(g: Geometry) -> tuple:
     return tuple(a / g.size for a, _ in g.reduced_spans)
 
 
+def clamp_decay(ratio):
+    """``1 / (1 + clamp_ratio)``: the clamp fit's variable, 0 far from the clamp."""
+    return 1 / (1 + ratio)
+
+
 @dataclass(frozen=True)
 class Fit:
     """``sum_k c_k prod_j p_j^e_kj`` over ``variables``, valid inside ``domain``."""
@@ -135,7 +140,7 @@ def strain_factors(g: Geometry, table: Corrections) -> tuple:
     base = strain(values) if strain is not None else 1.0
     if clamp is None:
         return tuple(base for _ in g.stations)
-    return tuple(base * clamp({**values, "clamp_ratio": r}) for r in clamp_ratios(g))
+    return tuple(base * clamp({**values, "clamp_decay": clamp_decay(r)}) for r in clamp_ratios(g))
 
 
 def widened(g: Geometry, table: Corrections) -> Geometry:
@@ -158,3 +163,24 @@ class Widened:
     @property
     def reduced_spans(self) -> tuple:
         return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
+
+
+def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
+    """``(name, value, low, high)`` for every parameter a fit of ``g``'s family uses: the design must
+    stay inside the box the study covered (infinite bounds are open). Clamp ratios per station."""
+    fam = family(g)
+    values = parameters(g)
+    out = []
+    for quantity in ("strain", "extra_length"):
+        fit = table.fit(fam, quantity)
+        for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
+            if all(name != o[0] for o in out):
+                out.append((name, values[name], lo, hi))
+    clamp = table.fit(fam, "clamp") or table.fit("plain", "clamp")
+    if clamp is not None:
+        for name, (lo, hi) in clamp.domain.items():
+            if name == "clamp_decay":
+                out += [(f"clamp_decay_{i + 1}", clamp_decay(r), lo, hi) for i, r in enumerate(clamp_ratios(g))]
+            elif all(name != o[0] for o in out):
+                out.append((name, values[name], lo, hi))
+    return out

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,7 +52,7 @@ class Limit:
 
 
 def limits(g: Geometry, a, m, spec, include_targets: bool = True,
-           ops: Ops = NUMERIC) -> list[Limit]:
+           ops: Ops = NUMERIC, table=None) -> list[Limit]:
     """Every limit of docs/model.md §4 and the geometry rules of §1."""
     lim, load = spec.limits, spec.load
     mm = 1e-3  # scale for geometric rules whose limit may be zero
@@ -75,6 +76,22 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         out += [Limit("force_error", a.force_error, spec.targets.force_error),
                 Limit("position_error", a.position_error, spec.targets.position_error, unit="m")]
     out += section_limits(g, spec, ops)
+    out += domain_limits(g, table)
+    return out
+
+
+def domain_limits(g: Geometry, table=None) -> list[Limit]:
+    """The fitted domain of the feature corrections (docs/model.md §7) as limits on the
+    dimensionless geometry: ``domain_<parameter>_min`` and ``_max``."""
+    from designer.model import corrections
+
+    table = corrections.load() if table is None else table
+    out = []
+    for name, value, lo, hi in corrections.domain_bounds(g, table):
+        if math.isfinite(lo):
+            out.append(Limit(f"domain_{name}_min", value, lo, upper=False, scale=max(abs(lo), 0.1)))
+        if math.isfinite(hi):
+            out.append(Limit(f"domain_{name}_max", value, hi, scale=max(abs(hi), 0.1)))
     return out
 
 
