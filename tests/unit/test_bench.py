@@ -1,4 +1,6 @@
-"""fpdesign bench (issue 5): the generated suite, the verdicts, the files and the command."""
+"""fpdesign bench (issue 5) in the library: the generated suite, the verdicts, the gap, the
+speed-accuracy front and the files. Tests that run the search methods or the reference search
+are marked slow."""
 
 from __future__ import annotations
 
@@ -9,7 +11,6 @@ import pytest
 
 from designer.bench import core as bench
 from designer.search import optimize
-from designer.cli import main
 from designer.errors import InputError
 from designer.spec.reader import parse_spec_text
 
@@ -23,6 +24,7 @@ def tiny():
     return bench.run_bench(suite, TINY_METHODS, levels=4, seed=7)
 
 
+@pytest.mark.slow
 def test_suite_is_reproducible_from_its_seed_and_a_short_suite_starts_a_long_one():
     a = bench.generate_suite(len(bench.KINDS), seed=3)
     b = bench.generate_suite(len(bench.KINDS), seed=3)
@@ -32,6 +34,7 @@ def test_suite_is_reproducible_from_its_seed_and_a_short_suite_starts_a_long_one
     assert all(x.text != y.text for x, y in zip(a, other))
 
 
+@pytest.mark.slow
 def test_suite_holds_every_kind_and_each_spec_reads_back_through_the_spec_reader():
     suite = bench.generate_suite(len(bench.KINDS), seed=0)
     assert [s.kind for s in suite] == list(bench.KINDS)
@@ -57,6 +60,7 @@ def test_unknown_kind_is_bad_input():
         bench.generate_suite(1, kinds=["huge"])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 @pytest.mark.parametrize("kind", bench.INFEASIBLE_KINDS)
 def test_specs_built_infeasible_are_reported_infeasible(kind, seed):
@@ -71,6 +75,7 @@ def test_specs_built_infeasible_are_reported_infeasible(kind, seed):
     assert not truth.feasible and not truth.reference_feasible
 
 
+@pytest.mark.slow
 def test_nearly_infeasible_spec_is_feasible_with_little_to_spare():
     (item,) = bench.generate_suite(1, seed=0, kinds=["nearly-infeasible"])
     outcome = optimize.optimize(item.spec)
@@ -78,6 +83,7 @@ def test_nearly_infeasible_spec_is_feasible_with_little_to_spare():
     assert 0.9 < outcome.best.objective <= 1.0
 
 
+@pytest.mark.slow
 def test_tiny_bench_verdicts_and_failures(tiny):
     truths = tiny.truths
     assert len(tiny.runs) == 3 * len(TINY_METHODS)
@@ -96,6 +102,7 @@ def test_tiny_bench_verdicts_and_failures(tiny):
     assert ipopt["violating"] == 0 and ipopt["missed"] == 0 and ipopt["exception"] == 0
 
 
+@pytest.mark.slow
 def test_tiny_bench_writes_chart_tables_and_summary(tiny, tmp_path):
     paths = bench.write_bench(tiny, tmp_path / "out")
     names = {p.relative_to(tmp_path / "out").as_posix() for p in paths}
@@ -115,6 +122,7 @@ def test_tiny_bench_writes_chart_tables_and_summary(tiny, tmp_path):
     assert not list(out.parent.glob(".out.*"))  # no scratch folder left behind
 
 
+@pytest.mark.slow
 def test_chart_takes_an_axes_and_returns_its_figure(tiny):
     from matplotlib.figure import Figure
 
@@ -143,6 +151,7 @@ def test_pareto_front():
     assert bench.pareto_front(points) == {1, 2}
 
 
+@pytest.mark.slow
 def test_front_uses_the_tail_of_the_gap_and_time_is_paired_per_spec(tiny):
     rows = bench.method_summary(tiny)
     # recomputed by hand from the runs: the front of (median time, 90th-percentile gap)
@@ -168,37 +177,8 @@ def test_a_method_that_raises_is_recorded_not_raised(monkeypatch):
     assert bench.failures(run, truth)["exception"] == 1
 
 
-def test_bench_command_writes_its_files_and_prints_the_table(tmp_path, capsys):
-    specs = tmp_path / "specs"
-    specs.mkdir()
-    out = tmp_path / "out"
-    code = main(["bench", "--specs", str(specs), "--count", "2", "--methods", "ipopt,grid", "--levels", "3",
-                 "-o", str(out), "--quiet"])
-    text = capsys.readouterr().out
-    assert code == 0
-    assert (out / "bench.md").is_file() and (out / "bench.png").is_file()
-    assert "ipopt" in text and "grid" in text and "median" in text
-
-
 def test_bench_leaves_fixed_designs_out_of_the_examples(examples):
     suite, skipped = bench.example_suite(examples)
     assert {s.name for s in suite} >= {"gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"}
     assert "prototype-a.yaml" in skipped
     assert all(s.spec.design is None and s.kind == "example" for s in suite)
-
-
-@pytest.mark.parametrize("argv, message", [
-    (["--methods", "ipopt,newton"], "--methods: 'newton' is not a method"),
-    (["--count", "-1"], "--count: -1 must be 0 or more"),
-    (["--specs", "no-such-folder"], "--specs: no-such-folder is not a folder"),
-    (["--count", "0", "--specs", "EMPTY"], "nothing to run"),
-])
-def test_bench_bad_input_exits_2_with_a_message(argv, message, tmp_path, capsys):
-    empty = tmp_path / "empty"
-    empty.mkdir()
-    argv = [str(empty) if a == "EMPTY" else a for a in argv]
-    code = main(["bench", *argv, "-o", str(tmp_path / "out"), "--quiet"])
-    err = capsys.readouterr().err
-    assert code == 2
-    assert message in err and "Traceback" not in err
-    assert not (tmp_path / "out").exists()
