@@ -10,28 +10,16 @@ acceptance) is therefore 9 sampling sigmas above the noise and far below any rea
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 import pytest
 
-from designer.cli import main
-from designer.result.evaluation import evaluate, fixed_design
-from designer.checks.montecarlo import estimate_biaxial, grid, simulate
-from designer.spec.reader import load_spec
+from designer.checks.montecarlo import grid, simulate
+from shared_inputs import montecarlo_prototype as prototype
 
 DRAWS = 100_000
 SAMPLING = 1 / math.sqrt(2 * DRAWS)  # relative 1-sigma scatter of a sample standard deviation
-
-
-def prototype(examples, name):
-    spec = load_spec(examples / f"{name}.yaml")
-    ev = evaluate(fixed_design(spec).rounded(), spec)
-    g = ev.design.geometry
-    forces, positions = grid(spec.load.force_min, spec.load.force_max, spec.load.position_min,
-                             spec.load.position_max)
-    return spec, [float(ev.analysis.sensitivity)] * len(g.stations), list(g.stations), forces, positions
 
 
 @pytest.fixture(scope="module")
@@ -128,52 +116,6 @@ def test_biaxial_spreads_match_the_analytic_ones(examples, angle_deg):
     np.testing.assert_allclose(res.sigma_angle_mc, sigma_f / forces, rtol=0.03)
     np.testing.assert_allclose(res.sigma_position_mc, sigma_x, rtol=0.03)
     assert res.worst_ratio < 0.03
-
-
-def test_biaxial_estimate_recovers_magnitude_angle_and_position():
-    # Noise-free voltages on both axes: exact recovery (rel 1e-12, rounding).
-    k, d, c = np.array([0.5, 0.5]), np.array([0.02, 0.07]), np.array([0.001, -0.002])
-    F, theta, x = 7.0, math.radians(130.0), 0.15
-    vy = k * F * math.cos(theta) * (x - d) + c
-    vz = k * F * math.sin(theta) * (x - d) + c
-    mag, ang, pos = estimate_biaxial(vy, vz, k, d, c, c)
-    assert (float(mag), float(ang), float(pos)) == pytest.approx((F, theta, x), rel=1e-12)
-
-
-def test_the_same_seed_gives_the_same_answer(examples):
-    spec, k, d, forces, positions = prototype(examples, "prototype-b")
-    a = simulate(k, d, spec.sigma_v, forces[:3], positions[:3], draws=2000, seed=3)
-    b = simulate(k, d, spec.sigma_v, forces[:3], positions[:3], draws=2000, seed=3)
-    c = simulate(k, d, spec.sigma_v, forces[:3], positions[:3], draws=2000, seed=4)
-    np.testing.assert_array_equal(a.sigma_force_mc, b.sigma_force_mc)
-    assert not np.array_equal(a.sigma_force_mc, c.sigma_force_mc)
-
-
-def test_simulate_command_on_a_spec_and_on_design_json(examples, tmp_path, capsys):
-    # The command prints the grid table and the largest disagreement; with 20 000 draws the
-    # sampling scatter is 0.5 %, so every printed ratio lies within 0.95-1.05 (10 sigmas).
-    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "20000", "--grid", "3", "3"]) == 0
-    out = capsys.readouterr().out
-    assert "180,000 draws" in out and "largest |MC/model - 1|" in out
-    rows = [[cell.strip() for cell in line.split("│")[1:-1]] for line in out.splitlines() if line.startswith("│")]
-    rows = [r for r in rows if r and r[0].replace(".", "").isdigit()]
-    assert len(rows) == 9
-    for r in rows:  # F, x, sigma_F MC, model, ratio, sigma_x MC, model, ratio, mean |eF|, mean |ex|
-        assert "…" not in "".join(r)  # every number printed in full, also into a pipe
-        assert float(r[4]) == pytest.approx(float(r[2]) / float(r[3]), abs=2e-3)
-        assert 0.95 < float(r[4]) < 1.05 and 0.95 < float(r[7]) < 1.05
-    out_dir = tmp_path / "c"
-    assert main(["evaluate", str(examples / "prototype-c.yaml"), "-o", str(out_dir), "--no-cad", "--no-plots"]) == 0
-    capsys.readouterr()
-    assert json.loads((out_dir / "design.json").read_text(encoding="utf-8"))["design"]["axes"] == 2
-    assert main(["simulate", str(out_dir / "design.json"), "--draws", "5000", "--grid", "2", "2",
-                 "--angle", "45"]) == 0
-    assert "biaxial at 45°" in capsys.readouterr().out
-
-
-def test_simulate_refuses_too_few_draws(examples, capsys):
-    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "10"]) == 2
-    assert "--draws: 10" in capsys.readouterr().err
 
 
 def test_more_draws_than_one_batch(examples):
