@@ -55,8 +55,6 @@ def record_from(spec_path) -> dict:
     return json.loads(json.dumps(build_record("feasible", spec, ev)))
 
 
-# ----------------------------------------------------------------- prismatic cantilever
-
 @pytest.mark.parametrize("alpha, vertical, horizontal, angle", [
     (1.0, 0.30172, 0.05643, 0.46135),   # Bisshopp & Drucker 1945, Table 1
     (2.0, 0.49346, 0.16064, None),
@@ -116,15 +114,6 @@ def test_the_free_end_beyond_the_load_stays_straight():
     assert e.tip_vertical == pytest.approx(0.5 * dv + 0.5 * math.sin(theta), rel=1e-6)
     assert e.tip_horizontal == pytest.approx(0.5 * dh + 0.5 * (1 - math.cos(theta)), rel=1e-6)
 
-
-def test_bad_segments_and_positions_are_refused():
-    with pytest.raises(ValueError, match="must cover"):
-        elastica.solve_elastica(1.0, 0.5, 1.0, [(0.0, 0.4, 1.0), (0.5, 1.0, 1.0)])
-    with pytest.raises(ValueError, match="must lie on the beam"):
-        elastica.solve_elastica(1.0, 1.5, 1.0, 1.0)
-
-
-# ----------------------------------------------------------------- Prototype A
 
 @pytest.fixture(scope="module")
 def prototype_a(examples):
