@@ -17,11 +17,14 @@ from designer.result import designfile
 from designer.result import evaluation
 from designer.cli import main
 
+pytestmark = pytest.mark.slow
+
 GF = 9.80665e-3  # N per gram-force
 E_2024, E_6061 = 73.1e9, 68.9e9  # Pa, materials/materials.yaml (MatWeb typical values)
-
 SPEC_KEYS = {"version", "status", "spec", "design", "predicted", "constraints", "candidates", "solver"}
 DESIGN_KEYS = {"material", "material_properties", "section", "feature", "stations", "length", "bridge", "axes"}
+
+
 PREDICTED_KEYS = {"force_error", "position_error", "objective", "deflection", "max_stress", "stress_allowable",
                   "gauge_strain", "min_signal_snr", "sensitivity", "noise_strain", "mass", "natural_frequency"}
 
@@ -238,14 +241,12 @@ def test_a_biaxial_design_records_two_axes(examples, tmp_path):
                                            "wall": pytest.approx(0.00165)}
 
 
-# ----------------------------------------------------------------- fpdesign materials
-
 REQUIRED_MATERIALS = {"6061-T6", "2024-T3", "7075-T6", "17-4PH-H900", "Ti-6Al-4V", "C17200", "304"}
 
 
 def test_materials_json_from_another_folder(tmp_path):
     # The catalogue ships as package data: the command must find it whatever the working folder.
-    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
     done = subprocess.run([sys.executable, "-m", "designer.cli", "materials", "--json"], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
@@ -271,7 +272,6 @@ def test_materials_table_from_another_folder(tmp_path, monkeypatch, capsys):
         assert name in out
 
 
-# ----------------------------------------------------------------- a damaged design.json
 # `fpdesign simulate design.json` rebuilds the design from the file (designfile.rebuild) and
 # evaluates it again; every damage below must stop it with exit 2 and a one-line message.
 
