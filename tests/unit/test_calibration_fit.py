@@ -11,6 +11,7 @@ bridges), 1000 (B, half bridges at all three stations) and 1000 (C, half bridges
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -137,9 +138,13 @@ def test_measurement_sigma_scales_with_the_noise_and_includes_the_calibration():
     assert m2.sigma_force == pytest.approx(2 * m1.sigma_force, rel=1e-12)
     m0 = cal.measure(c, v, include_calibration=False)
     assert np.all(m0.sigma_force < m1.sigma_force)
-    # reading noise alone: sigma_F = sigma_V sqrt((A^T A)^-1_22) with the calibrated k and d
-    k, d = [b.k for b in c.bridges], [b.d for b in c.bridges]
-    assert m0.sigma_force == pytest.approx(np.full(len(v), estimator.sigma_force(k, d, dc.noise)), rel=1e-12)
+    # Reading noise alone, by hand: rows (k_i, -k_i d_i) of A for z = (F x, F) with the calibrated
+    # k and d, Cov(z) = sigma_V^2 (A^T A)^-1, and the 2 x 2 inverse's lower corner gives
+    # sigma_F = sigma_V sqrt(S0 / (S0 S2 - S1^2)), S_j = sum k_i^2 d_i^j (two equal stations:
+    # sqrt(2) sigma_V/(k delta), MODEL.md section 3). The same at every reading.
+    k, d = np.array([b.k for b in c.bridges]), np.array([b.d for b in c.bridges])
+    s0, s1, s2 = (np.sum(k ** 2 * d ** j) for j in range(3))
+    assert m0.sigma_force == pytest.approx(dc.noise * math.sqrt(s0 / (s0 * s2 - s1 ** 2)), rel=1e-12)
 
 
 def test_noise_choice_auto_uses_the_residuals_only_with_enough_dof():

@@ -194,10 +194,14 @@ def test_prototype_c_recovers_magnitude_angle_and_position():
     """
     dc = constants("c")
     loads = cal.scheme_loads(dc, "paper")
-    sigma_component = math.sqrt(2) * dc.noise / (dc.sensitivity[0] * (dc.stations[1] - dc.stations[0]))
+    # k by the paper's eq. 7 from Table 1 (6061 tube 12.7 x 1.65 mm: I = pi (D^4 - (D - 2t)^4)/64,
+    # y = D/2; half bridges n = 2; 5 V, gain 1000, G = 2.0; E = 68.9 GPa), stations 20 and 70 mm
+    i_tube = math.pi * ((12.7e-3) ** 4 - (12.7e-3 - 2 * 1.65e-3) ** 4) / 64
+    k = 5 * 2.0 * 1000 * 2 * (12.7e-3 / 2) / (4 * 68.9e9 * i_tube)
+    sigma_component = math.sqrt(2) * 1.3e-3 / (k * (0.070 - 0.020))
     sf, _, sa = cal.predicted_sigma(dc.sensitivity, dc.stations, loads, dc.noise, None, 2)
-    assert sf == pytest.approx(np.full(len(loads), sigma_component), rel=1e-12)
-    assert sa * loads.force == pytest.approx(np.full(len(loads), sigma_component), rel=1e-12)
+    assert sf == pytest.approx(sigma_component, rel=1e-12)
+    assert sa * loads.force == pytest.approx(sigma_component, rel=1e-12)
 
     rt = _round_trip("c", "9", draws=3000, seed=21, repeats=25)
     test = rt["test"]
