@@ -169,7 +169,9 @@ def test_least_infeasible_design_is_a_buildable_beam(method, tmp_path):
     assert record["status"] == "infeasible"
     d = record["design"]
     assert d["feature"]["diameter"] < d["section"]["height"]
-    assert main(["simulate", str(out / "design.json"), "--draws", "200"]) in (0, 1)
+    # simulate judges no limits: any design it can read gets its Monte Carlo and exit 0
+    # (exit 2 would mean the reader refused the file)
+    assert main(["simulate", str(out / "design.json"), "--draws", "200"]) == 0
 
 
 def test_terminal_summary_marks_the_chosen_candidate_among_the_runners_up(tmp_path, capsys):
@@ -193,7 +195,9 @@ def test_an_nlopt_method_that_raises_through_the_command_line_gives_no_traceback
     code = main(["optimize", str(path), "--method", "slsqp", "-o", str(tmp_path / "out"), "--no-cad",
                  "--no-plots", "--quiet"])
     captured = capsys.readouterr()
-    assert code in (0, 1)
+    # The spec is feasible (unit/test_optimize_stability.py finds a verified design within 0.5 %
+    # of the reference search), and IPOPT answers when SLSQP raises: exit 0 (README: 0 optimal).
+    assert code == 0
     assert "Traceback" not in captured.out + captured.err
     record = designfile.load_design(tmp_path / "out" / "design.json")
     spec, design = designfile.rebuild(record)
