@@ -157,9 +157,12 @@ def test_an_nlopt_method_that_raises_is_recorded_and_the_answer_still_checked(me
     own = [s for c in outcome.candidates for s in c.solves if s.method == method]
     assert own and all(not s.success and "RoundoffLimited" in s.message for s in own)
     assert any("RoundoffLimited" in f for f in outcome.record["solver"]["fallbacks"])
+    # The spec is feasible (test_extreme_forces_and_lengths_give_verified_near_optimal_designs
+    # finds a design within 0.5 % of the reference search), so the fallback to IPOPT must deliver
+    # one: the design rebuilt from its record meets every limit.
     ev = _recheck(outcome)
-    assert ev.feasible == outcome.success
-    assert outcome.record["status"] == ("optimal" if ev.feasible else "infeasible")
+    assert ev.feasible and outcome.success
+    assert outcome.record["status"] == "optimal"
 
 
 def test_slsqp_stopping_on_roundoff_is_caught_and_the_answer_checked():
@@ -170,7 +173,7 @@ def test_slsqp_stopping_on_roundoff_is_caught_and_the_answer_checked():
     messages = [s.message for c in outcome.candidates for s in c.solves if s.method == "slsqp"]
     assert any("RoundoffLimited" in m for m in messages)
     ev = _recheck(outcome)
-    assert ev.feasible == outcome.success
+    assert ev.feasible
     assert outcome.success  # 17-7PH carries it: found directly or through the IPOPT fallback
 
 
