@@ -28,7 +28,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from designer.model import estimator
 from designer.outputs import plots
 from designer.result.designfile import load_design
 from designer.errors import DesignFileError, InputError
@@ -126,8 +125,12 @@ def test_operating_region_with_three_stations(proto_b):
     assert region.lower.pivot == 0.10
     assert region.governing.pivot == 0.02
     m = plots.error_map(design, force=[2.0], position=[0.3])
-    assert m.force_error[0, 0] == pytest.approx(
-        estimator.sigma_force([k] * 3, [0.02, 0.06, 0.10], 1.3e-3) / 2.0, rel=1e-12)
+    # By hand (MODEL.md section 3): with rows (k, -k d_i) for z = (F x, F) and equal k,
+    # (A^T A)^-1 gives sigma_F = sigma_V/(k sqrt(sum (d_i - mean d)^2)): 0.04 sqrt(2) m here,
+    # the middle bridge sitting at the mean (the relative force error at 2 N is sigma_F/2 N).
+    d = np.array([0.02, 0.06, 0.10])
+    assert m.force_error[0, 0] == pytest.approx(1.3e-3 / (k * math.sqrt(np.sum((d - d.mean()) ** 2))) / 2.0,
+                                                rel=1e-12)
 
 
 def test_worst_errors_equal_the_designs_prediction(proto_b, proto_c):

@@ -44,9 +44,7 @@ def test_tip_deflection_of_a_load_anywhere(x_over_l):
     g = rectangle(b, h, length=ell)
     sp = model.section_properties(g)
     I = b * h ** 3 / 12
-    w_x, theta_x = force * x ** 3 / (3 * E_AL * I), force * x ** 2 / (2 * E_AL * I)
     expected = force * x ** 2 * (3 * ell - x) / (6 * E_AL * I)
-    assert w_x + theta_x * (ell - x) == pytest.approx(expected, rel=1e-12)
     assert model.tip_deflection(g, sp, E_AL, force, x) == pytest.approx(expected, rel=1e-12)
 
 
