@@ -3,7 +3,8 @@ and the example specs.
 
 Layout: unit/ (one module or function at a time), validation/ (against the paper, textbooks
 and Monte Carlo, each test naming its source), e2e/ (whole commands). Tests marked ``slow``
-(FEA, bench, whole commands) are left out by ``python -m pytest -m "not slow"``."""
+(FEA, bench, whole commands, 3-D CAD solids, the optimiser against the reference search) are
+left out by ``python -m pytest -m "not slow"``."""
 
 import sys
 from pathlib import Path
