@@ -46,6 +46,8 @@ def test_plan_command_writes_grams_and_millimetres(tmp_path, capsys):
     assert (1125, 400) in middles
 
 
+# --------------------------------------------------------------------- commands: round trip
+
 @pytest.mark.parametrize("key", ("b", "c"))
 def test_commands_round_trip(tmp_path, capsys, key):
     design = str(DATA / f"cal_prototype_{key}.json")
@@ -98,8 +100,6 @@ def test_calibrate_prints_warnings(tmp_path, capsys):
 
 
 B_HEADER = "mass_g,position_mm,V1,V2,V3"
-
-
 GOOD_ROWS = ["20,150,0.003,0.004,0.005", "3000,150,1.3,0.9,0.5", "20,450,0.03,0.025,0.027",
              "3000,450,4.3,3.9,3.5"]
 

@@ -23,8 +23,6 @@ GF = 9.80665e-3  # N per gram-force
 E_2024, E_6061 = 73.1e9, 68.9e9  # Pa, materials/materials.yaml (MatWeb typical values)
 SPEC_KEYS = {"version", "status", "spec", "design", "predicted", "constraints", "candidates", "solver"}
 DESIGN_KEYS = {"material", "material_properties", "section", "feature", "stations", "length", "bridge", "axes"}
-
-
 PREDICTED_KEYS = {"force_error", "position_error", "objective", "deflection", "max_stress", "stress_allowable",
                   "gauge_strain", "min_signal_snr", "sensitivity", "noise_strain", "mass", "natural_frequency"}
 
@@ -253,6 +251,8 @@ def test_a_biaxial_design_records_two_axes(examples, tmp_path):
                                            "wall": pytest.approx(0.00165)}
 
 
+# ----------------------------------------------------------------- fpdesign materials
+
 REQUIRED_MATERIALS = {"6061-T6", "2024-T3", "7075-T6", "17-4PH-H900", "Ti-6Al-4V", "C17200", "304"}
 
 
@@ -284,6 +284,7 @@ def test_materials_table_from_another_folder(tmp_path, monkeypatch, capsys):
         assert name in out
 
 
+# ----------------------------------------------------------------- a damaged design.json
 # `fpdesign simulate design.json` rebuilds the design from the file (designfile.rebuild) and
 # evaluates it again; every damage below must stop it with exit 2 and a one-line message.
 

@@ -27,12 +27,9 @@ from shared_inputs import cad_record as record
 pytestmark = pytest.mark.slow
 
 DATA = Path(__file__).resolve().parents[1] / "data"
-
 MM = 1e-3
 POSITION_TOL_MM = 0.01
 VOLUME_REL_TOL = 0.005
-
-
 FIXTURES = ["prototype_a", "prototype_b", "prototype_c", "prototype_c_flats", "rect_pockets", "round_flats",
             "tube_flats", "square_biaxial_pockets"]
 

@@ -21,7 +21,6 @@ from shared_inputs import raise_roundoff as _raise_roundoff
 pytestmark = pytest.mark.slow
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-
 OPTIMISER_EXAMPLES = ["gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"]
 
 

@@ -129,6 +129,8 @@ def test_warning_when_a_gauge_sits_away_from_its_station():
     assert any(w.startswith("V2: the fitted station d") for w in c.warnings), c.warnings
 
 
+# --------------------------------------------------------------------- measurement noise choices
+
 def test_measurement_sigma_scales_with_the_noise_and_includes_the_calibration():
     rec, dc, r = _clean_b()
     c = cal.calibrate(r, dc, noise="design")
@@ -169,6 +171,8 @@ def test_noise_choices_that_cannot_be_met_are_errors():
     m = cal.measure(c, three.voltages)
     assert np.all(np.isnan(m.sigma_force)) and m.force == pytest.approx(three.force, rel=1e-9)
 
+
+# --------------------------------------------------------------------- plan
 
 def test_plan_worst_cases_match_the_design_and_grow_with_calibration_uncertainty():
     for key in PROTOTYPES:

@@ -154,6 +154,8 @@ def test_flat_segment_formulas_at_their_limits():
     assert model.flat_half_angle(R, R) == pytest.approx(math.pi / 2, rel=1e-12)
 
 
+# ----------------------------------------------------------------- symbolic and numeric agree
+
 @pytest.mark.parametrize("name", ["rectangle pocket", "rectangle hole", "tube flat", "biaxial round flat",
                                   "biaxial square pocket"])
 def test_casadi_expressions_equal_the_numeric_model(name):

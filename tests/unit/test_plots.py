@@ -211,6 +211,8 @@ def test_candidates_plot_marks_infeasible_and_shows_an_evaluated_design(optimize
     assert [t.get_text() for t in alone.get_yticklabels()] == ["2024-T3 · rectangle"]
 
 
+# ----------------------------------------------------------------------------- trade-off fronts
+
 def test_tradeoff_front_is_the_best_feasible_point_at_each_limit(tradeoff):
     points = tradeoff["max_deflection"]
     expected = {}
@@ -265,6 +267,8 @@ def test_tradeoff_accepts_points_without_objective():
     assert fig.axes[0].get_lines()
 
 
+# ----------------------------------------------------------------------------- reading a design
+
 @pytest.mark.parametrize("path, value, message", [
     (("predicted", "sensitivity"), None, "predicted.sensitivity: missing"),
     (("predicted", "sensitivity"), [0.3], "predicted.sensitivity: 1 values for 2 stations"),
@@ -288,6 +292,8 @@ def test_plot_functions_draw_into_a_given_axes(proto_b):
     assert plots.plot_voltage_isolines(proto_b, ax=axes[1]) is fig
     assert plots.plot_candidates(proto_b, ax=axes[2]) is fig
 
+
+# ----------------------------------------------------------------------------- files
 
 def _check_files(paths, names, formats):
     assert sorted(p.name for p in paths) == sorted(f"{n}.{f}" for n in names for f in formats)

@@ -37,6 +37,8 @@ def constants(key: str) -> cal.DesignConstants:
     return cal.design_constants(record(key))
 
 
+# --------------------------------------------------------------------- fixtures and closed forms
+
 def test_fixture_sensitivities_follow_model_section_3():
     """k = V_s G g n y_g / (4 E I_s) (MODEL.md section 3), recomputed from the fixture's geometry."""
     n_bridge = {"quarter": 1, "half": 2, "full": 4}

@@ -82,8 +82,6 @@ def _round_trip(key: str, scheme: str, draws: int, seed: int, repeats: int = 1):
 
 
 CASES = [(key, scheme) for key in PROTOTYPES for scheme in ("4", "9")]
-
-
 #: 4000 draws: the sample median of |e| has a relative standard error of about
 #: 0.5 / (sqrt(N) f(q) q) = 1.85 % (f the half-normal density at its median q), and a z-score
 #: standard deviation 1/sqrt(2 N) = 1.1 %.

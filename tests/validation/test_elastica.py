@@ -55,6 +55,8 @@ def record_from(spec_path) -> dict:
     return json.loads(json.dumps(build_record("feasible", spec, ev)))
 
 
+# ----------------------------------------------------------------- prismatic cantilever
+
 @pytest.mark.parametrize("alpha, vertical, horizontal, angle", [
     (1.0, 0.30172, 0.05643, 0.46135),   # Bisshopp & Drucker 1945, Table 1
     (2.0, 0.49346, 0.16064, None),

@@ -86,6 +86,8 @@ def test_stubby_cantilever_meshed_to_the_load_lies_between_bernoulli_and_timoshe
         assert g.ratio == pytest.approx(1.0, abs=0.01)
 
 
+# ----------------------------------------------------------------- features
+
 @pytest.fixture(scope="module")
 def prototype_b():
     return record({"material": "2024-T3", "section": {"kind": "rectangle", "width": "12.7 mm", "height": "12.7 mm"},

@@ -50,6 +50,8 @@ def prototype_b_closed_form():
             "min_snr": 5.0, "d_h": d_h, "allowable": 345e6 / 1.5}
 
 
+# ----------------------------------------------------------------------------- fixtures
+
 def test_fixture_b_matches_the_closed_form_sensitivity_and_strain(proto_b):
     """The fixture's k_i and eps_1 equal eq. 7 and eq. 3 with I_s = b(h^3 - d_h^3)/12."""
     cf = prototype_b_closed_form()
@@ -68,6 +70,8 @@ def test_fixture_c_matches_the_tube_closed_form(proto_c):
     assert proto_c["design"]["axes"] == 2
     assert proto_c["predicted"]["sensitivity"] == pytest.approx([k, k], rel=1e-9)
 
+
+# ----------------------------------------------------------------------------- operating region
 
 def test_operating_region_corners_equal_the_papers_closed_forms(proto_b):
     """Upper corner from the strain limit (eqs. 13-14), lower from the smallest signal (eqs. 15-17),
