@@ -1,4 +1,10 @@
-"""Shared test helpers: the repository root on sys.path and the example specs."""
+"""Shared test helpers: the repository root and this folder on sys.path (for shared_inputs.py),
+and the example specs.
+
+Layout: unit/ (one module or function at a time), validation/ (against the paper, textbooks
+and Monte Carlo, each test naming its source), e2e/ (whole commands). Tests marked ``slow``
+(FEA, bench, whole commands, 3-D CAD solids, the optimiser against the reference search) are
+left out by ``python -m pytest -m "not slow"``."""
 
 import sys
 from pathlib import Path
@@ -6,8 +12,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+for folder in (ROOT, ROOT / "tests"):
+    if str(folder) not in sys.path:
+        sys.path.insert(0, str(folder))
 
 
 @pytest.fixture(scope="session")

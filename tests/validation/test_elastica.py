@@ -117,15 +117,6 @@ def test_the_free_end_beyond_the_load_stays_straight():
     assert e.tip_horizontal == pytest.approx(0.5 * dh + 0.5 * (1 - math.cos(theta)), rel=1e-6)
 
 
-def test_bad_segments_and_positions_are_refused():
-    with pytest.raises(ValueError, match="must cover"):
-        elastica.solve_elastica(1.0, 0.5, 1.0, [(0.0, 0.4, 1.0), (0.5, 1.0, 1.0)])
-    with pytest.raises(ValueError, match="must lie on the beam"):
-        elastica.solve_elastica(1.0, 1.5, 1.0, 1.0)
-
-
-# ----------------------------------------------------------------- Prototype A
-
 @pytest.fixture(scope="module")
 def prototype_a(examples):
     return record_from(examples / "prototype-a.yaml")

@@ -15,41 +15,18 @@ Meshes are coarse to keep the suite fast; each tolerance says why it suffices.
 
 from __future__ import annotations
 
-import json
-
 import numpy as np
 import pytest
 
 from designer.checks import fea
-from designer.cli import main
-from designer.errors import DesignFileError, InputError
-from designer.result.evaluation import evaluate, fixed_design
-from designer.result.record import build_record
-from designer.spec.reader import parse_spec
+from shared_inputs import fea_bar as bar
+from shared_inputs import fea_record as record
+
+pytestmark = pytest.mark.slow
 
 MM = 1e-3
 E_2024, NU_2024 = 73.1e9, 0.33   # the catalogue's 2024-T3
 
-
-def record(design: dict, load: dict, **extra) -> dict:
-    raw = {"name": "fea-test", "load": load, "electronics": {"excitation": "5 V", "gain": 1000, "noise": "1.3 mV"},
-           "bridge": "half", "limits": {"fatigue": False}, "design": design}
-    raw.update(extra)
-    spec = parse_spec(raw)
-    ev = evaluate(fixed_design(spec).rounded(), spec)
-    return json.loads(json.dumps(build_record("feasible" if ev.feasible else "infeasible", spec, ev)))
-
-
-def bar(length_mm: float, position_mm: tuple, size_mm: float = 10.0, feature=None, stations=(30, 50)) -> dict:
-    return record({"material": "2024-T3",
-                   "section": {"kind": "rectangle", "width": f"{size_mm} mm", "height": f"{size_mm} mm"},
-                   "stations": [f"{s} mm" for s in stations], "feature": feature or {"kind": "none"},
-                   "length": f"{length_mm} mm"},
-                  {"force": ["2 N", "20 N"], "position": [f"{p} mm" for p in position_mm]},
-                  targets={"force_error": "20 %", "position_error": "10 %"})
-
-
-# ----------------------------------------------------------------- closed forms
 
 @pytest.fixture(scope="module")
 def slender():
@@ -101,9 +78,9 @@ def test_stubby_cantilever_meshed_to_the_load_lies_between_bernoulli_and_timoshe
     bernoulli = F * x ** 2 * (3 * ell - x) / (6 * E_2024 * I)
     kappa = 10 * (1 + NU_2024) / (12 + 11 * NU_2024)
     timoshenko = bernoulli + F * x / (kappa * E_2024 / (2 * (1 + NU_2024)) * A)
-    assert timoshenko / bernoulli > 1.012   # shear matters here (1.4 %) ...
-    # ... but the fully fixed clamp face also stops warping and Poisson contraction, which
-    # stiffens the root: the 3-D answer lies between the two theories (1 % for the mesh).
+    # Shear matters here (timoshenko/bernoulli = 1.014), but the fully fixed clamp face also
+    # stops warping and Poisson contraction, which stiffens the root: the 3-D answer lies
+    # between the two theories (1 % for the mesh).
     assert 0.99 * bernoulli < r.deflection_fea < 1.01 * timoshenko
     for g in r.gauges:
         assert g.ratio == pytest.approx(1.0, abs=0.01)
@@ -146,49 +123,3 @@ def test_slot_pockets_agree_with_beam_theory_within_a_few_percent():
     # the pocket's sharp inside corners concentrate stress well beyond the net section
     assert r.stress_peak.where.startswith("pocket at station 1")
     assert r.stress_peak.value > 1.2 * r.stress_model
-
-
-# ----------------------------------------------------------------- the command
-
-def test_verify_command_writes_the_report_json_and_plot(tmp_path, capsys):
-    path = tmp_path / "design.json"
-    path.write_text(json.dumps(bar(310, (60, 300))), encoding="utf-8")
-    out = tmp_path / "check"
-    code = main(["verify", str(path), "--mesh", "coarse", "-o", str(out)])
-    assert code == 0, capsys.readouterr().err
-    assert sorted(p.name for p in out.iterdir()) == ["surface-strain.png", "verify.json", "verify.md"]
-    data = json.loads((out / "verify.json").read_text())
-    assert data["passed"] and data["converged"]
-    assert [g["ratio"] for g in data["gauges"]] == pytest.approx([1.0, 1.0], abs=0.01)
-    assert len(data["meshes"]) == 2 and data["meshes"][0]["elements"] > data["meshes"][1]["elements"]
-    report = (out / "verify.md").read_text()
-    assert "| 30.0 |" in report and "mesh convergence" in report and "converged" in report
-    assert (out / "surface-strain.png").read_bytes()[:4] == b"\x89PNG"
-    assert "3-D / model" in capsys.readouterr().out
-
-
-def test_verify_refuses_bad_input_without_a_traceback(tmp_path, capsys):
-    missing = tmp_path / "none.json"
-    assert main(["verify", str(missing), "-o", str(tmp_path / "o")]) == 2
-    assert "no such file" in capsys.readouterr().err
-    good = bar(310, (60, 300))
-    broken = json.loads(json.dumps(good))
-    del broken["design"]["gauge"]["grid_length"]
-    path = tmp_path / "broken.json"
-    path.write_text(json.dumps(broken), encoding="utf-8")
-    assert main(["verify", str(path), "-o", str(tmp_path / "o")]) == 2
-    err = capsys.readouterr().err
-    assert "design.gauge" in err and "grid_length" in err and "Traceback" not in err
-    assert not (tmp_path / "o").exists()        # nothing half-written
-    afile = tmp_path / "file"
-    afile.write_text("x")
-    path.write_text(json.dumps(good), encoding="utf-8")
-    assert main(["verify", str(path), "-o", str(afile)]) == 2
-    assert "is a file" in capsys.readouterr().err
-
-
-def test_library_refuses_an_unknown_mesh_level():
-    with pytest.raises(InputError, match=r"mesh: 'medium' is not allowed; must be one of \[coarse, normal, fine\]"):
-        fea.verify_design(bar(310, (60, 300)), mesh="medium")
-    with pytest.raises(DesignFileError, match="design"):
-        fea.verify_design({"spec": {}}, mesh="coarse")

@@ -10,51 +10,18 @@ import pytest
 
 from designer.spec import catalogue
 from designer.result import designfile
-from designer import model, search
+from designer import errors, model, search
 from designer.result.record import search_record
 from designer.search import run as search_run
 from designer.search import reference
-from designer.cli import main
 from designer.result.evaluation import evaluate
 from designer.spec.reader import parse_spec_text
+from shared_inputs import STABILITY_SCALES as SCALES
+from shared_inputs import raise_roundoff as _raise_roundoff
+
 
 # The acceptance bound of issue 3: the reported objective within 0.5 % of the reference search.
 REFERENCE_GAP = 5e-3
-
-SMALL_CLEARANCES = """\
-  clamp_clearance: 0.3 mm
-  load_clearance: 0.3 mm
-  tip_margin: 0.5 mm
-  pocket_margin: 0.1 mm
-  gauge_gap: 0.2 mm
-  min_wall: 0.1 mm
-  min_pocket_depth: 0.02 mm"""
-MINIATURE_GAUGE = "gauge: {name: miniature, factor: 2.0, length: 1 mm, width: 0.8 mm, max_strain: 1500 ue}"
-
-
-def _text(force, position, noise_rti, limits, gauge=MINIATURE_GAUGE, material="Ti-6Al-4V", section="rectangle",
-           objective="error"):
-    return f"""\
-name: stability
-load:
-  force: {force}
-  position: {position}
-electronics:
-  excitation: 5 V
-  gain: 500
-  noise_rti: {noise_rti}
-{gauge}
-bridge: full
-limits:
-{limits}
-targets:
-  force_error: 2 %
-  position_error: 2 %
-search:
-  materials: [{material}]
-  sections: [{section}]
-objective: {objective}
-"""
 
 
 def _recheck(outcome, spec):
@@ -65,29 +32,11 @@ def _recheck(outcome, spec):
     return evaluate(design, spec)
 
 
-SCALES = {
-    # a 14 mm finger read at millinewtons
-    "millinewtons on a millimetre beam": _text("[2 mN, 100 mN]", "[8 mm, 14 mm]", "760 nV", SMALL_CLEARANCES
-                                               + "\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]"),
-    # a metre-long whisker read at millinewtons
-    "millinewtons on a metre beam": _text("[5 mN, 200 mN]", "[0.4 m, 1 m]", "300 nV",
-                                          SMALL_CLEARANCES + "\n  width: [0.5 mm, 20 mm]\n  height: [0.5 mm, 20 mm]"
-                                          "\n  max_deflection: 20 mm"),
-    # a short stiff lug at kilonewtons
-    "kilonewtons on a millimetre beam": _text("[50 N, 2 kN]", "[30 mm, 60 mm]", "500 nV",
-                                              "  width: [5 mm, 40 mm]\n  height: [5 mm, 40 mm]",
-                                              gauge="gauge: BF350-3AA", material="17-4PH-H900"),
-    # a metre-long weigh beam at kilonewtons
-    "kilonewtons on a metre beam": _text("[100 N, 5 kN]", "[0.3 m, 1 m]", "500 nV",
-                                         "  width: [10 mm, 150 mm]\n  height: [10 mm, 150 mm]\n  max_deflection: 10 mm",
-                                         gauge="gauge: CEA-06-125UW-120", material="17-4PH-H900"),
-}
-
-
 def _spec(name: str):
     return parse_spec_text(SCALES[name], source=name)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(SCALES))
 def test_extreme_forces_and_lengths_give_verified_near_optimal_designs(name):
     spec = _spec(name)
@@ -136,6 +85,7 @@ objective: mass
 """)
 
 
+@pytest.mark.slow
 def test_optimum_on_several_limits_at_once_is_found_and_meets_all_of_them():
     outcome = search.optimize(SEVERAL_LIMITS)
     assert outcome.success, outcome.message
@@ -199,12 +149,6 @@ def test_materials_that_tie_within_a_tenth_of_a_percent_are_chosen_by_deflection
     assert again.x.material.name == outcome.x.material.name
 
 
-def _raise_roundoff(self, x0):
-    import nlopt
-
-    raise nlopt.RoundoffLimited("NLopt roundoff-limited")
-
-
 @pytest.mark.parametrize("method", ["slsqp", "mma", "cobyla"])
 def test_an_nlopt_method_that_raises_is_recorded_and_the_answer_still_checked(method, monkeypatch):
     import nlopt
@@ -215,25 +159,12 @@ def test_an_nlopt_method_that_raises_is_recorded_and_the_answer_still_checked(me
     own = [s for c in outcome.candidates for s in c.solves if s.method == method]
     assert own and all(not s.success and "RoundoffLimited" in s.message for s in own)
     assert any("RoundoffLimited" in f for f in outcome.solver["fallbacks"])
+    # The spec is feasible (test_extreme_forces_and_lengths_give_verified_near_optimal_designs
+    # finds a design within 0.5 % of the reference search), so the fallback to IPOPT must deliver
+    # one: the design rebuilt from its record meets every limit.
     ev = _recheck(outcome, spec)
-    assert ev.feasible == outcome.success
-    assert outcome.status == ("optimal" if ev.feasible else "infeasible")
-
-
-def test_an_nlopt_method_that_raises_through_the_command_line_gives_no_traceback(monkeypatch, tmp_path, capsys):
-    import nlopt
-
-    monkeypatch.setattr(nlopt.opt, "optimize", _raise_roundoff)
-    path = tmp_path / "spec.yaml"
-    path.write_text(SCALES["kilonewtons on a metre beam"])
-    code = main(["optimize", str(path), "--method", "slsqp", "-o", str(tmp_path / "out"), "--no-cad",
-                 "--no-plots", "--quiet"])
-    captured = capsys.readouterr()
-    assert code in (0, 1)
-    assert "Traceback" not in captured.out + captured.err
-    record = designfile.load_design(tmp_path / "out" / "design.json")
-    spec, design = designfile.rebuild(record)
-    assert evaluate(design, spec).feasible == (code == 0)
+    assert ev.feasible and outcome.success
+    assert outcome.status == "optimal"
 
 
 def test_slsqp_stopping_on_roundoff_is_caught_and_the_answer_checked():
@@ -244,7 +175,7 @@ def test_slsqp_stopping_on_roundoff_is_caught_and_the_answer_checked():
     messages = [s.message for c in outcome.candidates for s in c.solves if s.method == "slsqp"]
     assert any("RoundoffLimited" in m for m in messages)
     ev = _recheck(outcome, spec)
-    assert ev.feasible == outcome.success
+    assert ev.feasible
     assert outcome.success  # 17-7PH carries it: found directly or through the IPOPT fallback
 
 
@@ -264,15 +195,3 @@ def test_ipopt_that_raises_falls_back_to_slsqp_and_the_answer_is_checked(monkeyp
     assert any(s.method == "slsqp" for c in outcome.candidates for s in c.solves)
     ev = _recheck(outcome, spec)
     assert ev.feasible and outcome.success
-
-
-def test_no_design_that_can_be_evaluated_is_an_error_with_a_message_not_a_traceback(monkeypatch, tmp_path, capsys):
-    monkeypatch.setattr(search_run, "round_and_check", lambda design, spec: None)
-    path = tmp_path / "spec.yaml"
-    path.write_text(SCALES["kilonewtons on a millimetre beam"])
-    code = main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"])
-    captured = capsys.readouterr()
-    assert code == 1
-    assert "no solver returned a design" in captured.err
-    assert "Traceback" not in captured.out + captured.err
-    assert not (tmp_path / "out" / "design.json").exists()

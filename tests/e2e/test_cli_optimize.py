@@ -1,49 +1,29 @@
-"""The optimiser (issue 3): answers verified against every limit and measured against an
-exhaustive reference search that shares no code with casadi or nlopt."""
+"""``fpdesign optimize`` as a whole command (issue 3): design.json rebuilt and checked again,
+infeasible specs reported with exit 1 and a reason, bad input refused with exit 2, --verify,
+and solvers that raise inside the command.
+"""
 
 from __future__ import annotations
 
 import json
-from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from designer.spec import catalogue
 from designer.result import designfile
-from designer import model, search
-from designer.search import reference
+from designer import errors, model, search
+from designer.result.record import search_record
+from designer.search import run as search_run
 from designer.cli import main
 from designer.result.evaluation import evaluate
-from designer.spec.reader import load_spec, parse_spec_text
+from shared_inputs import STABILITY_SCALES as SCALES
+from shared_inputs import optimize_spec_text as _spec_text
+from shared_inputs import raise_roundoff as _raise_roundoff
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+pytestmark = pytest.mark.slow
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 OPTIMISER_EXAMPLES = ["gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"]
-# The acceptance bound of issue 3: the reported objective within 0.5 % of the reference.
-REFERENCE_GAP = 5e-3
-
-
-def _reduced(spec, materials, sections):
-    """The same spec restricted to a few materials and families, to keep the test fast."""
-    return replace(spec, search=replace(spec.search, materials=tuple(materials), sections=tuple(sections)))
-
-
-@pytest.mark.parametrize("name, materials, sections", [
-    ("gripper-finger", ["7075-T6", "Ti-6Al-4V"], ["rectangle", "tube"]),
-    ("weigh-bar", ["Ti-6Al-4V", "17-4PH-H900"], ["round", "tube"]),
-    ("probe", ["7075-T6", "6061-T6"], ["rectangle", "round"]),
-    ("prototype-b-optimized", ["2024-T3", "7075-T6"], ["rectangle", "round"]),
-])
-def test_objective_within_half_a_percent_of_reference_search(name, materials, sections):
-    # Reference: reference.reference_best, a dense grid over every variable polished by scipy
-    # SLSQP on the numeric model; it shares no code with casadi or nlopt.
-    spec = _reduced(load_spec(EXAMPLES / f"{name}.yaml"), materials, sections)
-    outcome = search.optimize(spec)
-    ref = reference.reference_best(spec, levels=6)
-    assert outcome.success and ref.feasible
-    assert outcome.best.feasible
-    assert outcome.best.objective <= ref.objective * (1 + REFERENCE_GAP)
 
 
 @pytest.mark.parametrize("name", OPTIMISER_EXAMPLES)
@@ -68,18 +48,6 @@ def test_reported_design_meets_every_limit_when_rebuilt_from_design_json(name, t
     assert len(record["candidates"]) == n
     assert {c["status"] for c in record["candidates"]} <= {"optimal", "infeasible", "failed"}
     assert record["solver"]["method"] == "ipopt" and record["solver"]["evaluations"] > 0
-
-
-def _spec_text(**changes):
-    base = {
-        "load": "  force: [1 N, 20 N]\n  position: [60 mm, 150 mm]",
-        "electronics": "  excitation: 5 V\n  gain: 128\n  noise_rti: 50 nV",
-        "limits": "  max_deflection: 2 mm",
-        "targets": "  force_error: 1 %\n  position_error: 1 mm",
-        "search": "  materials: [7075-T6, 6061-T6]\n  sections: [rectangle, round]",
-    }
-    base.update(changes)
-    return "name: test\n" + "".join(f"{k}:\n{v}\n" for k, v in base.items())
 
 
 def _run(tmp_path, text, capsys):
@@ -129,83 +97,9 @@ def test_infeasible_deflection_limit_too_tight(tmp_path, capsys):
     assert "deflection" in {c["name"] for c in record["constraints"] if not c["satisfied"]}
 
 
-def test_infeasible_and_ranked_least_infeasible_first():
-    spec = parse_spec_text(_spec_text(limits="  max_deflection: 0.001 mm"))
-    outcome = search.optimize(spec)
-    worst = [c.evaluation.worst_violation for c in outcome.candidates if c.evaluation is not None]
-    assert worst == sorted(worst)
-    assert outcome.x.material.name == outcome.candidates[0].material
-
-
-class _Fake:
-    """The parts of an Evaluation that ranking reads."""
-
-    def __init__(self, objective, deflection, mass):
-        self.objective = objective
-        self.analysis = type("A", (), {"deflection": deflection, "mass": mass})()
-        self.feasible = True
-
-
-def test_ties_within_a_tenth_of_a_percent_rank_by_deflection_then_mass():
-    # MODEL.md section 5: objectives within 0.1 % rank by lower deflection, then lower mass.
-    a = _Fake(1.0000, 2e-3, 0.5)
-    b = _Fake(1.0008, 1e-3, 0.9)   # ties with a, stiffer: first
-    c = _Fake(1.0005, 1e-3, 0.3)   # ties with a and b, as stiff as b and lighter: before b
-    d = _Fake(0.9950, 5e-3, 1.0)   # 0.5 % better: first of all, whatever its deflection
-    assert model.rank([a, b, c, d]) == [d, c, b, a]
-    assert model.rank([b, a]) == model.rank([a, b])
-
-
-def test_materials_that_tie_rank_deterministically():
-    # A strain-limited design has a material-independent sensitivity k = V G g n eps/(4 F (x - d1)),
-    # so several materials tie within 0.1 %; the answer must not depend on the catalogue order.
-    spec = load_spec(EXAMPLES / "prototype-b-optimized.yaml")
-    spec = _reduced(spec, ["2024-T3", "7075-T6", "6061-T6"], ["round"])
-    first = search.optimize(spec)
-    again = search.optimize(replace(spec, search=replace(spec.search, materials=tuple(reversed(spec.search.materials)))))
-    assert first.x.material.name == again.x.material.name
-
-
-@pytest.mark.parametrize("method", ["slsqp", "mma", "cobyla", "direct", "grid"])
-def test_every_method_returns_a_verified_result(method):
-    spec = _reduced(load_spec(EXAMPLES / "gripper-finger.yaml"), ["7075-T6"], ["rectangle", "round"])
-    outcome = search.optimize(spec, method=method)
-    assert outcome.solver["method"] == method
-    # whatever the method said, what is reported was checked
-    assert outcome.best.feasible == all(c["satisfied"] for c in outcome.best.constraint_records())
-    assert outcome.success
-    if method in ("slsqp", "mma", "cobyla"):
-        # local methods from the same start points reach IPOPT's answer or fall back to it;
-        # the global ones (DIRECT, grid) are measured, not bounded, by `fpdesign bench`
-        ref = search.optimize(spec).best.objective
-        assert outcome.best.objective <= ref * 1.01
-
-
 def test_unknown_method_is_bad_input(capsys):
     assert main(["optimize", str(EXAMPLES / "probe.yaml"), "--method", "newton", "--no-cad", "--no-plots"]) == 2
     assert "--method: 'newton' is not allowed" in capsys.readouterr().err
-
-
-def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
-    # The physics is written once: the casadi function of the NLP and the numeric check agree.
-    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
-    fam = search.Family("tube", "pocket")
-    problem = search.FamilyProblem(spec, fam)
-    mat = catalogue.material("7075-T6")
-    params = search.material_params(mat, spec)
-    x = problem.starts()[0]
-    f, _, g, _ = problem.functions(x, params)
-    ev = evaluate(problem.design(x, mat), spec)
-    numeric = {lim.name: float(lim.normalised) for lim in ev.limits}
-    for name, value in zip(problem.limit_names, np.asarray(g).ravel()):
-        assert value == pytest.approx(numeric[name], rel=1e-9, abs=1e-12)
-    e = max(float(ev.analysis.force_error) / spec.targets.force_error,
-            float(ev.analysis.position_error) / spec.targets.position_error)
-    # the epigraph rows follow the limits: force, position; then the idle tie-band cap
-    g = np.asarray(g).ravel()
-    assert g[-3] + x[-1] == pytest.approx(float(ev.analysis.force_error) / spec.targets.force_error)
-    assert g[-2] + x[-1] == pytest.approx(float(ev.analysis.position_error) / spec.targets.position_error)
-    assert e == pytest.approx(ev.error_ratio)
 
 
 def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
@@ -276,7 +170,9 @@ def test_least_infeasible_design_is_a_buildable_beam(method, tmp_path):
     assert record["status"] == "infeasible"
     d = record["design"]
     assert d["feature"]["diameter"] < d["section"]["height"]
-    assert main(["simulate", str(out / "design.json"), "--draws", "200"]) in (0, 1)
+    # simulate judges no limits: any design it can read gets its Monte Carlo and exit 0
+    # (exit 2 would mean the reader refused the file)
+    assert main(["simulate", str(out / "design.json"), "--draws", "200"]) == 0
 
 
 def test_terminal_summary_marks_the_chosen_candidate_among_the_runners_up(tmp_path, capsys):
@@ -289,3 +185,33 @@ def test_terminal_summary_marks_the_chosen_candidate_among_the_runners_up(tmp_pa
     assert (first["material"], first["section"]) == (record["design"]["material"], record["design"]["section"]["kind"])
     chosen = [line for line in text.splitlines() if "chosen" in line and "│" in line]  # a table row
     assert len(chosen) == 1 and first["material"] in chosen[0] and first["section"] in chosen[0]
+
+
+def test_an_nlopt_method_that_raises_through_the_command_line_gives_no_traceback(monkeypatch, tmp_path, capsys):
+    import nlopt
+
+    monkeypatch.setattr(nlopt.opt, "optimize", _raise_roundoff)
+    path = tmp_path / "spec.yaml"
+    path.write_text(SCALES["kilonewtons on a metre beam"])
+    code = main(["optimize", str(path), "--method", "slsqp", "-o", str(tmp_path / "out"), "--no-cad",
+                 "--no-plots", "--quiet"])
+    captured = capsys.readouterr()
+    # The spec is feasible (unit/test_optimize_stability.py finds a verified design within 0.5 %
+    # of the reference search), and IPOPT answers when SLSQP raises: exit 0 (README: 0 optimal).
+    assert code == 0
+    assert "Traceback" not in captured.out + captured.err
+    record = designfile.load_design(tmp_path / "out" / "design.json")
+    spec, design = designfile.rebuild(record)
+    assert evaluate(design, spec).feasible == (code == 0)
+
+
+def test_no_design_that_can_be_evaluated_is_an_error_with_a_message_not_a_traceback(monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(search_run, "round_and_check", lambda design, spec: None)
+    path = tmp_path / "spec.yaml"
+    path.write_text(SCALES["kilonewtons on a millimetre beam"])
+    code = main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"])
+    captured = capsys.readouterr()
+    assert code == 1
+    assert "no solver returned a design" in captured.err
+    assert "Traceback" not in captured.out + captured.err
+    assert not (tmp_path / "out" / "design.json").exists()

@@ -17,9 +17,10 @@ from designer.result import designfile
 from designer.result import evaluation
 from designer.cli import main
 
+pytestmark = pytest.mark.slow
+
 GF = 9.80665e-3  # N per gram-force
 E_2024, E_6061 = 73.1e9, 68.9e9  # Pa, materials/materials.yaml (MatWeb typical values)
-
 SPEC_KEYS = {"version", "status", "spec", "design", "predicted", "constraints", "candidates", "solver"}
 DESIGN_KEYS = {"material", "material_properties", "section", "feature", "stations", "length", "bridge", "axes"}
 PREDICTED_KEYS = {"force_error", "position_error", "objective", "deflection", "max_stress", "stress_allowable",
@@ -146,7 +147,6 @@ def test_prototype_a_deflects_a_third_of_its_length_and_says_so(examples, tmp_pa
     record = json.loads((out / "design.json").read_text(encoding="utf-8"))
     b, h, ell, x, f = 0.050, 3.18e-3, 0.800, 0.650, 2000 * GF
     expected = f * x ** 2 * (3 * ell - x) / (6 * E_6061 * b * h ** 3 / 12) / ell
-    assert expected == pytest.approx(0.327, abs=5e-4)
     assert record["predicted"]["deflection_ratio"] == pytest.approx(expected, rel=1e-9)
     warnings = [m for m in record["messages"] if m.startswith("warning") and "deflect" in m]
     assert len(warnings) == 1 and "32.7%" in warnings[0] and "small-deflection" in warnings[0]
@@ -189,6 +189,19 @@ design:
 }
 
 
+# The exit code each design must give (0 feasible, 1 infeasible), by hand:
+# - the three prototypes meet their limits and targets (exit 0, as the tests above and
+#   test_a_biaxial_design_records_two_axes assert for each);
+# - "rectangle pocket": root stress 6 F x/(b h^2) = 6 x 20 N x 110 mm/(10 x 4^2 mm^3) = 82.5 MPa
+#   (Gere & Goodno) against 7075-T6's fatigue strength 159 MPa / 2.5 = 63.6 MPa: exit 1;
+# - "biaxial tube flats": sigma_x = sigma_V sqrt((x - d1)^2 + (x - d2)^2)/(k delta F) (MODEL.md 3)
+#   at 2 N and 200 mm with the plain tube's k = V_s G g n y/(4 E I) = 5 x 2 x 1000 x 4 x 8 mm /
+#   (4 x 68.9 GPa x pi (16^4 - 11^4)/64 mm^4) = 0.465 V/(N m) is 1.3 mV x 234 mm/(0.465 x 48 mm x
+#   2 N) = 6.8 mm; 0.6 mm flats change k by a few per cent, and 5 mm would take 37 % more: exit 1.
+EXPECTED_CODE = {"prototype-a": 0, "prototype-b": 0, "prototype-c": 0, "rectangle pocket": 1,
+                 "biaxial tube flats": 1}
+
+
 @pytest.mark.parametrize("source", ["prototype-a", "prototype-b", "prototype-c", *POCKET_SPECS])
 def test_reevaluating_from_design_json_alone_gives_the_same_predictions(source, examples, tmp_path):
     # design.json must describe the design completely (SPEC.md): rebuild it from the file and
@@ -199,7 +212,7 @@ def test_reevaluating_from_design_json_alone_gives_the_same_predictions(source, 
     else:
         spec_path = examples / f"{source}.yaml"
     out = tmp_path / "out"
-    assert run_evaluate(spec_path, out) in (0, 1)
+    assert run_evaluate(spec_path, out) == EXPECTED_CODE[source]
     record = designfile.load_design(out / "design.json")
     spec, design = designfile.rebuild(record)
     again = evaluation.evaluate(design, spec)
@@ -245,7 +258,7 @@ REQUIRED_MATERIALS = {"6061-T6", "2024-T3", "7075-T6", "17-4PH-H900", "Ti-6Al-4V
 
 def test_materials_json_from_another_folder(tmp_path):
     # The catalogue ships as package data: the command must find it whatever the working folder.
-    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parent.parent))
+    env = dict(os.environ, PYTHONPATH=str(Path(__file__).resolve().parents[2]))
     done = subprocess.run([sys.executable, "-m", "designer.cli", "materials", "--json"], cwd=tmp_path, env=env,
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr

@@ -12,6 +12,8 @@ import sys
 
 import pytest
 
+pytestmark = pytest.mark.slow
+
 
 def _fpdesign():
     path = shutil.which("fpdesign") or os.path.join(os.path.dirname(sys.executable), "fpdesign")

@@ -1,0 +1,226 @@
+"""``fpdesign plan``, ``simulate-readings``, ``calibrate`` and ``measure`` as whole commands
+(issue 6): a round trip through the files, and bad input refused with exit 2, nothing written.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from designer import calibration as cal
+from designer.calibration import readings as rd
+from designer.cli import main
+
+pytestmark = pytest.mark.slow
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+
+
+def record(key: str) -> dict:
+    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
+
+
+def constants(key: str) -> cal.DesignConstants:
+    return cal.design_constants(record(key))
+
+
+def _clean_b(seed=2, scheme="9"):
+    return record("b"), constants("b"), rd.simulated_scheme_readings(record("b"), scheme, seed=seed)
+
+
+def test_plan_command_writes_grams_and_millimetres(tmp_path, capsys):
+    out = tmp_path / "plan.csv"
+    assert main(["plan", str(DATA / "cal_prototype_a.json"), "-o", str(out), "--repeats", "2"]) == 0
+    text = capsys.readouterr().out
+    assert "4-point" in text and "9-point" in text
+    rows = [line.split(",") for line in out.read_text().splitlines() if not line.startswith("#")]
+    header, body = rows[0], rows[1:]
+    assert header == ["scheme", "point", "repeat", "mass_g", "force_N", "position_mm"]
+    assert len(body) == 2 * (4 + 9)
+    corners = {(float(r[3]), float(r[5])) for r in body if r[0] == "4"}
+    assert corners == {(250, 150), (250, 650), (2000, 150), (2000, 650)}
+    middles = {(float(r[3]), float(r[5])) for r in body if r[0] == "9"} - corners
+    assert (1125, 400) in middles
+
+
+# --------------------------------------------------------------------- commands: round trip
+
+@pytest.mark.parametrize("key", ("b", "c"))
+def test_commands_round_trip(tmp_path, capsys, key):
+    design = str(DATA / f"cal_prototype_{key}.json")
+    cal_csv, test_csv = tmp_path / "cal.csv", tmp_path / "test.csv"
+    cal_json, results = tmp_path / "calibration.json", tmp_path / "results.csv"
+    assert main(["simulate-readings", design, "-o", str(cal_csv), "--scheme", "9", "--seed", "4",
+                 "--repeats", "2"]) == 0
+    assert main(["simulate-readings", design, "-o", str(test_csv), "--seed", "4"]) == 0
+    assert main(["calibrate", str(cal_csv), "--design", design, "-o", str(cal_json)]) == 0
+    out = capsys.readouterr().out
+    assert "R²" in out and "V1" in out and "warning" not in out
+    saved = json.loads(cal_json.read_text())
+    assert saved["points"] == (18 if key == "b" else 36) and saved["axes"] == (1 if key == "b" else 2)
+    for b in saved["bridges"]:
+        assert {"k", "d", "c", "se_k", "se_d", "se_c", "r2", "residual_rms", "design_k"} <= set(b)
+        assert abs(b["k"] - b["design_k"]) < 3 * b["se_k"] and abs(b["d"] - b["design_d"]) < 3 * b["se_d"]
+    assert main(["measure", str(cal_json), str(test_csv), "-o", str(results)]) == 0
+    lines = results.read_text().splitlines()
+    truth = rd.read_readings(test_csv)
+    assert len(lines) == 1 + len(truth)
+    header = lines[0].split(",")
+    assert header[:5] == ["row", "force_N", "sigma_force_N", "position_mm", "sigma_position_mm"]
+    assert ("angle_deg" in header) == (key == "c")
+    values = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    col = {name: values[:, i] for i, name in enumerate(header)}
+    assert np.all(np.abs(col["force_N"] - truth.force) < 4.5 * col["sigma_force_N"])
+    if key == "c":
+        err = np.abs(col["angle_deg"] - np.degrees(truth.angle))
+        assert np.all(err < 4.5 * col["sigma_angle_deg"])
+    # without -o the rows are printed
+    assert main(["measure", str(cal_json), str(test_csv)]) == 0
+    assert "mean absolute error" in capsys.readouterr().out
+    # --noise overrides the calibration's sigma_V: every 1-sigma scales with it
+    sigmas = []
+    for noise in ("1.3 mV", "2.6mV"):
+        assert main(["measure", str(cal_json), str(test_csv), "-o", str(results), "--noise", noise]) == 0
+        sigmas.append(np.array([float(line.split(",")[2]) for line in results.read_text().splitlines()[1:]]))
+    assert sigmas[1] == pytest.approx(2 * sigmas[0], rel=1e-5)   # 6 significant digits in the CSV
+
+
+def test_calibrate_prints_warnings(tmp_path, capsys):
+    rec = record("a")
+    three = rd.simulate_readings(rec, [2.0, 10.0, 19.0], [0.15, 0.65, 0.3], np.random.default_rng(1))
+    src = rd.write_readings(tmp_path / "three.csv", three)
+    out = tmp_path / "c.json"
+    assert main(["calibrate", str(src), "--design", str(DATA / "cal_prototype_a.json"), "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "warning: only 3 calibration points" in printed
+    assert json.loads(out.read_text())["warnings"][0].startswith("only 3 calibration points")
+
+
+B_HEADER = "mass_g,position_mm,V1,V2,V3"
+GOOD_ROWS = ["20,150,0.003,0.004,0.005", "3000,150,1.3,0.9,0.5", "20,450,0.03,0.025,0.027",
+             "3000,450,4.3,3.9,3.5"]
+
+
+def _csv(*lines):
+    return "\n".join(lines) + "\n"
+
+
+BAD_CALIBRATION_CSVS = {
+    "empty file": ("", ["empty"]),
+    "header only": (_csv(B_HEADER), ["no data rows"]),
+    "missing position column": (_csv("mass_g,V1,V2,V3", "20,0.1,0.2,0.3"), ["column position_mm missing"]),
+    "no bridge columns": (_csv("mass_g,position_mm", "20,150"), ["line 1", "no bridge columns"]),
+    "unknown column": (_csv("mass_g,positon_mm,V1,V2,V3", "20,150,1,2,3"), ["line 1", "'positon_mm'",
+                                                                              "not a known column"]),
+    "duplicate column": (_csv("mass_g,position_mm,V1,V2,V2", "20,150,1,2,3"), ["line 1", "'V2'", "twice"]),
+    "gap in bridges": (_csv("mass_g,position_mm,V1,V3", "20,150,1,2"), ["line 1", "['V1', 'V3']", "without gaps"]),
+    "non-numeric cell": (_csv(B_HEADER, GOOD_ROWS[0], "3000,150,1.3,abc,0.5", *GOOD_ROWS[2:]),
+                         ["line 3", "column V2", "'abc' is not a number"]),
+    "NaN": (_csv(B_HEADER, *GOOD_ROWS[:3], "3000,450,4.3,nan,3.5"), ["line 5", "column V2", "not a finite"]),
+    "empty cell": (_csv(B_HEADER, *GOOD_ROWS[:2], "20,,0.03,0.025,0.027", GOOD_ROWS[3]),
+                   ["line 4", "column position_mm", "empty"]),
+    "ragged row": (_csv(B_HEADER, GOOD_ROWS[0], "3000,150,1.3,0.9", *GOOD_ROWS[2:]), ["line 3", "4 cells"]),
+    "negative mass": (_csv(B_HEADER, GOOD_ROWS[0], "-3000,150,1.3,0.9,0.5", *GOOD_ROWS[2:]),
+                      ["line 3", "column mass_g", "negative"]),
+    "fewer than 3 points": (_csv(B_HEADER, *GOOD_ROWS[:2]), ["2 data rows", "at least 3"]),
+    "all at one position": (_csv(B_HEADER, GOOD_ROWS[0], GOOD_ROWS[1], "1500,150,0.6,0.5,0.2"),
+                            ["line 2 to line 4", "column position_mm", "one position (150 mm)"]),
+    "all at one force": (_csv(B_HEADER, GOOD_ROWS[1], GOOD_ROWS[3], "3000,300,2.3,2.0,1.9"),
+                         ["line 2 to line 4", "column mass_g", "same force"]),
+    "both force and mass": (_csv("force_N,mass_g,position_mm,V1,V2,V3", "1,20,150,1,2,3"), ["not both"]),
+    "wrong bridges for the design": (_csv("mass_g,position_mm,V1,V2", "20,150,1,2", "3000,150,1,2",
+                                          "3000,450,3,2"), ["header", "['V1', 'V2']", "['V1', 'V2', 'V3']"]),
+    "biaxial, z axis never loaded": (_csv("mass_g,position_mm,angle_deg,V1y,V1z,V2y,V2z", "250,100,0,1,0,2,0",
+                                          "2000,100,0,9,0,8,0", "250,200,0,2,0,1,0", "2000,200,0,7,0,6,0"),
+                                     ["column mass_g for the z axis", "no row loads the beam"]),
+    "biaxial without angle": (_csv("mass_g,position_mm,V1y,V1z,V2y,V2z", "250,100,1,2,3,4"),
+                              ["column angle_deg missing"]),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_CALIBRATION_CSVS))
+def test_bad_calibration_csv_exits_2_and_writes_nothing(tmp_path, capsys, case):
+    text, expected = BAD_CALIBRATION_CSVS[case]
+    src = tmp_path / "readings.csv"
+    src.write_text(text)
+    out = tmp_path / "calibration.json"
+    design = ["--design", str(DATA / "cal_prototype_b.json")] if "design" in case else []
+    assert main(["calibrate", str(src), "-o", str(out)] + design) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("fpdesign: error: ") and "Traceback" not in err
+    for piece in expected:
+        assert piece in err, (piece, err)
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == ["readings.csv"]   # no temporary file left either
+
+
+def test_failed_calibration_leaves_an_existing_file_untouched(tmp_path):
+    out = tmp_path / "calibration.json"
+    out.write_text("previous\n")
+    src = tmp_path / "readings.csv"
+    src.write_text(_csv(B_HEADER, GOOD_ROWS[0]))
+    assert main(["calibrate", str(src), "-o", str(out)]) == 2
+    assert out.read_text() == "previous\n"
+
+
+def test_measure_with_bridges_that_do_not_match_the_calibration_exits_2(tmp_path, capsys):
+    _, dc, r = _clean_b()
+    cal_json = rd.write_calibration(tmp_path / "c.json", cal.calibrate(r, dc))
+    src = tmp_path / "readings.csv"
+    src.write_text(_csv("V1,V2", "0.1,0.2"))
+    results = tmp_path / "results.csv"
+    assert main(["measure", str(cal_json), str(src), "-o", str(results)]) == 2
+    err = capsys.readouterr().err
+    assert "header: bridge columns ['V1', 'V2'] do not match the calibration's ['V1', 'V2', 'V3']" in err
+    assert not results.exists()
+    # voltages alone (no loads) are enough to measure
+    src.write_text(_csv("V1,V2,V3", "1.3,0.9,0.5"))
+    assert main(["measure", str(cal_json), str(src), "-o", str(results)]) == 0
+    assert results.read_text().count("\n") == 2
+
+
+@pytest.mark.parametrize("mutate,expected", [
+    (lambda d: d.pop("bridges"), "bridges: missing"),
+    (lambda d: d["bridges"][1].update(k="x"), "bridges[1].k: 'x' must be a finite number"),
+    (lambda d: d["bridges"].pop(1), "bridges: ['V1', 'V3'] must be ['V1', 'V2', 'V3']"),
+    (lambda d: d.update(version=7), "version: 7"),
+    (lambda d: d.update(points="nine"), "points: 'nine' must be a whole number"),
+    (lambda d: d.update(noise=[1]), "noise: [1] must be an object"),
+    (lambda d: d["span"].update(force=[1, "x"]), "span.force[1]: 'x' must be a finite number"),
+    (lambda d: d.clear(), "bridges: missing"),
+])
+def test_bad_calibration_json_exits_2(tmp_path, capsys, mutate, expected):
+    _, dc, r = _clean_b()
+    data = cal.calibrate(r, dc).to_dict()
+    mutate(data)
+    path = tmp_path / "c.json"
+    path.write_text(json.dumps(data))
+    src = tmp_path / "readings.csv"
+    src.write_text(_csv("V1,V2,V3", "1.3,0.9,0.5"))
+    assert main(["measure", str(path), str(src)]) == 2
+    assert expected in capsys.readouterr().err
+
+
+def test_malformed_calibration_json_exits_2(tmp_path, capsys):
+    path = tmp_path / "c.json"
+    path.write_text("{\n  \"bridges\": [\n")
+    src = tmp_path / "readings.csv"
+    src.write_text(_csv("V1,V2", "1.3,0.9"))
+    assert main(["measure", str(path), str(src)]) == 2
+    assert "not valid JSON at line 3" in capsys.readouterr().err
+    assert main(["measure", str(tmp_path / "none.json"), str(src)]) == 2
+    assert "no such file" in capsys.readouterr().err
+
+
+def test_bad_design_for_calibration_exits_2(tmp_path, capsys):
+    rec = record("b")
+    del rec["predicted"]["sensitivity"]
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(rec))
+    assert main(["plan", str(path)]) == 2
+    assert "predicted.sensitivity" in capsys.readouterr().err
+    assert main(["simulate-readings", str(tmp_path / "missing.json"), "-o", str(tmp_path / "r.csv")]) == 2
+    assert not (tmp_path / "r.csv").exists()

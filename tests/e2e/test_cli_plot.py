@@ -1,0 +1,79 @@
+"""``fpdesign plot`` as a whole command: the files it writes next to a design or into a folder,
+and bad input refused with exit 2, nothing written."""
+
+from __future__ import annotations
+
+import json
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from designer.outputs import plots
+from designer.cli import main
+
+pytestmark = pytest.mark.slow
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def _check_files(paths, names, formats):
+    assert sorted(p.name for p in paths) == sorted(f"{n}.{f}" for n in names for f in formats)
+    for p in paths:
+        data = p.read_bytes()
+        assert 10_000 < len(data) < 3_000_000, (p.name, len(data))
+        if p.suffix == ".png":
+            assert data.startswith(PNG_SIGNATURE)
+        else:
+            assert ET.fromstring(data).tag.endswith("svg")
+
+
+def test_plot_command_writes_png_next_to_the_design(tmp_path, capsys):
+    design = tmp_path / "design.json"
+    design.write_text((DATA / "plot_prototype_c.json").read_text())
+    assert main(["plot", str(design), "--format", "png"]) == 0
+    written = sorted(p.name for p in tmp_path.glob("*.png"))
+    assert written == sorted(f"{n}.png" for n in plots.PLOT_NAMES[:4])
+    assert str(tmp_path / "operating-region.png") in capsys.readouterr().out
+
+
+def test_plot_command_with_tradeoff_points_and_svg(tmp_path):
+    out = tmp_path / "plots"
+    assert main(["plot", str(DATA / "plot_optimized.json"), "-o", str(out), "--format", "svg",
+                 "--tradeoff", str(DATA / "plot_tradeoff.json")]) == 0
+    _check_files(list(out.iterdir()), plots.PLOT_NAMES, ("svg",))
+
+
+@pytest.mark.parametrize("content, message", [
+    (None, "no such file"),
+    ("{", "not valid JSON"),
+    (json.dumps({"spec": {}, "design": {}}), "design.material: missing"),
+])
+def test_plot_command_bad_input_exits_2_without_traceback(tmp_path, capsys, content, message):
+    path = tmp_path / "design.json"
+    if content is not None:
+        path.write_text(content)
+    assert main(["plot", str(path), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_plot_command_bad_tradeoff_file_exits_2(tmp_path, capsys):
+    bad = tmp_path / "tradeoff.json"
+    bad.write_text(json.dumps({"max_deflection": [{"material": "A", "section": "tube", "x": 1e-3}]}))
+    assert main(["plot", str(DATA / "plot_prototype_b.json"), "-o", str(tmp_path / "out"),
+                 "--tradeoff", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "tradeoff.max_deflection[0].feasible: None must be true or false" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_plot_command_missing_prediction_names_the_key(tmp_path, capsys):
+    record = json.loads((DATA / "plot_prototype_b.json").read_text())
+    del record["predicted"]["sensitivity"]
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(record))
+    assert main(["plot", str(path)]) == 2
+    assert "predicted.sensitivity: missing" in capsys.readouterr().err

@@ -1,0 +1,39 @@
+"""``fpdesign simulate`` as a whole command: the printed grid on a spec and on a design.json,
+and its refusal of too few draws."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from designer.cli import main
+
+pytestmark = pytest.mark.slow
+
+
+def test_simulate_command_on_a_spec_and_on_design_json(examples, tmp_path, capsys):
+    # The command prints the grid table and the largest disagreement; with 20 000 draws the
+    # sampling scatter is 0.5 %, so every printed ratio lies within 0.95-1.05 (10 sigmas).
+    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "20000", "--grid", "3", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "180,000 draws" in out and "largest |MC/model - 1|" in out
+    rows = [[cell.strip() for cell in line.split("│")[1:-1]] for line in out.splitlines() if line.startswith("│")]
+    rows = [r for r in rows if r and r[0].replace(".", "").isdigit()]
+    assert len(rows) == 9
+    for r in rows:  # F, x, sigma_F MC, model, ratio, sigma_x MC, model, ratio, mean |eF|, mean |ex|
+        assert "…" not in "".join(r)  # every number printed in full, also into a pipe
+        assert float(r[4]) == pytest.approx(float(r[2]) / float(r[3]), abs=2e-3)
+        assert 0.95 < float(r[4]) < 1.05 and 0.95 < float(r[7]) < 1.05
+    out_dir = tmp_path / "c"
+    assert main(["evaluate", str(examples / "prototype-c.yaml"), "-o", str(out_dir), "--no-cad", "--no-plots"]) == 0
+    capsys.readouterr()
+    assert json.loads((out_dir / "design.json").read_text(encoding="utf-8"))["design"]["axes"] == 2
+    assert main(["simulate", str(out_dir / "design.json"), "--draws", "5000", "--grid", "2", "2",
+                 "--angle", "45"]) == 0
+    assert "biaxial at 45°" in capsys.readouterr().out
+
+
+def test_simulate_refuses_too_few_draws(examples, capsys):
+    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "10"]) == 2
+    assert "--draws: 10" in capsys.readouterr().err

@@ -1,0 +1,208 @@
+"""Inputs that tests of more than one layer (unit, validation, e2e) build on.
+
+Each block says which test files use it. Only inputs live here; the assertions stay in the
+test files.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+
+from designer.checks.montecarlo import grid
+from designer.model import Geometry, MaterialParams
+from designer.result.evaluation import evaluate, fixed_design
+from designer.result.record import build_record
+from designer.spec.reader import load_spec, parse_spec
+
+DATA = Path(__file__).resolve().parent / "data"
+
+
+# ----------------------------------------------------------------- beam model inputs
+# unit/test_model_sections.py, validation/test_beam_closed_forms.py
+
+MM = 1e-3
+E_AL = 70e9      # Pa, a round number: the closed forms hold for any E
+RHO_AL = 2700.0  # kg/m^3
+
+
+def make_spec(**overrides):
+    raw = {
+        "load": {"force": ["1 N", "20 N"], "position": ["100 mm", "300 mm"]},
+        "electronics": {"excitation": "5 V", "gain": 500, "noise": "1 mV"},
+        "bridge": "half",
+    }
+    raw.update(overrides)
+    return parse_spec(raw)
+
+
+def material(E=E_AL):
+    return MaterialParams(E=E, allowable=100e6, density=RHO_AL)
+
+
+def rectangle(b, h, feature="none", stations=(0.02, 0.08), length=0.4, **kw):
+    return Geometry(section="rectangle", feature=feature, stations=stations, length=length,
+                    width=b, height=h, gauge_length=6.9 * MM, pocket_length=8.9 * MM,
+                    pocket_width=kw.pop("pocket_width", 5.5 * MM), **kw)
+
+
+def circular(kind, D, feature="none", wall=None, stations=(0.02, 0.08), length=0.4, **kw):
+    return Geometry(section=kind, feature=feature, stations=stations, length=length, diameter=D, wall=wall,
+                    gauge_length=6.9 * MM, pocket_length=8.9 * MM, pocket_width=5.5 * MM, **kw)
+
+
+# ----------------------------------------------------------------- a prototype for the Monte Carlo
+# validation/test_montecarlo.py, unit/test_montecarlo_estimates.py
+
+def montecarlo_prototype(examples, name):
+    """(spec, k_i, d_i, forces, positions) of an example's fixed design on the paper's 7 x 7 grid."""
+    spec = load_spec(examples / f"{name}.yaml")
+    ev = evaluate(fixed_design(spec).rounded(), spec)
+    g = ev.design.geometry
+    forces, positions = grid(spec.load.force_min, spec.load.force_max, spec.load.position_min,
+                             spec.load.position_max)
+    return spec, [float(ev.analysis.sensitivity)] * len(g.stations), list(g.stations), forces, positions
+
+
+# ----------------------------------------------------------------- CAD fixtures and damaged designs
+# unit/test_cad_options.py, e2e/test_cli_export.py
+
+def cad_record(name: str) -> dict:
+    return json.loads((DATA / f"cad_{name}.json").read_text())
+
+
+def cad_mutate(name: str, change) -> dict:
+    rec = copy.deepcopy(cad_record(name))
+    change(rec)
+    return rec
+
+
+CAD_BAD = {
+    "missing section": ("prototype_b", lambda r: r["design"].pop("section"), "design.section"),
+    "negative width": ("prototype_b", lambda r: r["design"]["section"].update(width=-0.0127),
+                       "design.section.width"),
+    "flat deeper than the wall": ("prototype_c_flats", lambda r: r["design"]["feature"].update(depth=0.002),
+                                  "design.feature.depth"),
+    "pocket deeper than half": ("rect_pockets", lambda r: r["design"]["feature"].update(depth=0.004),
+                                "design.feature.depth"),
+    "station off the beam": ("prototype_b", lambda r: r["design"].update(stations=[0.02, 0.06, 0.46]),
+                             "design.stations[2]"),
+    "pocket over the clamp face": ("rect_pockets", lambda r: r["design"].update(stations=[0.003, 0.06]),
+                                   "design.stations[0]"),
+    "holes overlapping": ("prototype_b", lambda r: r["design"].update(stations=[0.02, 0.025, 0.1]),
+                          "design.stations[1]"),
+    "clamp too short": ("prototype_b", lambda r: r["spec"]["cad"].update(clamp_length=0.01),
+                        "spec.cad.clamp_length"),
+    "end mill wider than the slot": ("rect_pockets", lambda r: r["spec"]["cad"].update(end_mill_diameter=0.006),
+                                     "spec.cad.end_mill_diameter"),
+    "groove off the beam": ("round_flats", lambda r: r["spec"]["cad"].update(groove_positions=[0.07, 0.125]),
+                            "spec.cad.groove_positions"),
+    "default groove at the free end": ("prototype_b", lambda r: r["spec"]["cad"].update(load_grooves=True),
+                                       "spec.cad.load_grooves"),
+    "channel deeper than the pocket": ("rect_pockets", lambda r: r["spec"]["cad"].update(channel_depth=0.0015),
+                                       "spec.cad.channel_depth"),
+    "unknown feature": ("prototype_b", lambda r: r["design"]["feature"].update(kind="slot"),
+                        "design.feature.kind"),
+}
+
+
+# ----------------------------------------------------------------- a design record for the 3-D check
+# validation/test_fea_beam_theory.py, unit/test_checks_bad_input.py, e2e/test_cli_verify.py
+
+def fea_record(design: dict, load: dict, **extra) -> dict:
+    raw = {"name": "fea-test", "load": load, "electronics": {"excitation": "5 V", "gain": 1000, "noise": "1.3 mV"},
+           "bridge": "half", "limits": {"fatigue": False}, "design": design}
+    raw.update(extra)
+    spec = parse_spec(raw)
+    ev = evaluate(fixed_design(spec).rounded(), spec)
+    return json.loads(json.dumps(build_record("feasible" if ev.feasible else "infeasible", spec, ev)))
+
+
+def fea_bar(length_mm: float, position_mm: tuple, size_mm: float = 10.0, feature=None, stations=(30, 50)) -> dict:
+    return fea_record({"material": "2024-T3",
+                       "section": {"kind": "rectangle", "width": f"{size_mm} mm", "height": f"{size_mm} mm"},
+                       "stations": [f"{s} mm" for s in stations], "feature": feature or {"kind": "none"},
+                       "length": f"{length_mm} mm"},
+                      {"force": ["2 N", "20 N"], "position": [f"{p} mm" for p in position_mm]},
+                      targets={"force_error": "20 %", "position_error": "10 %"})
+
+
+# ----------------------------------------------------------------- optimiser specs
+# unit/test_optimize_search.py, e2e/test_cli_optimize.py
+
+def optimize_spec_text(**changes):
+    base = {
+        "load": "  force: [1 N, 20 N]\n  position: [60 mm, 150 mm]",
+        "electronics": "  excitation: 5 V\n  gain: 128\n  noise_rti: 50 nV",
+        "limits": "  max_deflection: 2 mm",
+        "targets": "  force_error: 1 %\n  position_error: 1 mm",
+        "search": "  materials: [7075-T6, 6061-T6]\n  sections: [rectangle, round]",
+    }
+    base.update(changes)
+    return "name: test\n" + "".join(f"{k}:\n{v}\n" for k, v in base.items())
+
+
+# ----------------------------------------------------------------- the search under stress
+# unit/test_optimize_stability.py, e2e/test_cli_optimize.py
+
+SMALL_CLEARANCES = """\
+  clamp_clearance: 0.3 mm
+  load_clearance: 0.3 mm
+  tip_margin: 0.5 mm
+  pocket_margin: 0.1 mm
+  gauge_gap: 0.2 mm
+  min_wall: 0.1 mm
+  min_pocket_depth: 0.02 mm"""
+MINIATURE_GAUGE = "gauge: {name: miniature, factor: 2.0, length: 1 mm, width: 0.8 mm, max_strain: 1500 ue}"
+
+
+def _text(force, position, noise_rti, limits, gauge=MINIATURE_GAUGE, material="Ti-6Al-4V", section="rectangle",
+          objective="error"):
+    return f"""\
+name: stability
+load:
+  force: {force}
+  position: {position}
+electronics:
+  excitation: 5 V
+  gain: 500
+  noise_rti: {noise_rti}
+{gauge}
+bridge: full
+limits:
+{limits}
+targets:
+  force_error: 2 %
+  position_error: 2 %
+search:
+  materials: [{material}]
+  sections: [{section}]
+objective: {objective}
+"""
+
+
+STABILITY_SCALES = {
+    # a 14 mm finger read at millinewtons
+    "millinewtons on a millimetre beam": _text("[2 mN, 100 mN]", "[8 mm, 14 mm]", "760 nV", SMALL_CLEARANCES
+                                               + "\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]"),
+    # a metre-long whisker read at millinewtons
+    "millinewtons on a metre beam": _text("[5 mN, 200 mN]", "[0.4 m, 1 m]", "300 nV",
+                                          SMALL_CLEARANCES + "\n  width: [0.5 mm, 20 mm]\n  height: [0.5 mm, 20 mm]"
+                                          "\n  max_deflection: 20 mm"),
+    # a short stiff lug at kilonewtons
+    "kilonewtons on a millimetre beam": _text("[50 N, 2 kN]", "[30 mm, 60 mm]", "500 nV",
+                                              "  width: [5 mm, 40 mm]\n  height: [5 mm, 40 mm]",
+                                              gauge="gauge: BF350-3AA", material="17-4PH-H900"),
+    # a metre-long weigh beam at kilonewtons
+    "kilonewtons on a metre beam": _text("[100 N, 5 kN]", "[0.3 m, 1 m]", "500 nV",
+                                         "  width: [10 mm, 150 mm]\n  height: [10 mm, 150 mm]\n  max_deflection: 10 mm",
+                                         gauge="gauge: CEA-06-125UW-120", material="17-4PH-H900"),
+}
+
+
+def raise_roundoff(self, x0):
+    """Stands in for nlopt.opt.optimize: the solver stops with RoundoffLimited."""
+    import nlopt
+
+    raise nlopt.RoundoffLimited("NLopt roundoff-limited")

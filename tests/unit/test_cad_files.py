@@ -1,0 +1,31 @@
+"""The files of the CAD model written by the library (designer.outputs.cad.write_cad_outputs):
+their names and permissions. Slow: each test builds the OpenCascade solid and renders it.
+"""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+from designer.outputs import cad
+from shared_inputs import cad_record as record
+
+pytestmark = pytest.mark.slow
+
+
+def test_write_cad_outputs_names_files_after_the_design(tmp_path):
+    written = cad.write_cad_outputs(record("prototype_c"), tmp_path)
+    assert {k: p.name for k, p in written.items()} == {
+        "step": "prototype-c.step", "model_png": "prototype-c-model.png",
+        "drawing_svg": "prototype-c-drawing.svg", "drawing_png": "prototype-c-drawing.png"}
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written.values())
+    assert cad.step_product_names(written["step"]) == ["prototype-c"]
+
+
+def test_outputs_are_readable_like_ordinary_files(tmp_path):
+    written = cad.write_cad_outputs(record("prototype_a"), tmp_path)
+    mask = os.umask(0)
+    os.umask(mask)
+    for path in written.values():
+        assert path.stat().st_mode & 0o777 == 0o666 & ~mask

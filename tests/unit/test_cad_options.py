@@ -1,0 +1,81 @@
+"""The CAD model's options (designer.outputs.cad.resolve): the documented defaults, the spec's
+overrides, and the design checks it makes on its own.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from designer.outputs import cad
+from designer.errors import DesignFileError
+from shared_inputs import CAD_BAD as BAD
+from shared_inputs import cad_mutate as mutate
+from shared_inputs import cad_record as record
+
+
+def test_defaults_for_prototype_b_follow_the_documented_rules():
+    beam = cad.resolve(record("prototype_b"))
+    c = beam.clamp
+    # largest default bolt with 3 d <= 12.7 mm is M4; ISO 273 medium clearance for M4 is 4.5 mm
+    assert c.bolt_diameter == pytest.approx(0.004)
+    assert c.bolt_clearance == pytest.approx(0.0045)
+    # clamp: max(1.5 x 12.7, 6 x 4) = 24 mm, rounded up to 5 mm; holes at L/4 and 3L/4
+    assert c.length == pytest.approx(0.025)
+    assert sorted(c.bolt_positions) == pytest.approx([-0.01875, -0.00625])
+    assert beam.channels is None and beam.grooves is None  # no pockets; grooves off by default
+
+
+def test_defaults_for_slot_pockets():
+    beam = cad.resolve(record("rect_pockets"))
+    # largest standard end mill <= 0.6 x 5.5 mm = 3.3 mm is 3 mm; the 6.9 x 3.5 gauge clears its corners
+    assert beam.end_mill == pytest.approx(0.003)
+    assert beam.channels.width == pytest.approx(0.0015)
+    assert beam.channels.depth == pytest.approx(0.0005)
+    # default grooves at x_min, mid and x_max of the load range [80, 145] mm
+    assert beam.grooves.positions == pytest.approx((0.08, 0.1125, 0.145))
+    assert beam.grooves.depth == pytest.approx(0.0003)
+
+
+def test_spec_cad_keys_override_the_defaults():
+    beam = cad.resolve(record("round_flats"))
+    assert beam.clamp.length == pytest.approx(0.030)
+    assert beam.clamp.bolt_diameter == pytest.approx(0.005)
+    assert beam.clamp.bolt_clearance == pytest.approx(0.0055)   # ISO 273 medium, M5
+    assert beam.grooves.positions == pytest.approx((0.07, 0.10))
+    assert beam.grooves.depth == pytest.approx(0.0004)
+    rec = record("rect_pockets")
+    rec["spec"]["cad"].update(wire_channels=False, load_grooves=False, end_mill_diameter=0.002)
+    beam = cad.resolve(rec)
+    assert beam.channels is None and beam.grooves is None and beam.end_mill == pytest.approx(0.002)
+
+
+def test_non_standard_bolt_gets_a_rounded_up_clearance():
+    assert cad.bolt_clearance(0.0035) == pytest.approx(0.0040)  # 1.12 x 3.5 = 3.92 -> 4.0 mm
+
+
+def test_messages_give_the_value_and_the_allowed_range():
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate("rect_pockets", lambda r: r["design"].update(stations=[0.02, 0.149])))
+    assert str(info.value) == ("design.stations[1]: 0.149 m (149 mm) is off the beam: with its 8.9 mm pocket it "
+                               "must lie between 4.45 mm and 145.55 mm from the clamp face (free length 150 mm)")
+
+
+def test_cad_modules_import_without_cadquery_or_matplotlib():
+    code = ("import sys, designer.cli.cad, designer.outputs.cad, designer.outputs.drawing; "
+            "print('cadquery' in sys.modules, 'matplotlib' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                            cwd=Path(__file__).resolve().parents[2])
+    assert result.stdout.split() == ["False", "False"]
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_cad_checks_its_own_needs_without_the_file_reader(case):
+    """The same bad designs rejected by ``cad.resolve`` alone (a record built in memory)."""
+    name, change, key = BAD[case]
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate(name, change))
+    assert key in str(info.value)

@@ -1,0 +1,82 @@
+"""The dimensioned drawing and the model picture (designer.outputs.drawing): what the drawing
+states about the design, its shortened length axis and its hidden-surface rendering.
+"""
+
+from __future__ import annotations
+
+import pytest
+
+from designer.outputs import cad
+from designer.outputs.drawing import picture, views
+from shared_inputs import cad_record as record
+
+
+def drawing_texts(name: str) -> str:
+    from designer.outputs import drawing
+
+    fig = drawing.plot_drawing(cad.resolve(record(name)))
+    return "\n".join(t.get_text() for t in fig.axes[0].texts)
+
+
+def test_drawing_of_prototype_b_gives_stations_lengths_holes_material_and_name():
+    texts = drawing_texts("prototype_b").splitlines()
+    for expected in ["20", "60", "100",            # stations from the clamp face
+                     "450", "475", "25",           # free length, overall, clamp block
+                     "12.7", "Ø9.5",               # section, hole in the section view
+                     "3x Ø9.5 THRU", "2x Ø4.5 THRU (M4 CLEARANCE)", "6.25", "12.5",
+                     "2024-T3", "prototype-b"]:
+        assert expected in texts, expected
+
+
+def test_drawing_of_slot_pockets_gives_pocket_length_width_depth_and_tool():
+    texts = drawing_texts("rect_pockets")
+    lines = texts.splitlines()
+    for expected in ["8.9", "5.5", "1", "20", "8", "80", "112.5", "145"]:
+        assert expected in lines, expected
+    assert "SLOT 8.9 x 5.5 x 1 DEEP, R1.5 CORNERS (Ø3 END MILL)" in texts
+    assert "WIRE CHANNEL 1.5 WIDE x 0.5 DEEP" in texts
+    assert "3x LOAD GROOVE 0.5 WIDE x 0.3 DEEP ALL AROUND" in texts
+
+
+def test_drawing_of_flats_gives_across_flats_and_bore():
+    lines = drawing_texts("tube_flats").splitlines()
+    for expected in ["18", "Ø15", "Ø20", "(8.72)", "20", "50", "80", "200"]:
+        assert expected in lines, expected   # 20 - 2 x 1 across flats; chord 2 sqrt(10^2 - 9^2) = 8.72
+
+
+def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
+    from designer.outputs import drawing
+
+    a = views.length_axis(cad.resolve(record("prototype_a")))
+    assert len(a.gaps) == 1                                  # 123 -> 800 mm shortened
+    assert a(0.02) < a(0.12) < a(0.5) < a(0.8)
+    p = views.length_axis(cad.resolve(record("rect_pockets")))
+    assert p.gaps == ()                                      # short runs stay to scale
+    assert p(0.1) - p(0.0) == pytest.approx(100 * p.scale)
+
+
+def test_depth_buffer_keeps_the_nearer_triangle():
+    import numpy as np
+
+    from designer.outputs import drawing
+
+    # two triangles over the same 10 x 10 pixel square at depths 1 and 2 (larger is nearer)
+    square = np.array([[0, 0], [10, 0], [0, 10]], float)
+    xy = np.stack([square, square])
+    depth = np.array([[1.0, 1.0, 1.0], [2.0, 2.0, 2.0]])
+    z = picture._zbuffer(xy, depth, np.zeros(2), 1.0, (12, 12))
+    covered = np.isfinite(z)
+    assert np.all(z[covered] == 2.0)
+    # the lower-left half of the square: pixel centres with x + y < 10 -> 45 pixels (+ 10 on the diagonal)
+    assert 45 <= covered.sum() <= 55
+    assert not covered[11, 11]
+
+
+@pytest.mark.slow
+def test_model_picture_draws_both_panels():
+    from designer.outputs import drawing
+
+    beam = cad.resolve(record("prototype_b"))
+    fig = drawing.plot_model(cad.model_meshes(beam, cad.build_solid(beam)), beam)
+    assert len(fig.axes) == 2                                 # whole beam and the close-up
+    assert all(ax.collections for ax in fig.axes)
