@@ -135,6 +135,7 @@ class Row:
     """One case's 3-D figures, dimensionless (see the module docstring)."""
 
     family: str
+    mesh: str
     parameters: dict
     strain_near: float
     strain_far: float
@@ -165,7 +166,7 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
     g = design.geometry
     params = {k: float(val) for k, val in corrections.parameters(g).items()}
     params["clamp_ratio"] = float(corrections.clamp_ratios(g)[0])
-    return Row(case.family, params, near, far, v.deflection_fea / float(raw.deflection),
+    return Row(case.family, mesh, params, near, far, v.deflection_fea / float(raw.deflection),
                extra_length(g, raw, design.material, spec, v.deflection_fea) / case.size,
                v.stress_feature_fea / float(raw.stress_feature),
                max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0)
@@ -199,17 +200,18 @@ def write_csv(rows: list[Row], path: Path) -> None:
     names = [f.name for f in fields(Row) if f.name != "parameters"]
     with open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
-        w.writerow(names[:1] + keys + names[1:])
+        w.writerow(names[:2] + keys + names[2:])
         for r in rows:
             values = [getattr(r, n) for n in names]
-            w.writerow(values[:1] + [f"{r.parameters[k]:.6g}" if k in r.parameters else "" for k in keys]
-                       + [f"{v:.6g}" if isinstance(v, float) else v for v in values[1:]])
+            w.writerow(values[:2] + [f"{r.parameters[k]:.6g}" if k in r.parameters else "" for k in keys]
+                       + [f"{v:.6g}" if isinstance(v, float) else v for v in values[2:]])
 
 
 def read_csv(path: Path) -> list[dict]:
     """The study table as dictionaries of floats (the family as text)."""
     with open(path, newline="", encoding="utf-8") as fh:
-        return [{k: (v if k == "family" else float(v)) for k, v in row.items() if v != ""} for row in csv.DictReader(fh)]
+        return [{k: (v if k in ("family", "mesh") else float(v)) for k, v in row.items() if v != ""}
+                for row in csv.DictReader(fh)]
 
 
 def monomials(n: int, degree: int) -> list[tuple]:
@@ -291,8 +293,11 @@ def main(argv=None) -> int:
 
         from designer.model.corrections import to_dict
 
-        table, report = fit_table(read_csv(args.fit), source=f"fpdesign 3-D study ({args.fit.name}), "
-                                                             "python -m designer.checks.study")
+        rows = read_csv(args.fit)
+        meshes = sorted({(r["family"], r.get("mesh", "?")) for r in rows})
+        source = (f"fpdesign's 3-D check over the parametric study {args.fit.name} (python -m designer.checks.study; "
+                  + ", ".join(f"{fam}: {mesh} mesh" for fam, mesh in meshes) + ")")
+        table, report = fit_table(rows, source=source)
         args.output.write_text(yaml.safe_dump(to_dict(table), sort_keys=False, width=110, default_flow_style=None),
                                encoding="utf-8")
         for fam, quantity, degree, f in report:

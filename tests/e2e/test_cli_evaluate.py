@@ -51,10 +51,14 @@ def _run_capturing(spec_path, out):
 
 def test_design_json_has_every_key_of_spec_md(prototype_b):
     code, _, record, out = prototype_b
-    assert code == 0  # Prototype B meets its limits and targets (exit 0, SPEC.md)
+    # Over its holes Prototype B's gauges read 0.614 of the net-section strain (3-D check,
+    # benchmarks/fea_table.md), so sigma_F/F_min = sqrt(2) sigma_V/(k delta F_min) =
+    # sqrt(2) 1.3 mV/(0.614 x 0.3446 V/(N m) x 0.08 m x 1.961 N) = 5.5 % > the spec's 4 %
+    # target: the design misses it, exit 1 (docs/spec.md §10), and the record is complete.
+    assert code == 1
     assert SPEC_KEYS <= record.keys()
     assert record["version"] == 1
-    assert record["status"] == "feasible"
+    assert record["status"] == "infeasible"
     d, p = record["design"], record["predicted"]
     assert DESIGN_KEYS <= d.keys()
     assert {"E", "yield", "fatigue", "density"} <= d["material_properties"].keys()
@@ -83,17 +87,23 @@ def test_design_json_has_every_key_of_spec_md(prototype_b):
 
 
 def test_prototype_b_predictions_against_hand_calculation(prototype_b):
-    # MODEL.md sections 2-4 by hand for Prototype B (Noh et al. Table 1): 12.7 mm square,
+    # docs/model.md §2-4 by hand for Prototype B (Noh et al. Table 1): 12.7 mm square,
     # 9.5 mm holes at 20 and 100 mm, half bridges, 5 V, gain 1000, G = 2.0, 1.3 mV noise.
-    # The reduced section at a hole is b (h^3 - d^3)/12. Same formulas in another order:
-    # rel 1e-9.
+    # The reduced section at a hole is b (h^3 - d^3)/12 (the net-section formula). Over a
+    # hole the gauge reads less than that formula says: the model's hole correction
+    # (docs/model.md §7) must give the 3-D check's 0.614 (benchmarks/fea_table.md, normal
+    # mesh, fpdesign verify on this design) within the 3 % the 3-D acceptance allows. The
+    # rest follows from k exactly: same formulas in another order, rel 1e-9.
     _, _, record, _ = prototype_b
     p = record["predicted"]
     b = h = 12.7e-3
     dh, d1, d2, sigma = 9.5e-3, 0.020, 0.100, 1.3e-3
     f_min, f_max, x_min, x_max = 200 * GF, 2000 * GF, 0.150, 0.450
     I, I_s = b * h ** 3 / 12, b * (h ** 3 - dh ** 3) / 12
-    k = 5 * 2.0 * 1000 * 2 * (h / 2) / (4 * E_2024 * I_s)
+    k_net = 5 * 2.0 * 1000 * 2 * (h / 2) / (4 * E_2024 * I_s)
+    factor = p["sensitivity"][0] / k_net
+    assert factor == pytest.approx(0.614, rel=0.03)
+    k = k_net * factor
     delta = d2 - d1
     assert p["sensitivity"] == pytest.approx([k, k], rel=1e-9)
     assert p["force_error"] == pytest.approx(math.sqrt(2) * sigma / (k * delta) / f_min, rel=1e-9)
@@ -103,10 +113,10 @@ def test_prototype_b_predictions_against_hand_calculation(prototype_b):
     stress_hole = f_max * (x_max - (d1 - dh / 2)) * (h / 2) / I_s  # clamp-side edge of the first hole
     assert p["max_stress"] == pytest.approx(max(stress_root, stress_hole), rel=1e-9)
     assert p["stress_allowable"] == pytest.approx(345e6 / 1.5, rel=1e-9)  # yield / safety factor, no fatigue
-    assert p["gauge_strain"] == pytest.approx([f_max * (x_max - d) * (h / 2) / (E_2024 * I_s) for d in (d1, d2)],
-                                              rel=1e-9)
+    assert p["gauge_strain"] == pytest.approx([factor * f_max * (x_max - d) * (h / 2) / (E_2024 * I_s)
+                                               for d in (d1, d2)], rel=1e-9)
     assert p["min_signal_snr"] == pytest.approx(k * f_min * (x_min - d2) / sigma, rel=1e-9)
-    # Mean absolute error as the paper reports it: sqrt(2/pi) sigma (MODEL.md section 3).
+    # Mean absolute error as the paper reports it: sqrt(2/pi) sigma (docs/model.md §3).
     assert p["mean_abs_force_error"] == pytest.approx(math.sqrt(2 / math.pi) * p["force_error"], rel=1e-12)
 
 
@@ -119,8 +129,8 @@ def test_prototype_b_summary_is_printed(prototype_b):
 def test_doubling_the_gauge_spacing_halves_the_force_error(examples, tmp_path):
     # Noh et al. Fig. 13 (and eq. 35): sigma_F = sqrt(2) sigma_V/(k delta); Prototype B with
     # bridges 40 mm apart (20/60 mm) against 80 mm apart (20/100 mm). Same k, so the ratio is
-    # exactly 2 (rel 1e-9). The inner pair misses the spec's 4 % force target: exit 1, and
-    # design.json still records the design and what it violates.
+    # exactly 2 (rel 1e-9). With the holes' 3-D strain both pairs miss the spec's 4 % force
+    # target (5.5 % and 11 %): exit 1, and design.json still records the design and what it violates.
     records = {}
     for name in ("prototype-b-inner", "prototype-b"):
         out = tmp_path / name
@@ -129,7 +139,7 @@ def test_doubling_the_gauge_spacing_halves_the_force_error(examples, tmp_path):
     (code_40, inner), (code_80, outer) = records["prototype-b-inner"], records["prototype-b"]
     assert inner["predicted"]["force_error"] == pytest.approx(2 * outer["predicted"]["force_error"], rel=1e-9)
     assert inner["predicted"]["position_error"] > 1.9 * outer["predicted"]["position_error"]
-    assert (code_40, code_80) == (1, 0)
+    assert (code_40, code_80) == (1, 1)
     assert inner["status"] == "infeasible"
     assert any("violates" in m and "force_error" in m for m in inner["messages"])
     violated = {c["name"] for c in inner["constraints"] if c["margin"] < 0}
@@ -198,7 +208,9 @@ design:
 #   at 2 N and 200 mm with the plain tube's k = V_s G g n y/(4 E I) = 5 x 2 x 1000 x 4 x 8 mm /
 #   (4 x 68.9 GPa x pi (16^4 - 11^4)/64 mm^4) = 0.465 V/(N m) is 1.3 mV x 234 mm/(0.465 x 48 mm x
 #   2 N) = 6.8 mm; 0.6 mm flats change k by a few per cent, and 5 mm would take 37 % more: exit 1.
-EXPECTED_CODE = {"prototype-a": 0, "prototype-b": 0, "prototype-c": 0, "rectangle pocket": 1,
+# Prototype B misses its 4 % force target once the holes' 3-D strain is modelled (5.5 %, see
+# test_design_json_has_every_key_of_spec_md).
+EXPECTED_CODE = {"prototype-a": 0, "prototype-b": 1, "prototype-c": 0, "rectangle pocket": 1,
                  "biaxial tube flats": 1}
 
 

@@ -67,8 +67,9 @@ def test_predicted_sigma_for_two_equal_stations():
 
 def test_prototype_b_strains_through_eq_4_then_eqs_11_12_give_the_load_back(examples):
     # The whole forward chain of the package for Prototype B (Table 1): gauge strains from the
-    # beam model (eq. 3) at F_max, x_max, turned into volts by eq. 4 (V = V_s g G n eps / 4),
-    # then eqs. 11-12 with the model's k (eq. 7) and balanced bridges: F and x to rel 1e-9.
+    # beam model (eq. 3, with the holes' 3-D correction, docs/model.md §7) at F_max, x_max,
+    # turned into volts by eq. 4 (V = V_s g G n eps / 4), then eqs. 11-12 with the model's k_i
+    # (eq. 7 with the same correction) and balanced bridges: F and x to rel 1e-9.
     from designer.result.evaluation import evaluate, fixed_design
     from designer.spec.reader import load_spec
 
@@ -77,6 +78,6 @@ def test_prototype_b_strains_through_eq_4_then_eqs_11_12_give_the_load_back(exam
     a, e = ev.analysis, spec.electronics
     V1, V2 = (e.excitation * e.gain * spec.gauge.factor * spec.bridge_factor * eps / 4 for eps in a.gauge_strain)
     d1, d2 = ev.design.geometry.stations
-    k = a.sensitivity
-    assert eq_12_force(V1, V2, k, k, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.force_max, rel=1e-9)
-    assert eq_11_position(V1, V2, k, k, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.position_max, rel=1e-9)
+    k1, k2 = a.sensitivities
+    assert eq_12_force(V1, V2, k1, k2, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.force_max, rel=1e-9)
+    assert eq_11_position(V1, V2, k1, k2, d1, d2, 0.0, 0.0) == pytest.approx(spec.load.position_max, rel=1e-9)

@@ -96,10 +96,19 @@ def prototype_b():
 
 
 def test_prototype_b_hole_net_section_over_predicts_the_gauge_strain(prototype_b):
+    from designer import model
+    from designer.model.corrections import Corrections
+    from designer.result import designfile
+
     r = fea.verify_design(prototype_b, mesh="coarse")
-    for g in r.gauges:
-        # converged value 0.612 (fine mesh); the coarse mesh is within 2 %
-        assert g.ratio == pytest.approx(0.612, rel=0.02)
+    record = designfile.parse_design(prototype_b)
+    plain = model.analyse(record.design.geometry, record.design.material_params(record.spec), record.spec,
+                          table=Corrections({}))
+    for g, net_section in zip(r.gauges, plain.gauge_strain):
+        # against the net-section formula: converged value 0.612 (fine mesh); the coarse mesh is within 2 %
+        assert g.fea_strain / float(net_section) == pytest.approx(0.612, rel=0.02)
+        # the model with its hole correction (docs/model.md §7) within the 3-D acceptance, 3 %
+        assert g.ratio == pytest.approx(1.0, abs=0.03)
         assert g.mesh_change < 0.03
     # the hole barely changes the beam's deflection: 1 % with the coarse mesh
     assert r.deflection_fea / r.deflection_model == pytest.approx(1.0, abs=0.01)
@@ -107,11 +116,11 @@ def test_prototype_b_hole_net_section_over_predicts_the_gauge_strain(prototype_b
     assert r.stress_peak.where.startswith("hole at station 1")
     assert r.stress_peak.value > r.stress_model
     text = " ".join(r.messages)
-    assert "over-predicts this gauge's strain by 6" in text
-    # the sensitivities fall with the strain: the re-checked accuracy targets fail
+    assert "over-predicts this gauge's strain" not in text
+    # the model already predicts the hole's strain: the accuracy re-checked with the 3-D
+    # sensitivities agrees with its own within the 3 % of the strain
     checks = {c.name: c for c in r.limits}
-    assert checks["force_error"].fea_value == pytest.approx(checks["force_error"].model_value / 0.612, rel=0.03)
-    assert not r.passed and "force_error" in text
+    assert checks["force_error"].fea_value == pytest.approx(checks["force_error"].model_value, rel=0.03)
 
 
 def test_slot_pockets_agree_with_beam_theory_within_a_few_percent():

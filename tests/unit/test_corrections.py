@@ -1,0 +1,120 @@
+"""The feature corrections of the beam model (docs/model.md §7): how a fit is evaluated, where
+it applies, the limits that keep a design inside the fitted domain, and exact derivatives."""
+
+import math
+
+import numpy as np
+import pytest
+
+from designer import model
+from designer.model import corrections
+from designer.model.corrections import Corrections, Fit
+from designer.result.evaluation import evaluate, fixed_design
+from designer.spec.reader import parse_spec_text
+
+HOLE_SPEC = """\
+name: hole-bar
+load: {force: [2 N, 20 N], position: [150 mm, 450 mm]}
+electronics: {excitation: 5 V, gain: 1000, noise: 1.3 mV}
+gauge: BF120-3AA
+bridge: half
+limits: {fatigue: false, safety_factor: 1.5}
+design:
+  material: 2024-T3
+  section: {kind: rectangle, width: 12.7 mm, height: 12.7 mm}
+  stations: [20 mm, 100 mm]
+  feature: {kind: hole, diameter: 9.5 mm}
+  length: 450 mm
+"""
+
+# A made-up table: strain factor 1 - 0.5 r + 0.25 r^2 over r = hole_ratio in [0.3, 0.8],
+# and a constant extra length of 0.1 section sizes.
+TABLE = Corrections({"rectangle-hole": {
+    "strain": Fit(("hole_ratio",), ((0,), (1,), (2,)), (1.0, -0.5, 0.25), {"hole_ratio": (0.3, 0.8)}),
+    "extra_length": Fit(("hole_ratio",), ((0,),), (0.1,), {"hole_ratio": (0.3, 0.8)})}})
+
+
+def _analysis(text=HOLE_SPEC, table=TABLE):
+    spec = parse_spec_text(text)
+    design = fixed_design(spec).rounded()
+    return spec, design, model.analyse(design.geometry, design.material_params(spec), spec, table=table)
+
+
+def test_a_fit_is_its_polynomial():
+    # sum c_k prod p_j^e_kj by hand: 2 + 3 a - b^2 + 0.5 a b at a = 0.4, b = 1.5
+    fit = Fit(("a", "b"), ((0, 0), (1, 0), (0, 2), (1, 1)), (2.0, 3.0, -1.0, 0.5), {})
+    assert fit({"a": 0.4, "b": 1.5}) == pytest.approx(2 + 3 * 0.4 - 1.5 ** 2 + 0.5 * 0.4 * 1.5, rel=1e-15)
+
+
+def test_strain_factor_scales_k_strain_and_errors_and_extra_length_the_deflection():
+    spec, design, plain = _analysis(table=Corrections({}))
+    _, _, corrected = _analysis()
+    r = 9.5 / 12.7
+    factor = 1 - 0.5 * r + 0.25 * r * r
+    assert corrected.sensitivities == pytest.approx([plain.sensitivity * factor] * 2, rel=1e-12)
+    assert corrected.gauge_strain == pytest.approx([s * factor for s in plain.gauge_strain], rel=1e-12)
+    # sigma_F = sqrt(2) sigma_V/(k delta) (paper eq. 35): inversely proportional to k
+    assert float(corrected.force_error) == pytest.approx(float(plain.force_error) / factor, rel=1e-12)
+    assert float(corrected.position_error) == pytest.approx(float(plain.position_error) / factor, rel=1e-12)
+    # Unit-load method by hand: each reduced span 0.1 h longer adds
+    # F (1/EI_s - 1/EI) * integral over the two added strips of (x - s)(l - s) ds.
+    g, sp, E = design.geometry, plain.props, design.material.E
+    F, x, ell = spec.load.force_max, spec.load.position_max, g.length
+    extra = 1 / (E * float(sp.I_s)) - 1 / (E * float(sp.I))
+    strips = []
+    for d in g.stations:
+        half, grow = g.feature_length / 2, 0.1 * g.size / 2
+        strips += [(d - half - grow, d - half), (d + half, d + half + grow)]
+    added = sum(F * extra * _integral(a, b, x, ell) for a, b in strips)
+    assert float(corrected.deflection) == pytest.approx(float(plain.deflection) + added, rel=1e-9)
+    # the stresses stay nominal
+    assert float(corrected.stress_feature) == pytest.approx(float(plain.stress_feature), rel=1e-15)
+
+
+def _integral(a, b, x, ell, n=2001):
+    s = np.linspace(a, b, n)
+    return np.trapezoid((x - s) * (ell - s), s)
+
+
+def test_no_table_is_the_plain_beam_model():
+    spec = parse_spec_text(HOLE_SPEC)
+    design = fixed_design(spec).rounded()
+    g = design.geometry
+    assert corrections.strain_factors(g, Corrections({})) == ()
+    assert corrections.widened(g, Corrections({})) is g
+
+
+def test_the_fitted_domain_is_a_limit_on_the_design():
+    spec, design, a = _analysis()
+    params = design.material_params(spec)
+    names = {lim.name: lim for lim in model.limits(design.geometry, a, params, spec, table=TABLE)}
+    assert {"domain_hole_ratio_min", "domain_hole_ratio_max"} <= names.keys()
+    assert float(names["domain_hole_ratio_max"].value) == pytest.approx(9.5 / 12.7)
+    # a 10.5 mm hole in the 12.7 mm bar (ratio 0.83) leaves the domain: the limit says so
+    spec2, design2, a2 = _analysis(HOLE_SPEC.replace("diameter: 9.5 mm", "diameter: 10.5 mm"))
+    names2 = {lim.name: lim for lim in model.limits(design2.geometry, a2, design2.material_params(spec2), spec2,
+                                                    table=TABLE)}
+    assert float(names2["domain_hole_ratio_max"].normalised) == pytest.approx(10.5 / 12.7 / 0.8 - 1, rel=1e-9)
+
+
+def test_shipped_table_gives_exact_derivatives_to_the_optimiser():
+    # OpenMDAO-style check: the casadi gradient of the NLP (with the shipped hole correction)
+    # against central finite differences of the same function.
+    from designer.search import Family, FamilyProblem, material_params
+    from designer.spec import catalogue
+
+    spec = parse_spec_text(HOLE_SPEC.split("design:")[0] + "search: {sections: [rectangle], feature: hole}\n")
+    problem = FamilyProblem(spec, Family("rectangle", "hole"))
+    params = material_params(catalogue.material("2024-T3"), spec)
+    x = problem.starts()[0]
+    _, _, g, jac = problem.functions(x, params)
+    jac = np.asarray(jac)
+    h = 1e-6
+    for i in range(len(x)):
+        step = np.zeros(len(x))
+        step[i] = h
+        up = np.asarray(problem.functions(x + step, params)[2]).ravel()
+        down = np.asarray(problem.functions(x - step, params)[2]).ravel()
+        assert jac[:, i] == pytest.approx((up - down) / (2 * h), rel=1e-5, abs=1e-7)
+    assert any(name.startswith("domain_") for name in problem.limit_names)
+    assert math.isfinite(float(np.asarray(g).ravel()[0]))
