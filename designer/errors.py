@@ -40,3 +40,17 @@ class SolverError(FpdError, RuntimeError):
 def describe_allowed(choices) -> str:
     """``"one of [a, b, c]"`` for error messages."""
     return "one of [" + ", ".join(str(c) for c in choices) + "]"
+
+
+def read_text(path, error: type, where: str | None = None, encoding: str = "utf-8") -> str:
+    """The text of the file ``path``; a missing or unreadable file raises ``error`` (an
+    InputError) whose message starts with ``where`` (the path by default)."""
+    from pathlib import Path
+
+    where = str(path) if where is None else where
+    try:
+        return Path(path).read_text(encoding=encoding)
+    except FileNotFoundError as exc:
+        raise error(f"{where}: no such file") from exc
+    except (OSError, UnicodeDecodeError) as exc:
+        raise error(f"{where}: cannot be read ({exc})") from exc

@@ -22,7 +22,7 @@ from designer.calibration.design import design_constants
 from designer.calibration.measurement import Measurement
 from designer.calibration.schemes import SCHEMES, scheme_loads
 from designer.calibration.record import Calibration
-from designer.errors import CalibrationFileError, CsvError, InputError
+from designer.errors import CalibrationFileError, CsvError, InputError, read_text
 from designer.model import estimator
 from designer.result.designfile import load_design, read_json
 from designer.outputs.files import atomic_write_json, atomic_write_text
@@ -153,13 +153,7 @@ def _cell(cell: str, source: str, line_no: int, name: str) -> float:
 
 def read_readings(path, need_loads: bool = False) -> Readings:
     """``parse_readings`` of a file; a missing or unreadable file is a CsvError."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError as exc:
-        raise CsvError(f"{path}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise CsvError(f"{path}: cannot be read ({exc})") from exc
+    text = read_text(path, CsvError, encoding="utf-8-sig")
     return parse_readings(text, str(path), need_loads)
 
 

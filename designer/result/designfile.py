@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer import model
-from designer.errors import DesignFileError, SpecError, describe_allowed
+from designer.errors import DesignFileError, SpecError, describe_allowed, read_text
 
 SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
 FEATURE_KEYS = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "none": ()}
@@ -23,14 +23,8 @@ FEATURE_KEYS = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "
 
 def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
     """The JSON in ``path``; a missing, unreadable or malformed file raises ``error`` (an InputError)."""
-    path = Path(path)
     where = f"{what} {path}".strip()
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError as exc:
-        raise error(f"{where}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise error(f"{where}: cannot be read ({exc})") from exc
+    text = read_text(path, error, where)
     try:
         return json.loads(text)
     except json.JSONDecodeError as exc:

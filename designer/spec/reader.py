@@ -15,7 +15,7 @@ import yaml
 from designer.spec import catalogue
 from designer.spec import units
 from designer.spec.catalogue import Gauge
-from designer.errors import SpecError, describe_allowed
+from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
 
 SECTION_KINDS = ("rectangle", "round", "tube")
@@ -207,12 +207,7 @@ _TOP_KEYS = ("name", "load", "electronics", "gauge", "bridge", "stations", "axes
 
 def load_spec(path: str | Path) -> Spec:
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError as exc:
-        raise SpecError(f"{path}: no such file") from exc
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SpecError(f"{path}: cannot be read ({exc})") from exc
+    text = read_text(path, SpecError)
     return parse_spec_text(text, source=str(path), default_name=path.stem)
 
 
