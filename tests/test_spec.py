@@ -114,6 +114,15 @@ BAD_SPECS = {
     "section not a mapping": ({"design.section": "square"}, ["design.section", "square", "mapping"]),
     "load not a mapping": ({"load": ["1 N", "2 N"]}, ["load", "['1 N', '2 N']", "mapping"]),
     "pocket fraction too large": ({"limits.max_pocket_fraction": 0.6}, ["limits.max_pocket_fraction", "0.6"]),
+    "zero corner radius": ({"cad.corner_radius": 0}, ["cad.corner_radius", "0", "positive"]),
+    "negative corner radius": ({"cad.corner_radius": "-0.2 mm"}, ["cad.corner_radius", "-0.2 mm", "positive"]),
+    "corner radius in newtons": ({"cad.corner_radius": "0.2 N"}, ["cad.corner_radius", "0.2 N", "length"]),
+    "corner radius not a number": ({"cad.corner_radius": "round"}, ["cad.corner_radius", "round"]),
+    "corner radius of half the end mill": ({"cad.end_mill_diameter": "2 mm", "cad.corner_radius": "1 mm"},
+                                           ["cad.corner_radius", "1 mm", "half the end mill", "cad.end_mill_diameter"]),
+    "corner radius deeper than the pocket": ({"design.feature": {"kind": "pocket", "depth": "1 mm"},
+                                              "cad.corner_radius": "1.5 mm"},
+                                             ["cad.corner_radius", "1.5 mm", "design.feature.depth", "1 mm"]),
     # Far outside any physical range: the numbers overflow or divide by zero in the model.
     "sub-atomic width": ({"design.section.width": "1e-30 mm"}, ["cannot be evaluated", "physical range"]),
     "absurd gain": ({"electronics.gain": 1e300}, ["cannot be evaluated", "force_error", "physical range"]),
@@ -255,6 +264,29 @@ def test_defaults_are_those_of_spec_md():
     assert s.search.feature == "pocket" and s.search.sections == ("rectangle", "round", "tube")
     assert len(s.search.materials) >= 8
     assert s.free_length == pytest.approx(0.110 + 0.005, rel=1e-12)  # x_max + tip_margin (MODEL.md 1)
+
+
+def test_the_corner_radius_default_is_recorded_in_the_normalised_spec():
+    """cad.corner_radius: R0.2 (stock bull-nose end mills), at most 0.4 of the shallowest pocket
+    allowed and of a given end mill, rounded down to 0.01 mm; design.json's spec.cad carries it."""
+    assert parse_spec(copy.deepcopy(MINIMAL)).to_dict()["cad"]["corner_radius"] == pytest.approx(0.2e-3)
+    shallow = copy.deepcopy(MINIMAL) | {"limits": {"min_pocket_depth": "0.3 mm"}}
+    assert parse_spec(shallow).cad.corner_radius == pytest.approx(0.12e-3)
+    tiny_mill = copy.deepcopy(MINIMAL) | {"cad": {"end_mill_diameter": "0.4 mm"}}
+    assert parse_spec(tiny_mill).cad.corner_radius == pytest.approx(0.16e-3)
+    given = copy.deepcopy(MINIMAL) | {"cad": {"corner_radius": "0.5 mm"}}
+    assert parse_spec(given).to_dict()["cad"]["corner_radius"] == pytest.approx(0.5e-3)
+    # a fixed design shallower than min_pocket_depth (evaluate judges it) gets a radius that fits it
+    raw = copy.deepcopy(MINIMAL) | {"design": {"material": "7075-T6", "section": {"kind": "round", "diameter": "10 mm"},
+                                               "stations": ["10 mm", "40 mm"],
+                                               "feature": {"kind": "pocket", "depth": "0.25 mm"}}}
+    spec = parse_spec(raw)
+    assert spec.cad.corner_radius == pytest.approx(0.1e-3)
+    # read back from design.json (without the design block) it stays
+    again = spec.to_dict()
+    again.pop("design")
+    again["electronics"] = {k: v for k, v in again["electronics"].items() if v is not None and k != "noise_output"}
+    assert parse_spec(again).cad == spec.cad
 
 
 def test_a_custom_gauge_needs_every_field():
