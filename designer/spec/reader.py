@@ -24,10 +24,10 @@ BRIDGES = BRIDGE_FACTORS
 OBJECTIVES = ("error", "deflection", "mass")
 DEFAULT_GAUGE = "BF120-3AA"
 # The corner radius of the end mill that cuts pockets and flats (cad.corner_radius), m. Stock
-# carbide corner-radius ("bull-nose") end mills of 1-6 mm are ground with R0.2 in every size
-# (R0.5 and R1 only from about 3 and 6 mm up; e.g. the Garant, OSG and Harvey Tool ranges), so a
-# shop has R0.2 for any pocket this tool designs; it is below half the smallest standard end mill
-# the CAD picks (1 mm) and below the default limits.min_pocket_depth (0.5 mm).
+# carbide corner-radius ("bull-nose") end mills of 1-6 mm diameter are commonly ground with
+# R0.1-R0.5; R0.2 is the radius offered across that whole range (R0.5 and larger mostly from
+# 3-4 mm up), so a shop has one for any pocket this tool designs. It is also below half the
+# smallest standard end mill the CAD picks (1 mm) and the default limits.min_pocket_depth (0.5 mm).
 DEFAULT_CORNER_RADIUS = 0.0002
 # ... and at most this share of the shallowest pocket the spec allows, so that a pocket keeps a
 # straight wall above its floor radius (and a wire channel half the pocket deep stays above it).
