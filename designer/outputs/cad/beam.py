@@ -173,8 +173,8 @@ def resolve(record: dict) -> BeamCad:
     return BeamCad(name=name.strip(), material=material.strip(), status=str(status), section=kind,
                    width=width, height=height, wall=wall, length=length, stations=stations, axes=axes,
                    feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
-                   hole_diameter=hole, end_mill=end_mill, floor_radius=corner, gauge_name=gauge_name, gauge_length=gauge_length,
-                   gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
+                   hole_diameter=hole, end_mill=end_mill, floor_radius=corner, gauge_name=gauge_name,
+                   gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
 
 
 def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
