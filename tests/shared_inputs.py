@@ -104,6 +104,16 @@ CAD_BAD = {
                                        "spec.cad.channel_depth"),
     "unknown feature": ("prototype_b", lambda r: r["design"]["feature"].update(kind="slot"),
                         "design.feature.kind"),
+    "corner radius as deep as the pocket": ("rect_pockets", lambda r: r["spec"]["cad"].update(corner_radius=0.001),
+                                            "spec.cad.corner_radius"),
+    "corner radius of half the end mill": ("rect_pockets", lambda r: r["spec"]["cad"].update(
+        end_mill_diameter=0.001, corner_radius=0.0005), "spec.cad.corner_radius"),
+    "negative corner radius": ("round_flats", lambda r: r["spec"]["cad"].update(corner_radius=-0.0002),
+                               "spec.cad.corner_radius"),
+    "corner radius as text": ("tube_flats", lambda r: r["spec"]["cad"].update(corner_radius="0.2 mm"),
+                              "spec.cad.corner_radius"),
+    "flat ends over the gauge": ("round_flats", lambda r: r["spec"]["cad"].update(corner_radius=0.0011),
+                                 "spec.cad.corner_radius"),
 }
 
 

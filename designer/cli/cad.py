@@ -11,7 +11,8 @@ def register(subparsers) -> None:
         description="Write the beam of a design.json as a machinable CAD model: STEP and STL in millimetres "
                     "(origin on the beam's axis at the clamp face, +X to the free end, Z the load direction), "
                     "a dimensioned two-view drawing (SVG or PNG) and a rendered picture (PNG). "
-                    "Clamp block, end mill, wire channels and load grooves follow the spec's 'cad' keys.")
+                    "Clamp block, end mill and its corner radius, wire channels and load grooves follow the spec's "
+                    "'cad' keys.")
     p.add_argument("design", help="design.json written by 'fpdesign optimize' or 'fpdesign evaluate'")
     p.add_argument("--step", metavar="FILE", help="the solid as STEP (AP214, mm, product named after the design)")
     p.add_argument("--stl", metavar="FILE", help="the solid as binary STL (mm, 0.01 mm chordal tolerance)")

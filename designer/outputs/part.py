@@ -73,6 +73,7 @@ class BeamCad:
     pocket_width: float        # w_p
     hole_diameter: float       # d_h
     end_mill: float | None     # slot pockets on rectangles: corner radius = end_mill / 2
+    floor_radius: float        # the end mill's own corner radius: pocket and flat floors meet walls in it
     gauge_name: str
     gauge_length: float
     gauge_width: float
@@ -87,6 +88,7 @@ class BeamCad:
 
     @property
     def corner_radius(self) -> float:
+        """A slot's corner radius in plan view: the end mill's radius."""
         return self.end_mill / 2 if self.end_mill else 0.0
 
     @property

@@ -23,6 +23,17 @@ FEATURE_KINDS = ("pocket", "hole", "none")
 BRIDGES = BRIDGE_FACTORS
 OBJECTIVES = ("error", "deflection", "mass")
 DEFAULT_GAUGE = "BF120-3AA"
+# The corner radius of the end mill that cuts pockets and flats (cad.corner_radius), m. Stock
+# carbide corner-radius ("bull-nose") end mills of 1-6 mm diameter are commonly ground with
+# R0.1-R0.5; R0.2 is the radius offered across that whole range (R0.5 and larger mostly from
+# 3-4 mm up), so a shop has one for any pocket this tool designs. It is also below half the
+# smallest standard end mill the CAD picks (1 mm) and the default limits.min_pocket_depth (0.5 mm).
+DEFAULT_CORNER_RADIUS = 0.0002
+# ... and at most this share of the shallowest pocket the spec allows, so that a pocket keeps a
+# straight wall above its floor radius (and a wire channel half the pocket deep stays above it).
+CORNER_RADIUS_SHARE = 0.4
+# Default corner radii are rounded down to 0.01 mm, as designs are reported (MODEL.md 5).
+CORNER_RADIUS_STEP = 1e-5
 
 
 @dataclass(frozen=True)
@@ -81,6 +92,7 @@ class CadOptions:
     clamp_length: float | None = None
     bolt_diameter: float | None = None
     end_mill_diameter: float | None = None
+    corner_radius: float = DEFAULT_CORNER_RADIUS    # the end mill's: pocket and flat floors meet walls in it
     wire_channels: bool = True
     channel_width: float | None = None
     channel_depth: float | None = None
@@ -297,8 +309,8 @@ def parse_spec(raw: dict, default_name: str = "sensor") -> Spec:
     targets = _parse_targets(raw.get("targets"), x_max)
     search = _parse_search(raw.get("search"))
     objective = _choice(raw.get("objective", "error"), OBJECTIVES, "objective")
-    cad = _parse_cad(raw.get("cad"), load)
     design = _parse_design(raw["design"], limits, gauge) if raw.get("design") is not None else None
+    cad = _parse_cad(raw.get("cad"), load, limits, design)
 
     if axes == 2:
         if search.feature == "hole":
@@ -432,9 +444,16 @@ def _parse_search(raw) -> Search:
                   feature=feature)
 
 
-def _parse_cad(raw, load: Load) -> CadOptions:
-    lengths = ("clamp_length", "bolt_diameter", "end_mill_diameter", "channel_width", "channel_depth",
-               "groove_depth")
+def default_corner_radius(shallowest: float) -> float:
+    """The default cad.corner_radius for pockets at least ``shallowest`` deep (m): R0.2, or
+    CORNER_RADIUS_SHARE of the depth for shallower pockets, rounded down to 0.01 mm."""
+    radius = min(DEFAULT_CORNER_RADIUS, CORNER_RADIUS_SHARE * shallowest)
+    return max(math.floor(radius / CORNER_RADIUS_STEP + 1e-9) * CORNER_RADIUS_STEP, CORNER_RADIUS_STEP)
+
+
+def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None) -> CadOptions:
+    lengths = ("clamp_length", "bolt_diameter", "end_mill_diameter", "corner_radius", "channel_width",
+               "channel_depth", "groove_depth")
     raw = _mapping(raw, "cad", lengths + ("wire_channels", "load_grooves", "groove_positions"))
     values = {k: units.parse_positive(raw[k], "length", f"cad.{k}") for k in lengths if raw.get(k) is not None}
     for k in ("wire_channels", "load_grooves"):
@@ -446,6 +465,22 @@ def _parse_cad(raw, load: Load) -> CadOptions:
             raise SpecError(f"cad.groove_positions: {positions!r} must be a list of positions")
         values["groove_positions"] = tuple(
             units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
+    pocket = design.feature if design is not None and design.feature.kind == "pocket" else None
+    if "corner_radius" not in values:
+        # recorded in design.json's spec.cad, so that the file describes the part on its own
+        shallowest = min(limits.min_pocket_depth, pocket.depth) if pocket else limits.min_pocket_depth
+        values["corner_radius"] = default_corner_radius(shallowest)
+        if values.get("end_mill_diameter") is not None:
+            values["corner_radius"] = min(values["corner_radius"],
+                                          default_corner_radius(values["end_mill_diameter"]))
+    radius = values["corner_radius"]
+    mill = values.get("end_mill_diameter")
+    if mill is not None and not radius < mill / 2:
+        raise SpecError(f"cad.corner_radius: {radius * 1e3:g} mm must be less than half the end mill, "
+                        f"cad.end_mill_diameter / 2 = {mill * 1e3 / 2:g} mm")
+    if pocket is not None and not radius < pocket.depth:
+        raise SpecError(f"cad.corner_radius: {radius * 1e3:g} mm must be less than the pocket depth "
+                        f"design.feature.depth = {pocket.depth * 1e3:g} mm")
     return CadOptions(**values)
 
 

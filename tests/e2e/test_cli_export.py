@@ -4,7 +4,8 @@ the other files it writes, and bad designs refused.
 Reference values are closed forms of the design's geometry (MODEL.md sections 1-2): the
 section area times the free length, minus each feature (a slot with rounded corners removes
 ``p (l w - (4 - pi) r^2)``; a flat removes the circular segment ``R^2 (alpha - sin alpha cos alpha)``
-times its length; a hole ``pi d^2/4 b``), plus the clamp block, minus its bolt holes, the wire
+times its length; a hole ``pi d^2/4 b``), less the fillets the tool's corner radius leaves where
+pocket and flat floors meet their walls, plus the clamp block, minus its bolt holes, the wire
 channels and the load grooves. Tolerances: positions 0.01 mm (the resolution of design.json,
 MODEL.md section 5); volume 0.5 % (the acceptance criterion of the CAD issue; the solids are
 exact B-reps, so the observed error is far smaller, which the tight secondary check shows).
@@ -20,6 +21,7 @@ import pytest
 
 from designer.outputs import cad
 from designer.cli import main
+from designer.spec.reader import DEFAULT_CORNER_RADIUS
 from shared_inputs import CAD_BAD as BAD
 from shared_inputs import cad_mutate as mutate
 from shared_inputs import cad_record as record
@@ -50,6 +52,47 @@ def channel_area_on_circle(R: float, width: float, depth: float) -> float:
     return 2 * (F(a) - F(0)) - 2 * a * (R - depth)
 
 
+# A fillet of radius r in an inside corner between two perpendicular faces fills the corner's
+# "spandrel": the square r x r less the quarter disc of radius r centred on its far corner,
+#     A = r^2 - pi r^2 / 4 = (1 - pi/4) r^2,
+# so along a straight edge of length L it adds (1 - pi/4) r^2 L of material back into a pocket.
+# Measured from the wall, the spandrel's centroid lies at
+#     u = (r^3/2 - (pi r^2/4)(r - 4r/(3 pi))) / A = r (10 - 3 pi) / (12 - 3 pi)
+# (the square's first moment less the quarter disc's, whose centroid is 4r/(3 pi) from its centre).
+
+
+def spandrel_area(r: float) -> float:
+    return (1 - math.pi / 4) * r * r
+
+
+def slot_floor_fillet(lp: float, wp: float, rho: float, r: float) -> float:
+    """Material the bull-nose end mill's corner radius ``r`` leaves around a slot's floor.
+
+    The slot's outline is ``lp x wp`` with plan corner radius ``rho`` (the end mill's radius).
+    The straight walls are ``2 (lp - 2 rho) + 2 (wp - 2 rho)`` long; around the four corner arcs
+    (a full turn together) the spandrel turns about the arcs' axes at radius ``rho - u``
+    (Pappus): ``2 pi (rho - u) A``."""
+    u = r * (10 - 3 * math.pi) / (12 - 3 * math.pi)
+    return spandrel_area(r) * (2 * (lp - 2 * rho) + 2 * (wp - 2 * rho) + 2 * math.pi * (rho - u))
+
+
+def flat_end_fillet(R: float, p: float, r: float) -> float:
+    """Material the corner radius ``r`` leaves at one end of a flat ``p`` deep on a round of radius ``R``.
+
+    The fillet runs across the bar, but only where there is bar: at height ``v`` above the floor
+    (``z = R - p + v``) the spandrel is ``r - sqrt(r^2 - (r - v)^2)`` long (along X) and the bar
+    ``2 sqrt(R^2 - z^2)`` wide (a tube's bore lies below the floor, as p < wall). For r << R this is
+    close to ``(1 - pi/4) r^2`` times the flat's width, the straight-edge formula."""
+    from scipy.integrate import quad
+
+    def slice_area(v):
+        z = R - p + v
+        return (r - math.sqrt(max(r * r - (r - v) ** 2, 0.0))) * 2 * math.sqrt(max(R * R - z * z, 0.0))
+
+    value, _ = quad(slice_area, 0.0, r, epsabs=1e-22, epsrel=1e-12, limit=200)
+    return value
+
+
 def analytic_volume(rec: dict, beam: cad.BeamCad) -> float:
     """Volume in m^3 from the design's numbers and the resolved CAD options (clamp, channels, grooves)."""
     d = rec["design"]
@@ -70,11 +113,14 @@ def analytic_volume(rec: dict, beam: cad.BeamCad) -> float:
     volume += c.length * c.width * c.height - 2 * math.pi * c.bolt_clearance ** 2 / 4 * c.height
     if feat["kind"] == "pocket":
         p, lp, wp = feat["depth"], feat["length"], feat["width"]
+        rf = rec["spec"]["cad"].get("corner_radius") or DEFAULT_CORNER_RADIUS   # the tool's corner radius
         if sec["kind"] == "rectangle":
             r = beam.end_mill / 2
-            volume -= faces * n * p * (lp * wp - (4 - math.pi) * r * r)
+            volume -= faces * n * (p * (lp * wp - (4 - math.pi) * r * r) - slot_floor_fillet(lp, wp, r, rf))
         else:
-            volume -= faces * n * segment_area(R, p) * lp
+            volume -= faces * n * (segment_area(R, p) * lp - 2 * flat_end_fillet(R, p, rf))
+        # the wire channel's floor stays above the fillets (z > floor + r), so they do not overlap
+        assert beam.channels is None or beam.channels.depth < p - rf
     elif feat["kind"] == "hole":
         volume -= n * math.pi * feat["diameter"] ** 2 / 4 * b
     if beam.channels is not None:
@@ -233,3 +279,74 @@ def test_not_json_and_no_outputs_exit_2(tmp_path, capsys):
     assert main(["export", str(DATA / "cad_prototype_b.json")]) == 2
     assert "at least one of --step" in capsys.readouterr().err
     assert not (tmp_path / "b.step").exists()
+
+
+def fillet_axes(rec: dict, rf: float) -> dict:
+    """Where the axes of the floor fillets lie (mm), by the axis they run along: for every featured
+    face and station, the two end fillets (across the beam) and, in a slot, the two side fillets
+    (along it). An axis is given by its two coordinates across its own direction."""
+    d = rec["design"]
+    sec, feat = d["section"], d["feature"]
+    half = sec.get("height", sec.get("diameter")) / 2
+    p, lp, wp = feat["depth"], feat["length"], feat["width"]
+    level = half - p + rf                       # the axes sit one radius above the floor ...
+    ends = lp / 2 - rf                          # ... and one radius in from the walls
+    sides = wp / 2 - rf
+    slot = sec["kind"] == "rectangle"
+    out = {"x": set(), "y": set(), "z": set()}
+    faces = [("z", s) for s in (1, -1)] + ([("y", s) for s in (1, -1)] if d.get("axes", 1) == 2 else [])
+    for normal, sign in faces:
+        across = "y" if normal == "z" else "z"   # the end fillets run across the beam, in the face
+        for st in d["stations"]:
+            for e in (-ends, ends):
+                # key: the coordinates other than the axis' own, in x, y, z order
+                out[across].add(tuple(round(v / MM, 3) for v in ((st + e, sign * level))))
+        if slot:
+            for e in (-sides, sides):
+                pos = {normal: sign * level, across: e}
+                out["x"].add(tuple(round(pos[k] / MM, 3) for k in ("y", "z")))
+    return out
+
+
+@pytest.mark.parametrize("name", [n for n in FIXTURES if record(n)["design"]["feature"]["kind"] == "pocket"])
+def test_floors_meet_their_walls_in_the_tools_corner_radius(exported, name):
+    """Pocket and flat floors are rounded into their walls with the end mill's corner radius: a
+    cylinder of that radius at each end (and, in a slot, along each side; a slot's corners are
+    tori), its axis one radius above the floor and in from the wall. The design.json fixtures
+    predate the key, so they get the spec reader's default, R0.2 (min_pocket_depth 0.5 mm)."""
+    rec, beam, solid, step = exported[name]
+    rf = 0.0002
+    assert beam.floor_radius == pytest.approx(rf)
+    expected = fillet_axes(rec, rf)
+    for axis, where in expected.items():
+        i = "xyz".index(axis)
+        found = {tuple(round(v, 3) for k, v in enumerate(c) if k != i) for c in cad.cylinders(solid, axis, rf / MM)}
+        assert found == where, axis
+    tori = [f for f in solid.Faces() if f.geomType() == "TORUS"]
+    corners = 4 * len(rec["design"]["stations"]) * len(beam.cut_faces)
+    assert len(tori) == (corners if beam.section == "rectangle" else 0)
+
+
+def test_a_given_corner_radius_is_built_and_its_fillets_weigh_as_the_closed_form():
+    """spec.cad.corner_radius: 0.5 mm on the round bar's flats and the slot pockets."""
+    for name in ("round_flats", "rect_pockets"):
+        rec = mutate(name, lambda r: r["spec"]["cad"].update(corner_radius=0.0005, channel_depth=0.0003))
+        beam = cad.resolve(rec)
+        assert beam.floor_radius == pytest.approx(0.0005)
+        solid = cad.build_solid(beam)
+        assert solid.isValid()
+        assert solid.Volume() == pytest.approx(analytic_volume(rec, beam) / MM ** 3, rel=1e-6)
+        assert len(cad.cylinders(solid, "y", 0.5)) == 2 * 2 * len(rec["design"]["stations"])
+
+
+def test_fillet_volumes_of_the_closed_form():
+    """The fillet formulas against plain numbers: a spandrel is (1 - pi/4) r^2; a flat's end fillet
+    on a wide bar tends to that times the flat's width."""
+    assert spandrel_area(1.0) == pytest.approx(0.21460183660255172)
+    R, p, r = 1.0, 1e-3, 1e-5          # a shallow flat on a large round: the chord hardly varies
+    chord = 2 * math.sqrt(R * R - (R - p) ** 2)
+    assert flat_end_fillet(R, p, r) == pytest.approx(spandrel_area(r) * chord, rel=2e-3)
+    # a slot that is one full circle (lp = wp = 2 rho): the fillet is a ring around it (Pappus)
+    rho, r = 2.0, 0.5
+    u = r * (10 - 3 * math.pi) / (12 - 3 * math.pi)
+    assert slot_floor_fillet(2 * rho, 2 * rho, rho, r) == pytest.approx(2 * math.pi * (rho - u) * spandrel_area(r))

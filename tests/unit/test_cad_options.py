@@ -79,3 +79,14 @@ def test_cad_checks_its_own_needs_without_the_file_reader(case):
     with pytest.raises(DesignFileError) as info:
         cad.resolve(mutate(name, change))
     assert key in str(info.value)
+
+
+def test_corner_radius_messages_give_the_value_and_what_is_allowed():
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate("rect_pockets", lambda r: r["spec"]["cad"].update(corner_radius=0.001)))
+    assert str(info.value) == ("spec.cad.corner_radius: 0.001 m (1 mm) must be less than the pocket depth (1 mm), "
+                               "so that the pocket keeps a wall above its floor radius")
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate("round_flats", lambda r: r["spec"]["cad"].update(corner_radius=0.0011)))
+    assert str(info.value) == ("spec.cad.corner_radius: 0.0011 m (1.1 mm) leaves a flat floor 6.7 mm long, shorter "
+                               "than the 6.9 mm gauge backing; it must be at most 1 mm")

@@ -10,6 +10,8 @@ from designer.outputs import cad
 from designer.outputs.drawing import picture, views
 from shared_inputs import cad_record as record
 
+MM = 1e-3
+
 
 def drawing_texts(name: str) -> str:
     from designer.outputs import drawing
@@ -80,3 +82,24 @@ def test_model_picture_draws_both_panels():
     fig = drawing.plot_model(cad.model_meshes(beam, cad.build_solid(beam)), beam)
     assert len(fig.axes) == 2                                 # whole beam and the close-up
     assert all(ax.collections for ax in fig.axes)
+
+
+@pytest.mark.slow
+def test_drawing_and_picture_call_out_the_floor_radius():
+    from designer.outputs import drawing
+
+    texts = drawing_texts("rect_pockets")
+    assert "FLOOR EDGES R0.2 (BULL-NOSE)" in texts       # the slot callout names the tool's corner radius
+    assert "R0.2 TYP" in texts.splitlines()               # on the floor radius in section A-A
+    assert "in R0.2, the end mill's corner radius" in texts
+    flats = drawing_texts("round_flats")
+    assert "ENDS R0.2 (BULL-NOSE)" in flats and "R0.2 TYP" in flats.splitlines()
+    beam = cad.resolve(record("round_flats"))
+    meshes = cad.model_meshes(beam, cad.build_solid(beam))
+    fig = drawing.plot_model(meshes, beam)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert any(t.startswith("R0.2 floor radius at the flat's end") for t in titles), titles
+    # the close-up is cut through the middle (Y <= 0) around the first flat's clamp-side end
+    v = meshes["corner"]["vertices"]
+    assert v[:, 1].max() == pytest.approx(0.0, abs=1e-6)
+    assert v[:, 0].min() < (0.015 - 0.0089 / 2) / MM < v[:, 0].max()

@@ -112,3 +112,26 @@ def test_yaml_error_message_names_where_the_unclosed_bracket_opens():
     # must also point at line 3, where the list was opened, or the user cannot find it.
     with pytest.raises(SpecError, match=r"line 4.*flow sequence that starts at line 3, column 10"):
         parse_spec_text("name: x\nload:\n  force: [1 N, 2 N\n", source="s.yaml")
+
+
+def test_the_corner_radius_default_is_recorded_in_the_normalised_spec():
+    """cad.corner_radius: R0.2 (stock bull-nose end mills), at most 0.4 of the shallowest pocket
+    allowed and of a given end mill, rounded down to 0.01 mm; design.json's spec.cad carries it."""
+    assert parse_spec(copy.deepcopy(MINIMAL)).to_dict()["cad"]["corner_radius"] == pytest.approx(0.2e-3)
+    shallow = copy.deepcopy(MINIMAL) | {"limits": {"min_pocket_depth": "0.3 mm"}}
+    assert parse_spec(shallow).cad.corner_radius == pytest.approx(0.12e-3)
+    tiny_mill = copy.deepcopy(MINIMAL) | {"cad": {"end_mill_diameter": "0.4 mm"}}
+    assert parse_spec(tiny_mill).cad.corner_radius == pytest.approx(0.16e-3)
+    given = copy.deepcopy(MINIMAL) | {"cad": {"corner_radius": "0.5 mm"}}
+    assert parse_spec(given).to_dict()["cad"]["corner_radius"] == pytest.approx(0.5e-3)
+    # a fixed design shallower than min_pocket_depth (evaluate judges it) gets a radius that fits it
+    raw = copy.deepcopy(MINIMAL) | {"design": {"material": "7075-T6", "section": {"kind": "round", "diameter": "10 mm"},
+                                               "stations": ["10 mm", "40 mm"],
+                                               "feature": {"kind": "pocket", "depth": "0.25 mm"}}}
+    spec = parse_spec(raw)
+    assert spec.cad.corner_radius == pytest.approx(0.1e-3)
+    # read back from design.json (without the design block) it stays
+    again = spec.to_dict()
+    again.pop("design")
+    again["electronics"] = {k: v for k, v in again["electronics"].items() if v is not None and k != "noise_output"}
+    assert parse_spec(again).cad == spec.cad

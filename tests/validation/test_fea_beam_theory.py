@@ -86,6 +86,42 @@ def test_stubby_cantilever_meshed_to_the_load_lies_between_bernoulli_and_timoshe
         assert g.ratio == pytest.approx(1.0, abs=0.01)
 
 
+def test_the_peak_stress_has_its_own_convergence_verdict(slender):
+    """Converged when the peak moves at most CONVERGED_STRESS (5 %) between the two meshes; the
+    verdict, the change and where the peak sits reach verify.md and the JSON record."""
+    from dataclasses import replace
+
+    from designer.checks.fea.report import with_messages
+
+    assert fea.CONVERGED_STRESS == 0.05
+    peak = slender.stress_peak.value
+    for coarse, converged in ((0.96 * peak, True), (0.94 * peak, False)):
+        r = with_messages(replace(slender, stress_peak_coarse=coarse), fatigue=False, feature="pocket", seconds=1.0,
+                          mesh_option="--mesh")
+        assert r.stress_converged is converged
+        data = r.as_dict()["stress"]
+        assert data["converged"] is converged and data["mesh_change"] == pytest.approx(abs(1 - coarse / peak))
+        assert data["where"] == slender.stress_peak.where and len(data["location"]) == 3
+        text = " ".join(r.messages)
+        report = fea.report_markdown(r)
+        if converged:
+            assert "peak-stress convergence: the peak stress moved 4.0%" in text and "converged (within 5%)" in text
+            assert "peak stress converged (4.0% change" in report
+        else:
+            assert "peak-stress convergence: NOT converged" in text and "rerun with --mesh fine" in text
+            assert "peak stress NOT converged (6.0% change" in report and "**NOT converged**" in report
+    # two meshes that agree but are both too coarse for a pocket's floor radius do not count
+    at_radius = replace(slender.stress_peak, where="pocket at station 1 (20.0 mm)", element_size=0.17e-3)
+    r = with_messages(replace(slender, stress_peak=at_radius, stress_peak_coarse=0.99 * peak, floor_radius=0.2e-3),
+                      fatigue=False, feature="pocket", seconds=1.0, mesh_option="--mesh")
+    assert r.stress_change <= fea.CONVERGED_STRESS and not r.stress_resolved and not r.stress_converged
+    assert ("mesh edges there average 0.170 mm, more than 0.1 mm (0.5 of the radius): this mesh does not resolve it"
+            in " ".join(r.messages))
+    assert r.as_dict()["stress"]["resolved"] is False
+    fine_enough = replace(at_radius, element_size=0.07e-3)
+    assert replace(r, stress_peak=fine_enough).stress_converged
+
+
 # ----------------------------------------------------------------- features
 
 @pytest.fixture(scope="module")

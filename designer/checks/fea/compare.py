@@ -17,7 +17,7 @@ import numpy as np
 
 from designer.checks.fea.geometry_mesh import (CONVERGENCE_COARSENING, MESH_LEVELS, Problem, build_problem,
                                                mesh_quarter)
-from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_strains, stress_peaks,
+from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_strains, stress_near, stress_peaks,
                                          surface_profile)
 from designer.checks.fea.report import GaugeCheck, LimitCheck, MeshRun, VerifyResult, with_messages, write_outputs
 from designer.checks.fea.solve import solve
@@ -27,30 +27,34 @@ from designer.errors import InputError, describe_allowed
 @dataclass(frozen=True)
 class Figures:
     """What one mesh gives: the gauge strains, the free-end deflection, the stress peaks, the
-    surface strain profile ``(x, z, eps_xx)`` and the run's size and time."""
+    stress at another run's peak (``at_peak``), the surface strain profile ``(x, z, eps_xx)``
+    and the run's size and time."""
 
     gauges: tuple
     deflection: float
     peak: StressPeak
     feature_peak: float
+    at_peak: float | None
     profile: tuple
     run: MeshRun
 
 
-def _run(step_path: Path, pb: Problem, level: str, refinement: float) -> Figures:
-    """Mesh, solve and read the design at one refinement."""
+def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=None) -> Figures:
+    """Mesh, solve and read the design at one refinement; ``peak_at``: a point (m) where the
+    stress is also read (the finer run's peak, for the convergence check)."""
     start = time.perf_counter()
     points, tets = mesh_quarter(step_path, pb, refinement)
     sol = solve(points, tets, pb)
     gauges = tuple(gauge_strains(sol, pb))
     deflection = free_end_deflection(sol, pb)
     peak, feature_peak = stress_peaks(sol, pb, refinement)
+    at_peak = None if peak_at is None else stress_near(sol, pb, refinement, peak_at)
     profile = surface_profile(sol, pb, refinement)
     run = MeshRun(level=level, refinement=refinement, global_size=pb.global_size / refinement,
                   detail_size=pb.detail_size / refinement, elements=int(tets.shape[1]),
                   vertices=int(points.shape[1]), dofs=int(3 * sol.basis.N), cg_iterations=sol.iterations,
                   seconds=time.perf_counter() - start)
-    return Figures(gauges, deflection, peak, feature_peak, profile, run)
+    return Figures(gauges, deflection, peak, feature_peak, at_peak, profile, run)
 
 
 def model_profile(x: np.ndarray, z: np.ndarray, pb: Problem, segments) -> np.ndarray:
@@ -96,7 +100,8 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         step_path = Path(tmp) / f"{beam.file_stem}.step"
         cad.write_step(cad.build_solid(beam), step_path, beam.name)
         main = _run(step_path, pb, mesh, refinement)
-        partner = _run(step_path, pb, f"{mesh} / {CONVERGENCE_COARSENING:g}", refinement / CONVERGENCE_COARSENING)
+        partner = _run(step_path, pb, f"{mesh} / {CONVERGENCE_COARSENING:g}", refinement / CONVERGENCE_COARSENING,
+                       peak_at=main.peak.location)
 
     a = ev.analysis
     gauges = tuple(GaugeCheck(d, fea, float(m), coarse)
@@ -108,14 +113,14 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     result = VerifyResult(
         name=beam.name, mesh=mesh, force=pb.force, position=pb.position, free_length=pb.free_length, cut=pb.cut,
         gauges=gauges, deflection_fea=main.deflection, deflection_model=float(a.deflection),
-        deflection_coarse=partner.deflection, stress_peak=main.peak, stress_peak_coarse=partner.peak.value,
+        deflection_coarse=partner.deflection, stress_peak=main.peak, stress_peak_coarse=partner.at_peak,
         stress_feature_fea=main.feature_peak, stress_model=float(a.max_stress),
         stress_root_model=float(a.stress_root), stress_allowable=allowable, limits=limits,
         runs=(main.run, partner.run), profile_x=tuple(float(v) for v in x),
         profile_fea=tuple(float(v) for v in eps),
         profile_model=tuple(float(v) for v in model_profile(x, z, pb, segments)),
         gauge_grid=(pb.grid_length, pb.grid_width), feature_length=pb.feature_length, messages=(),
-        seconds=0.0)
+        seconds=0.0, floor_radius=beam.floor_radius)
     result = with_messages(result, spec.limits.fatigue, pb.feature, time.perf_counter() - start, mesh_option)
     if out_dir is not None:
         write_outputs(result, out_dir)

@@ -6,6 +6,9 @@ open from the spec's ``cad`` keys or the documented defaults:
 - the clamp block ``-clamp_length <= X < 0``: the section's bounding box (widened when the
   bolts need it) with two bolt clearance holes along ``Z`` on the axis;
 - the end mill of slot pockets on a rectangle (corner radii equal to its radius);
+- the corner radius of the end mill that cuts pockets and flats (``spec.cad.corner_radius``,
+  recorded by the spec reader; older files get the reader's default): a slot's floor meets its
+  walls all round in it, a flat's floor meets its two end walls in it;
 - a shallow wire channel on each pocketed face, from the farthest pocket to the clamp face;
 - optionally shallow load-position grooves all around the beam at the calibration positions.
 
@@ -21,6 +24,7 @@ from designer import model
 from designer.errors import DesignFileError
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
+from designer.spec.reader import default_corner_radius
 
 # ISO 273 medium-series clearance holes for ISO metric coarse bolts: nominal -> hole, m.
 ISO_273_MEDIUM = {0.0016: 0.0018, 0.002: 0.0024, 0.0025: 0.0029, 0.003: 0.0034, 0.004: 0.0045,
@@ -152,8 +156,11 @@ def resolve(record: dict) -> BeamCad:
     stations = _check_stations(d["stations"], length, l_f, fkind)
 
     end_mill = None
+    corner = 0.0
+    if fkind == "pocket":
+        corner = _corner_radius(cad, limits, depth, p_len, gauge_length, kind)
     if fkind == "pocket" and kind == "rectangle":
-        end_mill = _end_mill(cad, p_len, p_wid, gauge_length, gauge_width)
+        end_mill = _end_mill(cad, p_len, p_wid, gauge_length, gauge_width, corner)
     clamp = _clamp(cad, width, height)
     channels = None
     if fkind == "pocket" and _flag(cad, "wire_channels", "spec.cad", True):
@@ -166,8 +173,8 @@ def resolve(record: dict) -> BeamCad:
     return BeamCad(name=name.strip(), material=material.strip(), status=str(status), section=kind,
                    width=width, height=height, wall=wall, length=length, stations=stations, axes=axes,
                    feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
-                   hole_diameter=hole, end_mill=end_mill, gauge_name=gauge_name, gauge_length=gauge_length,
-                   gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
+                   hole_diameter=hole, end_mill=end_mill, floor_radius=corner, gauge_name=gauge_name,
+                   gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
 
 
 def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
@@ -237,31 +244,61 @@ def _clamp(cad: dict, width: float, height: float) -> Clamp:
                  bolt_positions=(-length / 4, -3 * length / 4))
 
 
-def _end_mill(cad: dict, p_len: float, p_wid: float, g_len: float, g_wid: float) -> float:
+def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: float, kind: str) -> float:
+    """The end mill's corner radius, where a pocket's or flat's floor meets its walls."""
+    given = _length(cad, "corner_radius", "spec.cad", required=False)
+    if given is None:  # a design.json written before the key existed: the spec reader's default
+        shallowest = limits.get("min_pocket_depth")
+        if isinstance(shallowest, bool) or not isinstance(shallowest, (int, float)) or not shallowest > 0:
+            shallowest = depth
+        radius = default_corner_radius(min(float(shallowest), depth))
+        mill = _length(cad, "end_mill_diameter", "spec.cad", required=False)
+        return radius if mill is None else min(radius, default_corner_radius(mill))
+    if not given < depth - LENGTH_EPS:
+        raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} must be less than the pocket depth "
+                              f"({fmt_mm(depth)} mm), so that the pocket keeps a wall above its floor radius")
+    floor = p_len - 2 * given
+    if kind != "rectangle" and floor < g_len - LENGTH_EPS:  # slots: checked with the end mill
+        raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} leaves a flat floor {fmt_mm(floor)} mm long, "
+                              f"shorter than the {fmt_mm(g_len)} mm gauge backing; it must be at most "
+                              f"{fmt_mm((p_len - g_len) / 2)} mm")
+    return given
+
+
+def _end_mill(cad: dict, p_len: float, p_wid: float, g_len: float, g_wid: float, corner: float) -> float:
+    """The end mill of a slot: its radius is the slot's plan corner radius; ``corner`` (its own
+    corner radius) rounds the floor's edge, and the gauge backing must sit on the flat floor."""
     given = _length(cad, "end_mill_diameter", "spec.cad", required=False)
 
     def gauge_fits(tool: float) -> bool:
         r = tool / 2
         cx, cy = p_len / 2 - r, p_wid / 2 - r  # centre of the corner arc
         gx, gy = g_len / 2, g_wid / 2          # corner of the gauge backing
-        if gx > p_len / 2 + LENGTH_EPS or gy > p_wid / 2 + LENGTH_EPS:
+        # the flat floor: the slot's outline less the floor radius all round
+        if gx > p_len / 2 - corner + LENGTH_EPS or gy > p_wid / 2 - corner + LENGTH_EPS:
             return False
-        return gx <= cx or gy <= cy or math.hypot(gx - cx, gy - cy) <= r + LENGTH_EPS
+        return gx <= cx or gy <= cy or math.hypot(gx - cx, gy - cy) <= r - corner + LENGTH_EPS
 
     if given is None:
-        fitting = [t for t in END_MILLS if t <= END_MILL_FRACTION * p_wid + LENGTH_EPS and gauge_fits(t)]
+        fitting = [t for t in END_MILLS if t <= END_MILL_FRACTION * p_wid + LENGTH_EPS and t / 2 > corner + LENGTH_EPS
+                   and gauge_fits(t)]
         if not fitting:
             raise DesignFileError(f"design.feature.width: {_mm(p_wid)} leaves no standard end mill (from 1 mm) "
-                                  f"that cuts the slot and keeps the {fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge clear "
-                                  f"of its corners; give spec.cad.end_mill_diameter")
+                                  f"that cuts the slot with a {fmt_mm(corner)} mm corner radius and keeps the "
+                                  f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge on its flat floor; give "
+                                  f"spec.cad.end_mill_diameter or a smaller spec.cad.corner_radius")
         return fitting[-1]
     if given > p_wid + LENGTH_EPS:
         raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} is wider than the {fmt_mm(p_wid)} mm pocket; "
                               f"it must be at most the pocket width")
+    if not corner < given / 2 - LENGTH_EPS:
+        raise DesignFileError(f"spec.cad.corner_radius: {_mm(corner)} must be less than half the end mill "
+                              f"(Ø{fmt_mm(given)} mm: {fmt_mm(given / 2)} mm)")
     if not gauge_fits(given):
         raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} leaves corner radii that cut into the "
                               f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge backing in its "
-                              f"{fmt_mm(p_len)} x {fmt_mm(p_wid)} mm pocket; use a smaller end mill")
+                              f"{fmt_mm(p_len)} x {fmt_mm(p_wid)} mm pocket (its floor radius "
+                              f"{fmt_mm(corner)} mm included); use a smaller end mill")
     return given
 
 

@@ -5,9 +5,13 @@ free end, the clamp block at ``X < 0``, ``Z`` the load direction, ``Y`` across).
 section it carries the clamp block with its bolt holes, the feature of MODEL.md section 1 at
 every station on both bending faces (all four when biaxial): a slot pocket with corner radii
 equal to the end mill's radius on a rectangle, a flat on a round or tube, a through-hole along
-``Y`` for ``hole``; the wire channels (through the nearer pockets, ending in a half circle of
-their own width centred on the clamp face, as the cutter leaves them) and the load grooves.
-cadquery is imported only inside ``build_solid``.
+``Y`` for ``hole``. Pockets and flats are cut as the tool leaves them: a slot is the path of a
+bull-nose end mill plunged along ``Z`` and moved along the slot, so its floor meets its walls all
+round in the tool's corner radius (``floor_radius``); a flat is cut with the end of the same kind
+of mill moved across the bar (along ``Y``), so its floor meets its two end walls in that radius
+and runs out on the round at its sides. Then the wire channels (through the nearer pockets,
+ending in a half circle of their own width centred on the clamp face, as the cutter leaves them)
+and the load grooves. cadquery is imported only inside ``build_solid``.
 """
 
 from __future__ import annotations
@@ -58,6 +62,7 @@ def build_solid(beam: BeamCad):
 
     if beam.feature == "pocket":
         p, lp, wp = beam.pocket_depth * s, beam.pocket_length * s, beam.pocket_width * s
+        rf = beam.floor_radius * s
         if beam.section == "rectangle":
             r = beam.corner_radius * s
             sketch = cq.Sketch()
@@ -65,9 +70,14 @@ def build_solid(beam: BeamCad):
                 sketch = sketch.slot(lp - wp, wp)
             else:
                 sketch = sketch.rect(lp, wp).vertices().fillet(r)
-            pocket = cq.Workplane("XY", origin=(0, 0, half - p)).placeSketch(sketch).extrude(p + E).val()
+            pocket = cq.Workplane("XY", origin=(0, 0, half - p)).placeSketch(sketch).extrude(p + E)
+            # the tool's corner radius all round the floor
+            pocket = (pocket.faces("<Z").edges().fillet(rf) if rf > 0 else pocket).val()
         else:
-            pocket = cq.Solid.makeBox(lp, 2 * R + 2 * E, p + E, pnt=V(-lp / 2, -R - E, R - p))
+            pocket = cq.Workplane("XY").box(lp, 2 * R + 2 * E, p + E, centered=(True, True, False))
+            pocket = pocket.translate(V(0, 0, R - p))
+            # the tool's corner radius where the floor meets the two end walls
+            pocket = (pocket.faces("<Z").edges("|Y").fillet(rf) if rf > 0 else pocket).val()
         for d in beam.stations:
             tools += on_faces(pocket.translate(V(d * s, 0, 0)))
     elif beam.feature == "hole":

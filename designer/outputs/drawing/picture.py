@@ -15,6 +15,7 @@ EDGE_COLOUR = (0.12, 0.13, 0.16)
 AMBIENT, KEY, HEAD = 0.30, 0.60, 0.20        # light shares: ambient, key light, head light
 VIEW = (22.0, -62.0)                         # elevation and azimuth of the camera, degrees
 DETAIL_VIEW = (26.0, -50.0)
+CORNER_VIEW = (18.0, 62.0)                   # onto the cut through the middle and the pocket's end wall
 GAUGE_COLOUR = (0.25, 0.50, 0.95)            # the gauges' backings, for orientation only
 GAUGE_LIFT_MM = 0.02                         # drawn this far off their face
 X_AXIS = np.array([1.0, 0.0, 0.0])
@@ -241,22 +242,31 @@ def _projected_aspect(mesh: dict, view: tuple) -> float:
 
 
 def plot_model(meshes: dict, beam: BeamCad, ax=None):
-    """A shaded picture of the solid; with a close-up of the clamp block and gauge stations when
-    ``meshes`` has one. ``meshes``: ``{"whole": mesh[, "detail": mesh]}`` from ``cad.model_meshes``."""
+    """A shaded picture of the solid; below it a close-up of the clamp block and gauge stations
+    and one of a pocket's floor radius, when ``meshes`` has them. ``meshes``: ``{"whole": mesh
+    [, "detail": mesh][, "corner": mesh]}`` from ``cad.model_meshes``."""
     from matplotlib.figure import Figure
 
-    detail = meshes.get("detail")
-    ax_detail = None
+    detail, corner = meshes.get("detail"), meshes.get("corner")
+    ax_detail = ax_corner = None
     if ax is None:
         width = 11.0
         h_whole = min(max(width * _projected_aspect(meshes["whole"], VIEW), 1.6), 6.0)
-        h_detail = min(max(width * 0.8 * _projected_aspect(detail, DETAIL_VIEW), 2.0), 5.0) if detail else 0.0
-        title, gap = 0.45, 0.35 if detail else 0.0
+        # the lower row: the close-up of the stations (0.8 of the width, or 0.6 beside the corner)
+        share = 0.6 if corner is not None else 0.8
+        h_detail = min(max(width * share * _projected_aspect(detail, DETAIL_VIEW), 2.0), 5.0) if detail else 0.0
+        if corner is not None:
+            h_detail = max(h_detail, min(max(width * 0.3 * _projected_aspect(corner, CORNER_VIEW), 2.0), 3.5))
+        lower = detail is not None or corner is not None
+        title, gap = 0.45, 0.35 if lower else 0.0
         height = title + h_whole + gap + h_detail
         fig = Figure(figsize=(width, height))
         ax = fig.add_axes((0.02, (h_detail + gap) / height, 0.96, h_whole / height))
+        row = h_detail / height * 0.9  # room for the panels' titles
         if detail is not None:
-            ax_detail = fig.add_axes((0.1, 0.0, 0.8, h_detail / height))
+            ax_detail = fig.add_axes((0.02, 0.0, 0.6, row) if corner is not None else (0.1, 0.0, 0.8, row))
+        if corner is not None:
+            ax_corner = fig.add_axes((0.66, 0.0, 0.32, row) if detail is not None else (0.3, 0.0, 0.4, row))
     fig = ax.figure
     gauges = _gauge_quads(beam)
     _render(ax, meshes["whole"], VIEW, pieces=PIECES, gauges=gauges)
@@ -267,4 +277,9 @@ def plot_model(meshes: dict, beam: BeamCad, ax=None):
         _render(ax_detail, detail, DETAIL_VIEW, pieces=PIECES, gauges=gauges)
         cut = float(detail["vertices"][:, 0].max())
         ax_detail.set_title(f"clamp block and gauge stations (cut at {cut:.4g} mm; gauges shown blue)", fontsize=9)
+    if ax_corner is not None:
+        _render(ax_corner, corner, CORNER_VIEW, pieces=PIECES)
+        what = "slot" if beam.section == "rectangle" else "flat"
+        ax_corner.set_title(f"R{fmt_mm(beam.floor_radius)} floor radius at the {what}'s end\n"
+                            "(first station, cut through the middle)", fontsize=9)
     return fig

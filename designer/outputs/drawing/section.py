@@ -36,8 +36,14 @@ def _section_outline(beam: BeamCad) -> list[np.ndarray]:
                 u = (e - a) / np.linalg.norm(e - a)
                 n = np.array([-u[1], u[0]])  # inward normal for a counter-clockwise walk
                 mid = (a + e) / 2
-                for q in (mid - u * w / 2, mid - u * w / 2 + n * p, mid + u * w / 2 + n * p, mid + u * w / 2):
-                    pts.append(tuple(q))
+                q0, q3 = mid - u * w / 2, mid + u * w / 2
+                q1, q2 = q0 + n * p, q3 + n * p
+                r = beam.floor_radius   # the floor meets each side wall in the end mill's corner radius
+                phi = np.linspace(0.0, np.pi / 2, 13)[:, None]
+                pts.append(tuple(q0))
+                pts += [tuple(q) for q in q1 - n * r + u * r + r * (-u * np.cos(phi) + n * np.sin(phi))]
+                pts += [tuple(q) for q in q2 - u * r - n * r + r * (n * np.cos(phi) + u * np.sin(phi))]
+                pts.append(tuple(q3))
         return [np.array(pts)]
     R = beam.radius
     a = np.linspace(0, 2 * np.pi, 721)[:-1]
@@ -121,6 +127,10 @@ def draw_section(pen: Pen, beam: BeamCad, cx: float, cy: float) -> tuple[float, 
             pen.dim_h(cx - w / 2, cx + w / 2, top + 6, fmt_mm(beam.pocket_width), feet=(top - p, top - p))
             pen.dim_v(top - p, top, cx - b / 2 - 6, fmt_mm(beam.pocket_depth), feet=(cx - w / 2, cx - b / 2),
                       side="left")
+            # the floor radius, on the fillet's middle at the slot's +Y wall
+            rf = beam.floor_radius / MM * k * (1 - math.sqrt(0.5))
+            pen.leader((cx + w / 2 - rf, top - p + rf), (cx + w / 2 + 5.0, top + 2.5),
+                       f"R{fmt_mm(beam.floor_radius)} TYP")
         else:
             hc = beam.flat_half_chord / MM * k
             pen.dim_h(cx - hc, cx + hc, top + 6, f"({fmt_mm(2 * beam.flat_half_chord)})", feet=(top - p, top - p))

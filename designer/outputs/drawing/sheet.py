@@ -90,6 +90,12 @@ def plot_drawing(beam: BeamCad, ax=None):
     label = fmt_mm(beam.height) if beam.section == "rectangle" else "Ø" + fmt_mm(beam.height)
     pen.dim_v(YS(-beam.height / 2), YS(beam.height / 2), X(beam.length) + 7, label,
               feet=(X(beam.length), X(beam.length)), side="right")
+    if beam.feature == "pocket" and beam.section != "rectangle":
+        # a flat's floor radius, from below through the opening of the first lower flat
+        a, rf = beam.stations[0] - beam.pocket_length / 2, beam.floor_radius
+        inset = rf * (1 - math.sqrt(0.5))
+        pen.leader((X(a + inset), YS(-(beam.height / 2 - beam.pocket_depth + inset))), (X(a) + 3.0, side_bottom - 6.0),
+                   f"R{fmt_mm(rf)} TYP")
     side_label = side.name
     if side_k > X.scale * 1.01:
         side_label += f"  (heights drawn x{side_k / X.scale:.1f})"
@@ -168,12 +174,15 @@ def _callouts(pen, beam: BeamCad, X, YS, YT, y) -> None:
         faces = "ALL 4 FACES" if beam.axes == 2 else "TOP AND BOTTOM"
         items.append(((X(x), YT(yy)), f"SLOT {fmt_mm(beam.pocket_length)} x {fmt_mm(beam.pocket_width)} x "
                       f"{fmt_mm(beam.pocket_depth)} DEEP, R{fmt_mm(r)} CORNERS (Ø{fmt_mm(beam.end_mill)} END MILL), "
-                      f"{faces}, EACH STATION"))
+                      f"FLOOR EDGES R{fmt_mm(beam.floor_radius)} (BULL-NOSE), {faces}, EACH STATION"))
     elif beam.feature == "pocket":
         faces = "ALL 4 SIDES" if beam.axes == 2 else "TOP AND BOTTOM"
+        rf = beam.floor_radius
         items.append(((X(d0 + beam.pocket_length / 4), YT(beam.flat_half_chord)),
                       f"FLAT {fmt_mm(beam.pocket_length)} LONG x {fmt_mm(beam.pocket_depth)} DEEP "
-                      f"({fmt_mm(beam.width - 2 * beam.pocket_depth)} ACROSS FLATS), {faces}, EACH STATION"))
+                      f"({fmt_mm(beam.width - 2 * beam.pocket_depth)} ACROSS FLATS), ENDS R{fmt_mm(rf)} "
+                      f"(BULL-NOSE), {faces}, EACH STATION"))
+
     elif beam.feature == "hole":
         r = beam.hole_diameter / 2
         items.append(((X(d0 + r * 0.70710678), YS(-r * 0.70710678)),
@@ -194,8 +203,9 @@ def _place_callouts(pen, items: list, y: float) -> None:
     """Two rows of notes; each leader runs from the start of its text to its target.
 
     Every split of the notes between the rows is tried; a split is valid when no texts in a row
-    overlap and no leader from the upper row passes through a text of the lower row. The valid
-    split whose texts sit nearest above their targets wins."""
+    overlap and no leader passes through a text of the other row (a leader from the upper row
+    to a target below the band, or from the lower row to one above it, in the side view). The
+    valid split whose texts sit nearest above their targets wins."""
     import itertools
 
     items = sorted(items, key=lambda it: it[0][0])
@@ -217,11 +227,12 @@ def _place_callouts(pen, items: list, y: float) -> None:
         if not ok:
             continue
         for (target, _), x0, row in zip(items, starts, split):
-            if row != 0:
+            crossed = 1 if row == 0 and target[1] < rows[1] else 0 if row == 1 and target[1] > rows[0] else None
+            if crossed is None:
                 continue
             lo, hi = sorted((x0 - 2.0, target[0]))
             for x1, w1, row1 in zip(starts, widths, split):
-                if row1 == 1 and x1 - 1.0 < hi and x1 + w1 + 1.0 > lo:
+                if row1 == crossed and x1 - 1.0 < hi and x1 + w1 + 1.0 > lo:
                     ok = False
         if not ok:
             continue
@@ -256,12 +267,15 @@ def _notes(pen, beam: BeamCad, X) -> None:
         where = "all four faces" if beam.axes == 2 else "the top and bottom faces"
         what = "slot pockets" if beam.section == "rectangle" else "flats"
         lines.append(f"4. Identical {what} at every station, on {where}, centred on the gauge stations.")
+        walls = "its walls all round" if beam.section == "rectangle" else "its two end walls"
+        lines.append(f"{len(lines)}. Each floor meets {walls} in R{fmt_mm(beam.floor_radius)}, the end mill's "
+                     "corner radius: no sharp inside corner (it would raise the stress there).")
     elif beam.feature == "hole":
         lines.append("4. Through-holes on the beam's axis at every station, square to the gauge faces.")
     else:
         lines.append("4. No machining at the stations: the gauges are bonded on the plain faces (shown dashed).")
     if beam.section == "tube":
-        lines.append(f"5. Bore Ø{fmt_mm(beam.width - 2 * beam.wall)} from the free end to the clamp face; "
+        lines.append(f"{len(lines)}. Bore Ø{fmt_mm(beam.width - 2 * beam.wall)} from the free end to the clamp face; "
                      "the clamp block is solid.")
     if X.gaps:
         lines.append(f"{len(lines)}. Long plain lengths are shown broken; the dimensions give the true lengths.")

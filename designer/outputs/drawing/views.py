@@ -131,20 +131,20 @@ def draw_view(pen: Pen, beam: BeamCad, X: LengthAxis, v: ViewSetup) -> None:
     vline(-c.length, -hb, hb)
     if not beam.block_is_bar:
         vline(0.0, -hb, hb)
-    # silhouette of the free length, notched by grooves and by flats seen edge-on
+    # silhouette of the free length, notched by grooves and by flats seen edge-on (a flat's
+    # floor runs into its end walls in the end mill's corner radius)
     for s, face in ((+1, f"+{v.axis}"), (-1, f"-{v.axis}")):
         notches = []
         if beam.grooves is not None:
-            notches += [(x - beam.grooves.width / 2, x + beam.grooves.width / 2, beam.grooves.depth)
+            notches += [(x - beam.grooves.width / 2, x + beam.grooves.width / 2, beam.grooves.depth, 0.0)
                         for x in beam.grooves.positions]
         if flats and face in edge_cut:
-            notches += [(d - lp / 2, d + lp / 2, p) for d in beam.stations]
+            notches += [(d - lp / 2, d + lp / 2, p, beam.floor_radius) for d in beam.stations]
         cur = 0.0
-        for a, b, depth in sorted(notches):
+        for a, b, depth, r in sorted(notches):
             hline(cur, a, s * half)
-            vline(a, s * half, s * (half - depth))
-            hline(a, b, s * (half - depth))
-            vline(b, s * (half - depth), s * half)
+            xs, ts = floor_profile(a, b, half, half - depth, r, s)
+            pen.line([X(x) for x in xs], [Y(t) for t in ts])
             cur = b
         hline(cur, L, s * half)
     vline(L, -half, half)
@@ -159,9 +159,8 @@ def draw_view(pen: Pen, beam: BeamCad, X: LengthAxis, v: ViewSetup) -> None:
         s = 1 if face.startswith("+") else -1
         for d in beam.stations:
             if slots:  # hidden behind the slot's side walls
-                hline(d - lp / 2, d + lp / 2, s * (half - p), "hidden")
-                vline(d - lp / 2, s * half, s * (half - p), "hidden")
-                vline(d + lp / 2, s * half, s * (half - p), "hidden")
+                xs, ts = floor_profile(d - lp / 2, d + lp / 2, half, half - p, beam.floor_radius, s)
+                pen.line([X(x) for x in xs], [Y(t) for t in ts], "hidden")
     # features seen face-on
     if face_cut:
         for d in beam.stations:
@@ -234,6 +233,23 @@ def draw_view(pen: Pen, beam: BeamCad, X: LengthAxis, v: ViewSetup) -> None:
     for g0, g1 in X.gaps:
         for gx in (g0, g1):
             _break_line(pen, gx, Y(-half), Y(half))
+
+
+def floor_profile(a: float, b: float, surface: float, floor: float, r: float, sign: int = 1, steps: int = 12):
+    """A pocket's outline seen edge-on (model m): down the wall at ``a`` from ``surface`` to
+    ``floor``, along the floor, up the wall at ``b``; the floor meets each wall in radius ``r``.
+    Heights are distances from the axis, turned to the face's side by ``sign``."""
+    xs, ts = [a], [surface]
+    if r > 0:
+        q = np.linspace(0.0, np.pi / 2, steps)
+        xs += list(a + r - r * np.cos(q)) + list(b - r + r * np.sin(q))
+        ts += list(floor + r - r * np.sin(q)) + list(floor + r - r * np.cos(q))
+    else:
+        xs += [a, b]
+        ts += [floor, floor]
+    xs.append(b)
+    ts.append(surface)
+    return xs, [sign * t for t in ts]
 
 
 def channel_runs(beam: BeamCad) -> list[tuple[float, float]]:
