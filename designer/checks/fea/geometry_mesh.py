@@ -38,6 +38,13 @@ ELEMENTS_PER_FEATURE = 4.0
 # ... and around a full circle (round and tube sections, holes, corner radii): the facets of a
 # 32-gon leave a round section's second moment about 1 % short, the strain about 0.5 % high.
 ELEMENTS_PER_CIRCLE = 32
+# A thick tube's bore, holding less than this share (r_i / r_o)^4 of the section's second moment,
+# takes elements as long as the outer surface's (ELEMENTS_PER_CIRCLE around the outside), not
+# ELEMENTS_PER_CIRCLE around itself: its facets' share of the error in the second moment is then
+# (r_i / r_o)^2 of the outer facets', while its small bore would otherwise fill the whole length
+# with elements finer than the features' detail (two thirds of the gripper finger's mesh). A
+# thin tube's bore (Prototype C: 30 %) keeps the full count.
+BORE_SHARE = 0.05
 # Gmsh never makes elements smaller than this fraction of the feature size.
 MIN_SIZE_FRACTION = 0.25
 # The mesh is cut this many section sizes (the larger of width and depth) past the last
@@ -79,6 +86,8 @@ class Problem:
     global_size: float      # base sizes at refinement 1
     detail_size: float
     detail_reach: float     # the detail size fills this distance from the features' faces (thin wall)
+    bore: float             # a tube's bore radius (0: none)
+    radius: float           # a round or tube section's outer radius (0: rectangle)
     plate: bool             # a thin wide plate: elements flatter than the depth across its width
 
 
@@ -122,7 +131,9 @@ def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Pro
                    free_length=beam.length, cut=cut, EI=material.E * float(sp.I), depth=depth, size=size,
                    stations=tuple(beam.stations), feature=beam.feature, feature_length=l_f, spans=spans,
                    gauge_z=gauge_z, grid_length=grid_length, grid_width=grid_width, global_size=global_size,
-                   detail_size=detail_size, detail_reach=detail_reach, plate=plate)
+                   detail_size=detail_size, detail_reach=detail_reach,
+                   bore=beam.radius - beam.wall if beam.section == "tube" else 0.0,
+                   radius=beam.radius if beam.section != "rectangle" else 0.0, plate=plate)
 
 
 def write_step_apart(record: dict, path: Path) -> None:
@@ -149,17 +160,22 @@ def write_step_apart(record: dict, path: Path) -> None:
 
 
 def _feature_faces(pb: Problem) -> list:
-    """gmsh's surfaces of the features: every face lying within a reduced span (pocket floor,
-    walls and corners, a hole's bore)."""
+    """gmsh's surfaces that the detail size grows from: a pocket's floor (with its edges, where
+    the floor meets the walls), or every face of a hole (its bore); faces lying within a reduced
+    span. A deep flat's tall end walls stay out: only their foot, within reach of the floor, is
+    refined."""
     import gmsh
 
     tol = FACE_TOLERANCE * pb.size         # OCC's bounding boxes carry its tolerance
-    faces = []
+    faces, floors = [], []
     for dim, tag in gmsh.model.getEntities(2):
-        x0, _, _, x1, _, _ = gmsh.model.getBoundingBox(dim, tag)
+        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
         if any(a - tol <= x0 and x1 <= b + tol for a, b in pb.spans):
             faces.append(tag)
-    return faces
+            level = [abs(lo - pb.gauge_z) < tol and abs(hi - pb.gauge_z) < tol for lo, hi in ((z0, z1), (y0, y1))]
+            if any(level):
+                floors.append(tag)
+    return floors if pb.feature == "pocket" and floors else faces
 
 
 def mesh_quarter(step_path: Path, pb: Problem, refinement: float):
@@ -205,6 +221,21 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float):
         gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", ELEMENTS_PER_CIRCLE * refinement)
         gmsh.option.setNumber("Mesh.ElementOrder", 1)
+        if 0 < pb.bore and (pb.bore / pb.radius) ** 4 < BORE_SHARE:
+            # the bore's elements as long as the outer surface's (never longer than the section's)
+            # and no longer than the detail size's ramp along X near the features (a flat's floor
+            # may lie a thin wall above the bore)
+            bore_size = min(s_g, 2 * np.pi * pb.radius / (ELEMENTS_PER_CIRCLE * refinement))
+            near = FACE_TOLERANCE * pb.size
+            reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d) if s_d < s_g else 0.0
+
+            def size(dim, tag, x, y, z, lc):
+                if dim == 3 or abs(np.hypot(y, z) - pb.bore) > near:
+                    return lc
+                beyond = min(max(a - reach - x, x - b - reach, 0.0) for a, b in pb.spans)
+                return max(lc, min(bore_size, s_d + GRADING * beyond))
+
+            gmsh.model.mesh.setSizeCallback(size)
         try:
             gmsh.model.mesh.generate(3)
         except Exception as exc:
