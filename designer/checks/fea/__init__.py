@@ -12,9 +12,13 @@ How the check is made:
   symmetric about the ``XZ`` plane and, under a load along ``Z``, antisymmetric about the
   ``XY`` plane, so only the quarter ``Y >= 0, Z >= 0`` is meshed, with ``u_y = 0`` on
   ``Y = 0`` and ``u_x = u_y = 0`` on ``Z = 0``.
+  The STEP is built in a child process, so the CAD kernel's memory (about 0.5 GB) is gone
+  before the mesh; the detail size fills a thin wall's thickness around the features' faces
+  and grows from there to the section's size.
 - Linear elasticity with quadratic tetrahedra (scikit-fem's ``ElementTetP2``), assembled here
-  in vectorised form and solved by conjugate gradients preconditioned with a two-level
-  (quadratic / linear) cycle.
+  in vectorised form, a chunk of elements at a time, and solved by conjugate gradients
+  preconditioned with a two-level (quadratic / linear) cycle; a thin wide plate, on which the
+  linear level locks, by a sparse LU.
 - The load ``F_max`` at ``x_max`` enters at the cut face as its resultant (Saint-Venant): a
   uniform shear ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with
   ``M = F (x_max - x_cut)``; ``A`` and ``I`` are integrated over the meshed cut face.

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.checks.fea.geometry_mesh import (CONVERGENCE_COARSENING, MESH_LEVELS, Problem, build_problem,
-                                               mesh_quarter)
+                                               mesh_quarter, write_step_apart)
 from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_strains, stress_near, stress_peaks,
                                          surface_profile)
 from designer.checks.fea.report import GaugeCheck, LimitCheck, MeshRun, VerifyResult, with_messages, write_outputs
@@ -41,7 +41,8 @@ class Figures:
 
 def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=None) -> Figures:
     """Mesh, solve and read the design at one refinement; ``peak_at``: a point (m) where the
-    stress is also read (the finer run's peak, for the convergence check)."""
+    stress is also read (the finer run's peak, for the convergence check). Only the figures
+    outlive the call, so the two meshes of a check are never held at once."""
     start = time.perf_counter()
     points, tets = mesh_quarter(step_path, pb, refinement)
     sol = solve(points, tets, pb)
@@ -98,7 +99,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     refinement = MESH_LEVELS[mesh]
     with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
         step_path = Path(tmp) / f"{beam.file_stem}.step"
-        cad.write_step(cad.build_solid(beam), step_path, beam.name)
+        write_step_apart(design, step_path)
         main = _run(step_path, pb, mesh, refinement)
         partner = _run(step_path, pb, f"{mesh} / {CONVERGENCE_COARSENING:g}", refinement / CONVERGENCE_COARSENING,
                        peak_at=main.peak.location)

@@ -3,8 +3,13 @@
 The design's STEP solid is cut at the clamp face ``X = 0`` and a few section sizes past the last
 gauge station, ``X = x_cut``; only the quarter ``Y >= 0, Z >= 0`` is meshed (the design is
 symmetric about ``XZ`` and, under a load along ``Z``, antisymmetric about ``XY``). Element sizes
-follow the section, thin walls and features (the named settings below). gmsh is imported only
-inside ``mesh_quarter``.
+follow the section, thin walls and features (the named settings below): the detail size fills
+the material within a thin wall's thickness of the features' faces (pocket floor, walls and
+corners, hole bore) and grows from there at ``GRADING`` to the section's size, so plain lengths
+and the far side of a thick section stay coarse. gmsh is imported only inside ``mesh_quarter``.
+
+The STEP solid is built by cadquery in a child process (``write_step_apart``): the CAD kernel
+alone holds about 0.5 GB, which is then free for the solve.
 """
 
 from __future__ import annotations
@@ -33,15 +38,29 @@ ELEMENTS_PER_FEATURE = 4.0
 # ... and around a full circle (round and tube sections, holes, corner radii): the facets of a
 # 32-gon leave a round section's second moment about 1 % short, the strain about 0.5 % high.
 ELEMENTS_PER_CIRCLE = 32
+# A thick tube's bore, holding less than this share (r_i / r_o)^4 of the section's second moment,
+# takes elements as long as the outer surface's (ELEMENTS_PER_CIRCLE around the outside), not
+# ELEMENTS_PER_CIRCLE around itself: its facets' share of the error in the second moment is then
+# (r_i / r_o)^2 of the outer facets', while its small bore would otherwise fill the whole length
+# with elements finer than the features' detail (two thirds of the gripper finger's mesh). A
+# thin tube's bore (Prototype C: 30 %) keeps the full count.
+BORE_SHARE = 0.05
 # Gmsh never makes elements smaller than this fraction of the feature size.
 MIN_SIZE_FRACTION = 0.25
 # The mesh is cut this many section sizes (the larger of width and depth) past the last
 # feature: Saint-Venant end effects of the cut-face load decay over about one section size.
 CUT_MARGIN = 2.0
-# Refined boxes reach this many feature sizes beyond each feature (and its gauge grid).
-REFINE_MARGIN = 0.5
+# The detail size fills the material within this many thin-wall thicknesses of a feature's
+# faces (and at least ``DETAIL_ELEMENTS`` detail elements); beyond, the element size grows by
+# GRADING per unit distance (0.4: each element at most about 1.4 x its neighbour) up to the
+# section's size.
+DETAIL_REACH = 1.0
+DETAIL_ELEMENTS = 2.0
+GRADING = 0.4
 # Geometric tolerance relative to the section size (nodes on symmetry planes, cut faces).
 PLANE_TOLERANCE = 1e-7
+# ... and for a face's bounding box lying within a feature's span.
+FACE_TOLERANCE = 1e-3
 
 
 @dataclass(frozen=True)
@@ -66,6 +85,10 @@ class Problem:
     grid_width: float
     global_size: float      # base sizes at refinement 1
     detail_size: float
+    detail_reach: float     # the detail size fills this distance from the features' faces (thin wall)
+    bore: float             # a tube's bore radius (0: none)
+    radius: float           # a round or tube section's outer radius (0: rectangle)
+    plate: bool             # a thin wide plate: elements flatter than the depth across its width
 
 
 def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Problem:
@@ -89,23 +112,70 @@ def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Pro
     # base element size: one element through the half depth (quadratic elements carry the
     # linear bending strain exactly); a wide plate may have flatter elements, a tube's wall one
     global_size = max(depth, min(beam.width / PLATE_ELEMENTS_ACROSS, PLATE_ASPECT * depth)) / ELEMENTS_PER_DEPTH
+    plate = beam.section == "rectangle" and beam.width / PLATE_ELEMENTS_ACROSS > depth
     if beam.section == "tube":
         global_size = min(global_size, beam.wall)
     detail_size = global_size          # a plain gauge site needs no refinement
+    wall = 0.0                         # the thin wall at a feature
     if beam.feature == "pocket":
-        under = beam.wall - beam.pocket_depth if beam.section == "tube" else depth / 2 - beam.pocket_depth
-        detail_size = min(global_size, under / ELEMENTS_PER_WALL,
+        wall = beam.wall - beam.pocket_depth if beam.section == "tube" else depth / 2 - beam.pocket_depth
+        detail_size = min(global_size, wall / ELEMENTS_PER_WALL,
                           min(beam.pocket_width, beam.pocket_length) / ELEMENTS_PER_FEATURE)
     elif beam.feature == "hole":
-        detail_size = min(global_size, (depth - beam.hole_diameter) / 2 / ELEMENTS_PER_WALL,
-                          beam.hole_diameter / ELEMENTS_PER_FEATURE)
+        wall = (depth - beam.hole_diameter) / 2
+        detail_size = min(global_size, wall / ELEMENTS_PER_WALL, beam.hole_diameter / ELEMENTS_PER_FEATURE)
+    detail_reach = DETAIL_REACH * wall
     gauge_z = float(sp.y_g)
     spans = tuple((float(a), float(b)) for a, b in geometry.reduced_spans)
     return Problem(E=material.E, poisson=material.poisson, force=f_max, position=x_max,
                    free_length=beam.length, cut=cut, EI=material.E * float(sp.I), depth=depth, size=size,
                    stations=tuple(beam.stations), feature=beam.feature, feature_length=l_f, spans=spans,
                    gauge_z=gauge_z, grid_length=grid_length, grid_width=grid_width, global_size=global_size,
-                   detail_size=detail_size)
+                   detail_size=detail_size, detail_reach=detail_reach,
+                   bore=beam.radius - beam.wall if beam.section == "tube" else 0.0,
+                   radius=beam.radius if beam.section != "rectangle" else 0.0, plate=plate)
+
+
+def write_step_apart(record: dict, path: Path) -> None:
+    """The design's CAD solid as STEP at ``path``, built in a child Python so that the CAD kernel's
+    memory is returned before the mesh and the solve. SolverError if the child fails."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    import designer
+
+    root = str(Path(designer.__file__).resolve().parent.parent)
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([root] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    code = ("import json, sys; from designer.outputs import cad; record = json.load(sys.stdin); "
+            "beam = cad.resolve(record); cad.write_step(cad.build_solid(beam), sys.argv[1], beam.name)")
+    done = subprocess.run([sys.executable, "-c", code, str(path)], input=json.dumps(record), text=True,
+                          capture_output=True, env=env)
+    if done.returncode != 0 or not Path(path).is_file():
+        lines = [line for line in done.stderr.strip().splitlines() if line.strip()]
+        raise SolverError("building the CAD solid failed" + (f": {lines[-1]}" if lines else "")
+                          + "; please report this design")
+
+
+def _feature_faces(pb: Problem) -> list:
+    """gmsh's surfaces that the detail size grows from: a pocket's floor (with its edges, where
+    the floor meets the walls), or every face of a hole (its bore); faces lying within a reduced
+    span. A deep flat's tall end walls stay out: only their foot, within reach of the floor, is
+    refined."""
+    import gmsh
+
+    tol = FACE_TOLERANCE * pb.size         # OCC's bounding boxes carry its tolerance
+    faces, floors = [], []
+    for dim, tag in gmsh.model.getEntities(2):
+        x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
+        if any(a - tol <= x0 and x1 <= b + tol for a, b in pb.spans):
+            faces.append(tag)
+            level = [abs(lo - pb.gauge_z) < tol and abs(hi - pb.gauge_z) < tol for lo, hi in ((z0, z1), (y0, y1))]
+            if any(level):
+                floors.append(tag)
+    return floors if pb.feature == "pocket" and floors else faces
 
 
 def mesh_quarter(step_path: Path, pb: Problem, refinement: float):
@@ -130,30 +200,42 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float):
             raise SolverError(f"cutting the STEP model at X = 0 and X = {pb.cut * 1e3:.2f} mm gave "
                               f"{len(volumes)} volumes, expected one; please report this design")
 
-        f = gmsh.model.mesh.field
-        boxes = []
-        half = max(pb.feature_length, pb.grid_length) / 2 + REFINE_MARGIN * max(pb.feature_length, pb.depth)
-        for d in pb.stations:
-            b = f.add("Box")
-            f.setNumber(b, "VIn", s_d)
-            f.setNumber(b, "VOut", s_g)
-            f.setNumber(b, "XMin", max(d - half, 0.0))
-            f.setNumber(b, "XMax", d + half)
-            f.setNumber(b, "YMin", -big)
-            f.setNumber(b, "YMax", big)
-            f.setNumber(b, "ZMin", -big)
-            f.setNumber(b, "ZMax", big)
-            f.setNumber(b, "Thickness", 2 * s_g)
-            boxes.append(b)
-        least = f.add("Min")
-        f.setNumbers(least, "FieldsList", boxes)
-        f.setAsBackgroundMesh(least)
+        faces = _feature_faces(pb) if s_d < s_g else []
+        if faces:
+            # the detail size within detail_reach of the features' faces, then graded to s_g
+            f = gmsh.model.mesh.field
+            distance = f.add("Distance")
+            f.setNumbers(distance, "SurfacesList", faces)
+            f.setNumber(distance, "Sampling", int(min(200, np.ceil(pb.feature_length / s_d) + 2)))
+            reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d)
+            ramp = f.add("Threshold")
+            f.setNumber(ramp, "InField", distance)
+            f.setNumber(ramp, "SizeMin", s_d)
+            f.setNumber(ramp, "SizeMax", s_g)
+            f.setNumber(ramp, "DistMin", reach)
+            f.setNumber(ramp, "DistMax", reach + (s_g - s_d) / GRADING)
+            f.setAsBackgroundMesh(ramp)
         gmsh.option.setNumber("Mesh.MeshSizeMax", s_g)
         gmsh.option.setNumber("Mesh.MeshSizeMin", MIN_SIZE_FRACTION * s_d)
         gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
         gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
         gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", ELEMENTS_PER_CIRCLE * refinement)
         gmsh.option.setNumber("Mesh.ElementOrder", 1)
+        if 0 < pb.bore and (pb.bore / pb.radius) ** 4 < BORE_SHARE:
+            # the bore's elements as long as the outer surface's (never longer than the section's)
+            # and no longer than the detail size's ramp along X near the features (a flat's floor
+            # may lie a thin wall above the bore)
+            bore_size = min(s_g, 2 * np.pi * pb.radius / (ELEMENTS_PER_CIRCLE * refinement))
+            near = FACE_TOLERANCE * pb.size
+            reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d) if s_d < s_g else 0.0
+
+            def size(dim, tag, x, y, z, lc):
+                if dim == 3 or abs(np.hypot(y, z) - pb.bore) > near:
+                    return lc
+                beyond = min(max(a - reach - x, x - b - reach, 0.0) for a, b in pb.spans)
+                return max(lc, min(bore_size, s_d + GRADING * beyond))
+
+            gmsh.model.mesh.setSizeCallback(size)
         try:
             gmsh.model.mesh.generate(3)
         except Exception as exc:

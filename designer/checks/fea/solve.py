@@ -6,6 +6,13 @@ the load beyond the cut enters at the cut face as its resultant (Saint-Venant): 
 ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with ``M = F (x_max - x_cut)``; ``A``
 and ``I`` are integrated over the meshed cut face. scipy and scikit-fem are imported inside the
 functions.
+
+Memory: the stiffness is assembled ``ASSEMBLY_CHUNK`` elements at a time (the quadratic
+shape-function gradients written out from the barycentric ones) straight into one matrix of
+3 x 3 blocks, handed on as CSR; the held components are eliminated in place (row and column
+zeroed, diagonal kept), so no free-block copy of the matrix is made. A thin wide plate is
+solved directly instead: its linear coarse level locks in bending (hundreds of iterations),
+while its nearly two-dimensional sparsity makes the factorisation small.
 """
 
 from __future__ import annotations
@@ -18,10 +25,21 @@ from designer.checks.fea.geometry_mesh import PLANE_TOLERANCE, Problem
 from designer.errors import SolverError
 
 # Conjugate gradients: relative residual, iteration cap; damping of the Jacobi smoother as a
-# fraction of 2 / lambda_max(D^-1 K) (1.5 / lambda_max: inside the convergent range).
-CG_TOLERANCE = 1e-10
+# fraction of 2 / lambda_max(D^-1 K) (1.5 / lambda_max: inside the convergent range). From 1e-10
+# to 1e-8 the gripper finger's displacements moved by 3e-12 of their largest, for 20 % fewer
+# iterations.
+CG_TOLERANCE = 1e-8
 CG_MAX_ITERATIONS = 3000
 SMOOTHER_DAMPING = 1.5
+# Elements assembled at a time: their blocks take 7.2 kB each.
+ASSEMBLY_CHUNK = 4096
+
+# The 4-point Gauss rule on a tetrahedron (exact for the quadratic integrand of P2 stiffness):
+# barycentric coordinates of the points, one row per point.
+_GAUSS_A, _GAUSS_B = 0.5854101966249685, 0.1381966011250105
+_GAUSS_LAMBDA = np.full((4, 4), _GAUSS_B) + np.eye(4) * (_GAUSS_A - _GAUSS_B)
+# scikit-fem's ElementTetP2: vertices 0-3, then the edge dofs on these vertex pairs.
+_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]])
 
 
 @dataclass(frozen=True)
@@ -31,7 +49,7 @@ class Solution:
     mesh: object
     basis: object            # scalar P2 basis
     u: np.ndarray            # (3, N) displacement at the P2 nodes
-    iterations: int
+    iterations: int          # CG iterations (0: solved directly)
 
 
 def lame(E: float, nu: float) -> tuple[float, float]:
@@ -39,37 +57,92 @@ def lame(E: float, nu: float) -> tuple[float, float]:
     return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
 
 
-def _stiffness(basis, E: float, nu: float):
-    """The P2 elasticity stiffness, vector dofs interleaved (3 n + component)."""
+def _p2_gradients(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Gradients (E, 4 points, 10 functions, 3) of the P2 shape functions at the Gauss points of
+    the tetrahedra ``tets`` (4, E), and the elements' volumes: vertex ``i`` has
+    ``(4 lambda_i - 1) grad lambda_i``, edge ``ij`` has ``4 (lambda_i grad lambda_j + lambda_j grad lambda_i)``."""
+    x = points[:, tets]                                       # (3, 4, E)
+    J = (x[:, 1:] - x[:, :1]).transpose(2, 0, 1)              # (E, 3, 3): edge vectors as columns
+    inv = np.linalg.inv(J)                                    # rows: grad lambda_1..3
+    g = np.empty((tets.shape[1], 4, 3))
+    g[:, 1:] = inv
+    g[:, 0] = -inv.sum(axis=1)
+    G = np.empty((tets.shape[1], 4, 10, 3))
+    i, j = _EDGES.T
+    for q, lam in enumerate(_GAUSS_LAMBDA):
+        G[:, q, :4] = (4 * lam - 1)[None, :, None] * g
+        G[:, q, 4:] = 4 * (lam[i][None, :, None] * g[:, j] + lam[j][None, :, None] * g[:, i])
+    return G, np.abs(np.linalg.det(J)) / 6
+
+
+def _element_blocks(points, tets, lam: float, mu: float) -> np.ndarray:
+    """Element stiffness blocks (E, 10, 10, 3, 3): node ``i``, node ``j``, components ``a``, ``b``.
+
+    With ``M[ia, jb] = sum_q w_q d_a phi_i d_b phi_j`` (one batched matrix product),
+    ``K[ia, jb] = lambda M[ia, jb] + mu M[ib, ja] + mu delta_ab sum_c M[ic, jc]``."""
+    G, volume = _p2_gradients(points, tets)
+    n = G.shape[0]
+    Gw = (G * (volume / 4)[:, None, None, None]).reshape(n, 4, 30)
+    M = np.matmul(Gw.transpose(0, 2, 1), G.reshape(n, 4, 30)).reshape(n, 10, 3, 10, 3)
+    K = lam * M
+    K += mu * M.transpose(0, 1, 4, 3, 2)
+    trace = mu * np.einsum("eicjc->eij", M)
+    for a in range(3):
+        K[:, :, a, :, a] += trace
+    return np.ascontiguousarray(K.transpose(0, 1, 3, 2, 4))
+
+
+def stiffness(mesh, element_dofs: np.ndarray, n_nodes: int, E: float, nu: float, fixed: np.ndarray):
+    """The P2 elasticity stiffness (CSR, assembled as 3 x 3 blocks) on ``n_nodes`` nodes, dof
+    ``3 n + component``; the ``fixed`` (n_nodes, 3) components eliminated symmetrically (their rows
+    and columns zeroed, their diagonal kept), so that the load's zeros there hold them."""
     import scipy.sparse as sp
 
     lam, mu = lame(E, nu)
-    n_fun = basis.Nbfun
-    G = np.array([basis.basis[i][0].grad for i in range(n_fun)])    # (i, a, e, q)
-    Gw = G * basis.dx[None, None]
-    K = lam * np.einsum("iaeq,jbeq->eiajb", Gw, G, optimize=True)
-    K += mu * np.einsum("ibeq,jaeq->eiajb", Gw, G, optimize=True)
-    diag = mu * np.einsum("iceq,jceq->eij", Gw, G, optimize=True)
+    n_el = element_dofs.shape[1]
+    # the block pattern: sorted (row, column) node pairs, and where each element pair lands
+    keys = element_dofs.T.astype(np.int64)
+    keys = (keys[:, :, None] * n_nodes + keys[:, None, :]).ravel()            # element-major
+    pairs, where = np.unique(keys, return_inverse=True)
+    del keys
+    where = where.astype(np.int32 if len(pairs) < 2 ** 31 else np.int64)
+    rows = (pairs // n_nodes).astype(np.int32)
+    cols = (pairs % n_nodes).astype(np.int32)
+    del pairs
+    n_blocks = len(cols)
+    indptr = np.zeros(n_nodes + 1, dtype=np.int32)
+    np.cumsum(np.bincount(rows, minlength=n_nodes), out=indptr[1:])
+    data = np.zeros((n_blocks, 9))
+    for start in range(0, n_el, ASSEMBLY_CHUNK):
+        stop = min(n_el, start + ASSEMBLY_CHUNK)
+        blocks = _element_blocks(mesh.p, mesh.t[:, start:stop], lam, mu).reshape(-1, 9)
+        at = where[100 * start:100 * stop]
+        order = np.argsort(at, kind="stable")
+        at = at[order]
+        first = np.flatnonzero(np.r_[True, at[1:] != at[:-1]])
+        data[at[first]] += np.add.reduceat(blocks[order], first, axis=0)
+    del where
+    data = data.reshape(n_blocks, 3, 3)
+    diagonal = np.flatnonzero(rows == cols)
+    keep = data[diagonal, [[0], [1], [2]], [[0], [1], [2]]].T.copy()     # (n_nodes, 3)
+    data *= ~fixed[rows][:, :, None]
+    data *= ~fixed[cols][:, None, :]
     for a in range(3):
-        K[:, :, a, :, a] += diag
-    dofs = (3 * basis.element_dofs[:, :, None] + np.arange(3)).transpose(1, 0, 2).reshape(-1, 3 * n_fun)
-    rows = np.repeat(dofs, 3 * n_fun, axis=1).ravel()
-    cols = np.tile(dofs, (1, 3 * n_fun)).ravel()
-    n = 3 * basis.N
-    return sp.csr_matrix((K.ravel(), (rows, cols)), shape=(n, n))
+        data[diagonal, a, a] = np.where(fixed[rows[diagonal], a], keep[:, a], data[diagonal, a, a])
+    # scipy's CSR product is about three times faster than its 3 x 3 BSR one
+    return sp.bsr_matrix((data, cols, indptr), shape=(3 * n_nodes, 3 * n_nodes)).tocsr()
 
 
-def _prolongation(basis, mesh):
-    """Linear (P1 on the vertices) to quadratic interpolation, scalar."""
+def _prolongation(mesh, n_nodes: int):
+    """Linear (P1 on the vertices) to quadratic interpolation, scalar: vertex dofs first, then
+    one dof per edge (scikit-fem's numbering)."""
     import scipy.sparse as sp
 
-    nv = mesh.p.shape[1]
-    vertex = basis.nodal_dofs[0]
-    edge = basis.edge_dofs[0]
-    rows = np.concatenate([vertex, edge, edge])
+    nv, ne = mesh.p.shape[1], mesh.edges.shape[1]
+    rows = np.concatenate([np.arange(nv), nv + np.arange(ne), nv + np.arange(ne)])
     cols = np.concatenate([np.arange(nv), mesh.edges[0], mesh.edges[1]])
-    vals = np.concatenate([np.ones(nv), 0.5 * np.ones(2 * len(edge))])
-    return sp.csr_matrix((vals, (rows, cols)), shape=(basis.N, nv))
+    vals = np.concatenate([np.ones(nv), 0.5 * np.ones(2 * ne)])
+    return sp.csr_matrix((vals, (rows, cols)), shape=(n_nodes, nv))
 
 
 def _constrained(xyz: np.ndarray, pb: Problem) -> np.ndarray:
@@ -81,16 +154,10 @@ def _constrained(xyz: np.ndarray, pb: Problem) -> np.ndarray:
     return np.array([clamp | z0, clamp | y0 | z0, clamp])
 
 
-def solve(points, tets, pb: Problem) -> Solution:
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
-    from skfem import Basis, ElementTetP2, FacetBasis, Functional, LinearForm, MeshTet, asm
+def _load(mesh, pb: Problem, n_nodes: int) -> np.ndarray:
+    """The cut face's tractions as nodal forces (3 n_nodes,)."""
+    from skfem import ElementTetP2, FacetBasis, Functional, LinearForm, asm
 
-    mesh = MeshTet(points, tets)
-    basis = Basis(mesh, ElementTetP2(), intorder=2)
-    K = _stiffness(basis, pb.E, pb.poisson)
-
-    # the cut face: the load's resultant as beam-theory tractions
     tol = PLANE_TOLERANCE * pb.size
     cut_facets = mesh.facets_satisfying(lambda x: np.abs(x[0] - pb.cut) < tol, boundaries_only=True)
     if len(cut_facets) == 0:
@@ -100,44 +167,83 @@ def solve(points, tets, pb: Problem) -> Solution:
     inertia_q = asm(Functional(lambda w: w.x[2] ** 2), fb)
     area, inertia = 4 * area_q, 4 * inertia_q           # the whole section
     moment = pb.force * (pb.position - pb.cut)
-    fx = asm(LinearForm(lambda v, w: moment * w.x[2] / inertia * v), fb)
-    fz = asm(LinearForm(lambda v, w: -pb.force / area * v), fb)
-    f = np.zeros(3 * basis.N)
-    f[0::3], f[2::3] = fx, fz
+    f = np.zeros(3 * n_nodes)
+    f[0::3] = asm(LinearForm(lambda v, w: moment * w.x[2] / inertia * v), fb)
+    f[2::3] = asm(LinearForm(lambda v, w: -pb.force / area * v), fb)
+    return f
 
-    fixed = _constrained(basis.doflocs, pb).T.ravel()
-    free = ~fixed
-    Kf = K[free][:, free].tocsr()
-    ff = f[free]
 
-    # two-level preconditioner: damped Jacobi on P2, exact solve of the Galerkin P1 problem
-    P = sp.kron(_prolongation(basis, mesh), sp.eye(3), format="csr")
-    fixed_v = _constrained(mesh.p, pb).T.ravel()
-    P = P[free][:, ~fixed_v].tocsc()
-    coarse = (P.T @ Kf @ P).tocsc()
+def _direct(K, f: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """Sparse LU of the free block (symmetric mode, minimum degree ordering)."""
+    import scipy.sparse.linalg as spla
+
+    Kf = K[free][:, free].tocsc()
+    try:
+        lu = spla.splu(Kf, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    except RuntimeError as exc:
+        raise SolverError(f"the finite-element system is singular ({exc}); the beam is not held") from exc
+    u = np.zeros_like(f)
+    u[free] = lu.solve(f[free])
+    return u
+
+
+def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: Problem) -> tuple[np.ndarray, int]:
+    """Conjugate gradients, preconditioned by damped Jacobi on P2 around an exact solve of the
+    Galerkin P1 problem on the mesh's vertices."""
+    import scipy.sparse as sp
+    import scipy.sparse.linalg as spla
+
+    free_v = ~_constrained(mesh.p, pb).T.ravel()
+    P = sp.kron(_prolongation(mesh, n_nodes), sp.eye(3), format="csr")
+    P = (sp.diags((~fixed.ravel()).astype(float)) @ P).tocsc()[:, free_v].tocsr()
+    coarse = (P.T @ (K @ P)).tocsc()
     try:
         lu = spla.splu(coarse, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
     except RuntimeError as exc:
         raise SolverError(f"the coarse finite-element system is singular ({exc}); the beam is not held") from exc
-    dinv = 1.0 / Kf.diagonal()
-    scaled = sp.diags(np.sqrt(dinv)) @ Kf @ sp.diags(np.sqrt(dinv))
+    del coarse
+    dinv = 1.0 / K.diagonal()
+    root = np.sqrt(dinv)
+    scaled = spla.LinearOperator(K.shape, lambda v: root * (K @ (root * v)), dtype=float)
     lam_max = spla.eigsh(scaled, k=1, which="LA", tol=1e-2, return_eigenvectors=False)[0]
-    omega = SMOOTHER_DAMPING / lam_max
+    omega_dinv = SMOOTHER_DAMPING / lam_max * dinv
 
     def cycle(r):
-        x = omega * dinv * r
-        x = x + P @ lu.solve(P.T @ (r - Kf @ x))
-        return x + omega * dinv * (r - Kf @ x)
+        x = omega_dinv * r
+        x += P @ lu.solve(P.T @ (r - K @ x))
+        return x + omega_dinv * (r - K @ x)
 
     count = [0]
 
     def tick(_):
         count[0] += 1
 
-    x, info = spla.cg(Kf, ff, M=spla.LinearOperator(Kf.shape, cycle), rtol=CG_TOLERANCE,
+    x, info = spla.cg(K, f, M=spla.LinearOperator(K.shape, cycle, dtype=float), rtol=CG_TOLERANCE,
                       maxiter=CG_MAX_ITERATIONS, callback=tick)
     if info != 0:
         raise SolverError(f"the finite-element solve did not converge in {CG_MAX_ITERATIONS} iterations")
-    u = np.zeros(3 * basis.N)
-    u[free] = x
-    return Solution(mesh, basis, u.reshape(-1, 3).T, count[0])
+    return x, count[0]
+
+
+def solve(points, tets, pb: Problem) -> Solution:
+    from skfem import Basis, ElementTetP2, MeshTet
+    from skfem.assembly import Dofs
+
+    mesh = MeshTet(points, tets)
+    element = ElementTetP2()
+    dofs = Dofs(mesh, element)
+    n_nodes = dofs.N
+    nodes = np.hstack([mesh.p, mesh.p[:, mesh.edges].mean(axis=1)])      # vertex dofs, then edge dofs
+    fixed = _constrained(nodes, pb).T                                     # (n_nodes, 3)
+    del nodes
+    f = _load(mesh, pb, n_nodes)
+    f[fixed.ravel()] = 0.0
+    K = stiffness(mesh, dofs.element_dofs, n_nodes, pb.E, pb.poisson, fixed)
+    if pb.plate:
+        u, iterations = _direct(K, f, ~fixed.ravel()), 0
+    else:
+        u, iterations = _two_level_cg(K, f, mesh, n_nodes, fixed, pb)
+    del K
+    u[fixed.ravel()] = 0.0
+    basis = Basis(mesh, element, intorder=1)      # the readout needs its dofs and mapping only
+    return Solution(mesh, basis, u.reshape(-1, 3).T, iterations)

@@ -1,0 +1,146 @@
+"""Benchmark: wall time and peak memory of `fpdesign verify` on every example's design.
+
+For each example it makes the design once (``evaluate`` for the fixed-design prototypes,
+``optimize --no-cad`` for the optimiser examples), then runs ``fpdesign verify DESIGN --mesh M``
+``--repeat`` times, each in a fresh subprocess, and reports the median wall time, the largest
+peak resident set size of the run and of any process it started (``ru_maxrss`` of the waited-for
+children, read after each run in a fresh measuring process so that runs do not mask each
+other), and the figures of the check: the gauge-strain and deflection ratios to the beam model,
+the peak stress ratio and the mesh-convergence changes.
+
+    python benchmarks/bench_verify.py [--mesh normal] [--repeat 3] [--only NAME ...]
+                                      [--out benchmarks/bench_verify.md] [--work DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+FIXED = ("prototype-a", "prototype-b", "prototype-b-inner", "prototype-c")
+OPTIMISED = ("gripper-finger", "weigh-bar", "probe", "prototype-b-optimized")
+EXAMPLES = FIXED + OPTIMISED
+# A run is measured by a small Python parent that starts the command, waits for it and reads its
+# children's rusage: ru_maxrss of RUSAGE_CHILDREN is the largest peak of any process waited for
+# (verify and the child that builds its STEP), in kB on Linux.
+MEASURE = ("import resource, subprocess, sys, time; t = time.perf_counter(); "
+           "code = subprocess.call(sys.argv[1:], stdout=subprocess.DEVNULL); "
+           "print(code, time.perf_counter() - t, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+
+
+def _env() -> dict:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p])
+    return env
+
+
+def make_design(name: str, work: Path) -> Path:
+    """The example's design.json (made once and reused)."""
+    out = work / name
+    design = out / "design.json"
+    if design.is_file():
+        return design
+    example = ROOT / "examples" / f"{name}.yaml"
+    if name in FIXED:
+        cmd = ["evaluate", str(example), "-o", str(out), "--no-plots"]
+    else:
+        cmd = ["optimize", str(example), "-o", str(out), "--no-plots", "--quiet", "--no-cad"]
+    subprocess.run([sys.executable, "-m", "designer.cli", *cmd], check=False, env=_env(),
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    if not design.is_file():
+        raise SystemExit(f"{name}: no design.json was written by `fpdesign {cmd[0]}`")
+    return design
+
+
+def measure(design: Path, mesh: str, out: Path) -> tuple[int, float, float]:
+    """One verify run in a fresh process: exit code, wall seconds, peak RSS (MB)."""
+    cmd = [sys.executable, "-m", "designer.cli", "verify", str(design), "--mesh", mesh, "-o", str(out)]
+    done = subprocess.run([sys.executable, "-c", MEASURE, *cmd], capture_output=True, text=True, env=_env())
+    code, seconds, kb = done.stdout.split()
+    return int(code), float(seconds), float(kb) / 1024
+
+
+def bench(names, mesh: str, repeat: int, work: Path) -> list[dict]:
+    rows = []
+    for name in names:
+        design = make_design(name, work)
+        times, peaks, code = [], [], 0
+        out = work / f"{name}-verify"
+        for _ in range(repeat):
+            code, seconds, mb = measure(design, mesh, out)
+            times.append(seconds)
+            peaks.append(mb)
+        row = {"name": name, "code": code, "seconds": statistics.median(times), "runs": times, "rss": max(peaks)}
+        report = out / "verify.json"
+        if report.is_file():
+            r = json.loads(report.read_text())
+            stress = r["stress"]
+            row.update(ratios=[g["ratio"] for g in r["gauges"]], deflection=r["deflection"]["ratio"],
+                       stress=stress["fea_peak"] / stress["model_max"], where=stress["where"],
+                       change=max(g["mesh_change"] for g in r["gauges"]),
+                       deflection_change=r["deflection"]["mesh_change"], stress_change=stress["mesh_change"],
+                       meshes=[(m["elements"], m["dofs"], m["cg_iterations"]) for m in r["meshes"]])
+        rows.append(row)
+        print(f"{name}: {row['seconds']:.1f} s (runs {', '.join(f'{t:.1f}' for t in times)}), {row['rss']:.0f} MB",
+              file=sys.stderr)
+    return rows
+
+
+def table(rows: list[dict], mesh: str, repeat: int) -> str:
+    lines = [f"`fpdesign verify --mesh {mesh}` on each example's design: median wall time of {repeat} run(s), each "
+             "in a fresh process, and the largest peak resident memory of the run or of the process it starts "
+             "to build the STEP solid.", "",
+             "| example | time (s) | peak RSS (MB) | gauge strain FEA/model | deflection FEA/model "
+             "| peak stress FEA/model (where) | change on the 1.5x coarser mesh: strain, deflection, stress "
+             "| elements, unknowns, CG iterations (run; convergence mesh) |",
+             "|---|---:|---:|---|---:|---|---|---|"]
+    for r in rows:
+        if "ratios" not in r:
+            lines.append(f"| {r['name']} | {r['seconds']:.1f} | {r['rss']:.0f} | failed (exit {r['code']}) | | | | |")
+            continue
+        meshes = "; ".join(f"{e}, {d}, {i}" for e, d, i in r["meshes"])
+        lines.append(f"| {r['name']} | {r['seconds']:.1f} | {r['rss']:.0f} | "
+                     f"{', '.join(f'{q:.3f}' for q in r['ratios'])} | {r['deflection']:.3f} | "
+                     f"{r['stress']:.2f} ({r['where']}) | {r['change']:.2%}, {r['deflection_change']:.2%}, "
+                     f"{r['stress_change']:.1%} | {meshes} |")
+    lines += ["", f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
+              "times include starting Python, building the CAD solid, meshing and solving both meshes, and "
+              "writing the report. The machine may be shared: compare runs made in one session.", ""]
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--mesh", default="normal", choices=("coarse", "normal", "fine"))
+    parser.add_argument("--repeat", type=int, default=3, help="runs per example; the median time is reported [3]")
+    parser.add_argument("--only", nargs="*", default=None, help=f"examples to run (of {', '.join(EXAMPLES)})")
+    parser.add_argument("--out", default=str(ROOT / "benchmarks" / "bench_verify.md"))
+    parser.add_argument("--work", default=None, help="folder for the designs and reports [a temporary folder]")
+    args = parser.parse_args(argv)
+    names = args.only or list(EXAMPLES)
+    unknown = sorted(set(names) - set(EXAMPLES))
+    if unknown:
+        parser.error(f"unknown example(s): {', '.join(unknown)}")
+    start = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="bench-verify-") as tmp:
+        work = Path(args.work) if args.work else Path(tmp)
+        work.mkdir(parents=True, exist_ok=True)
+        text = table(bench(names, args.mesh, max(1, args.repeat), work), args.mesh, max(1, args.repeat))
+    print(text)
+    print(f"benchmark took {time.perf_counter() - start:.0f} s", file=sys.stderr)
+    if args.out:
+        Path(args.out).write_text(text, encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
