@@ -216,3 +216,20 @@ def raise_roundoff(self, x0):
     import nlopt
 
     raise nlopt.RoundoffLimited("NLopt roundoff-limited")
+
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def check_plot_files(paths, names, formats):
+    """The plot files are exactly ``names`` x ``formats``, each a plausible PNG or SVG."""
+    import xml.etree.ElementTree as ET
+
+    assert sorted(p.name for p in paths) == sorted(f"{n}.{f}" for n in names for f in formats)
+    for p in paths:
+        data = p.read_bytes()
+        assert 10_000 < len(data) < 3_000_000, (p.name, len(data))
+        if p.suffix == ".png":
+            assert data.startswith(PNG_SIGNATURE)
+        else:
+            assert ET.fromstring(data).tag.endswith("svg")

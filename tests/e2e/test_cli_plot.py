@@ -4,29 +4,17 @@ and bad input refused with exit 2, nothing written."""
 from __future__ import annotations
 
 import json
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
 
 from designer.outputs import plots
 from designer.cli import main
+from shared_inputs import check_plot_files
 
 pytestmark = pytest.mark.slow
 
 DATA = Path(__file__).resolve().parents[1] / "data"
-PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-
-
-def _check_files(paths, names, formats):
-    assert sorted(p.name for p in paths) == sorted(f"{n}.{f}" for n in names for f in formats)
-    for p in paths:
-        data = p.read_bytes()
-        assert 10_000 < len(data) < 3_000_000, (p.name, len(data))
-        if p.suffix == ".png":
-            assert data.startswith(PNG_SIGNATURE)
-        else:
-            assert ET.fromstring(data).tag.endswith("svg")
 
 
 def test_plot_command_writes_png_next_to_the_design(tmp_path, capsys):
@@ -42,7 +30,7 @@ def test_plot_command_with_tradeoff_points_and_svg(tmp_path):
     out = tmp_path / "plots"
     assert main(["plot", str(DATA / "plot_optimized.json"), "-o", str(out), "--format", "svg",
                  "--tradeoff", str(DATA / "plot_tradeoff.json")]) == 0
-    _check_files(list(out.iterdir()), plots.PLOT_NAMES, ("svg",))
+    check_plot_files(list(out.iterdir()), plots.PLOT_NAMES, ("svg",))
 
 
 @pytest.mark.parametrize("content, message", [

@@ -22,7 +22,6 @@ import json
 import math
 import subprocess
 import sys
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -33,10 +32,10 @@ from designer.outputs.plots import candidates, common
 from designer.outputs.plots import write as plot_write
 from designer.result.designfile import load_design
 from designer.errors import DesignFileError, InputError
+from shared_inputs import check_plot_files
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 G0 = 9.80665  # standard gravity, m/s^2 (the paper's loads are masses)
-PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.fixture(scope="module")
@@ -297,21 +296,11 @@ def test_plot_functions_draw_into_a_given_axes(proto_b):
 
 # ----------------------------------------------------------------------------- files
 
-def _check_files(paths, names, formats):
-    assert sorted(p.name for p in paths) == sorted(f"{n}.{f}" for n in names for f in formats)
-    for p in paths:
-        data = p.read_bytes()
-        assert 10_000 < len(data) < 3_000_000, (p.name, len(data))
-        if p.suffix == ".png":
-            assert data.startswith(PNG_SIGNATURE)
-        else:
-            assert ET.fromstring(data).tag.endswith("svg")
-
 
 @pytest.mark.slow
 def test_write_design_plots_writes_every_plot(proto_b, tradeoff, tmp_path):
     paths = plots.write_design_plots(proto_b, tmp_path / "out", formats=("png",), tradeoff=tradeoff)
-    _check_files(paths, plots.PLOT_NAMES, ("png",))
+    check_plot_files(paths, plots.PLOT_NAMES, ("png",))
     assert all(p.parent == tmp_path / "out" for p in paths)
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == sorted(p.name for p in paths)
 
