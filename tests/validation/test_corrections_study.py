@@ -46,9 +46,10 @@ def test_refitting_the_study_gives_the_shipped_table():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("index", [0, 13, 29])
+@pytest.mark.parametrize("index", [13, 29])
 def test_fresh_3d_runs_reproduce_points_of_the_table(index):
-    # three hole cases of the study, run again with the 3-D check on the study's own mesh
+    # two hole cases of the study (one near Prototype B, the largest hole), run again with the
+    # 3-D check on the study's own mesh
     cases = [c for c in study.cases() if c.family == "rectangle-hole"]
     rows = [r for r in _rows() if r["family"] == "rectangle-hole"]
     case, row = cases[index], rows[index]
