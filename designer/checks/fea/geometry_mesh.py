@@ -138,13 +138,22 @@ def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Pro
 
 def write_step_apart(record: dict, path: Path) -> None:
     """The design's CAD solid as STEP at ``path``, built in a child Python so that the CAD kernel's
-    memory is returned before the mesh and the solve. SolverError if the child fails."""
+    memory is returned before the mesh and the solve. SolverError if the child fails. Where the
+    kernel is loaded in this process already (a caller that exported CAD), a child would only
+    load it again: the solid is then built here."""
     import json
     import os
     import subprocess
     import sys
 
     import designer
+
+    if "cadquery" in sys.modules:
+        from designer.outputs import cad
+
+        beam = cad.resolve(record)
+        cad.write_step(cad.build_solid(beam), path, beam.name)
+        return
 
     root = str(Path(designer.__file__).resolve().parent.parent)
     env = dict(os.environ)
