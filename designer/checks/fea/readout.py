@@ -91,7 +91,31 @@ def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
 
     tri, cell = _up_facets(mesh)
     tree = cKDTree(tri[:2].mean(axis=1).T)
+    n = xy.shape[1]
+    z_best, cell_best = np.full(n, -np.inf), np.zeros(n, dtype=int)
+    todo = np.arange(n)
     k = min(FACET_CANDIDATES, tri.shape[2])
+    # Where fine facets (a floor radius) crowd the nearest centroids next to coarse ones (the
+    # plain surface beyond it), the facet above a point may not be among the first candidates:
+    # those points are searched again with four times as many, up to every facet.
+    while todo.size:
+        z, facet = _highest_facet(tri, xy[:, todo], tree, k, below)
+        found = np.isfinite(z)
+        z_best[todo[found]], cell_best[todo[found]] = z[found], cell[facet[found]]
+        todo = todo[~found]
+        if k == tri.shape[2]:
+            break
+        k = min(4 * k, tri.shape[2])
+    if todo.size:
+        missing = xy[:, todo[0]]
+        raise SolverError(f"no beam surface found above X = {missing[0] * 1e3:.2f} mm, "
+                          f"Y = {missing[1] * 1e3:.2f} mm; please report this design")
+    return np.vstack([xy, z_best]), cell_best
+
+
+def _highest_facet(tri, xy, tree, k: int, below):
+    """The highest of the ``k`` facets nearest each point (x, y) that lie above it: their Z
+    there (-inf where none does) and their index."""
     _, cand = tree.query(xy.T, k=k)
     cand = cand.reshape(xy.shape[1], k)
     a, b, c = tri[:, 0][:, cand], tri[:, 1][:, cand], tri[:, 2][:, cand]   # (3, n, k)
@@ -108,12 +132,7 @@ def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
     z = np.where(inside, z, -np.inf)
     best = np.argmax(z, axis=1)
     rows = np.arange(xy.shape[1])
-    if not np.all(np.isfinite(z[rows, best])):
-        missing = xy[:, ~np.isfinite(z[rows, best])][:, 0]
-        raise SolverError(f"no beam surface found above X = {missing[0] * 1e3:.2f} mm, "
-                          f"Y = {missing[1] * 1e3:.2f} mm; please report this design")
-    points = np.vstack([xy, z[rows, best]])
-    return points, cell[cand[rows, best]]
+    return z[rows, best], cand[rows, best]
 
 
 def _axial_displacement(sol: Solution, points, cells):
