@@ -21,3 +21,19 @@ for folder in (ROOT, ROOT / "tests"):
 def examples() -> Path:
     """The folder of the paper's prototypes as spec files."""
     return ROOT / "examples"
+
+
+@pytest.fixture(scope="module")
+def proto_b() -> dict:
+    """Prototype B's design.json as the plot tests read it (tests/data/plot_prototype_b.json)."""
+    from designer.result.designfile import load_design
+
+    return load_design(ROOT / "tests" / "data" / "plot_prototype_b.json")
+
+
+@pytest.fixture(scope="module")
+def proto_c() -> dict:
+    """Prototype C's design.json as the plot tests read it (tests/data/plot_prototype_c.json)."""
+    from designer.result.designfile import load_design
+
+    return load_design(ROOT / "tests" / "data" / "plot_prototype_c.json")

@@ -11,8 +11,6 @@ from pathlib import Path
 import pytest
 
 from designer.result import designfile
-from designer import errors, model, search
-from designer.result.record import search_record
 from designer.search import run as search_run
 from designer.cli import main
 from designer.result.evaluation import evaluate

@@ -11,8 +11,7 @@ import statistics
 import pytest
 
 from designer import bench
-from designer import errors, model, search
-from designer.result.record import search_record
+from designer import errors, search
 from designer.errors import InputError
 from designer.spec.reader import parse_spec_text
 

@@ -9,7 +9,7 @@ import pytest
 from designer import model
 from designer.model import corrections
 from designer.model.corrections import Corrections, Fit
-from designer.result.evaluation import evaluate, fixed_design
+from designer.result.evaluation import fixed_design
 from designer.spec.reader import parse_spec_text
 
 HOLE_SPEC = """\

@@ -47,8 +47,6 @@ def test_drawing_of_flats_gives_across_flats_and_bore():
 
 
 def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
-    from designer.outputs import drawing
-
     a = views.length_axis(cad.resolve(record("prototype_a")))
     assert len(a.gaps) == 1                                  # 123 -> 800 mm shortened
     assert a(0.02) < a(0.12) < a(0.5) < a(0.8)
@@ -59,8 +57,6 @@ def test_long_plain_runs_are_broken_and_the_axis_keeps_order():
 
 def test_depth_buffer_keeps_the_nearer_triangle():
     import numpy as np
-
-    from designer.outputs import drawing
 
     # two triangles over the same 10 x 10 pixel square at depths 1 and 2 (larger is nearer)
     square = np.array([[0, 0], [10, 0], [0, 10]], float)

@@ -15,7 +15,7 @@ import pytest
 
 from designer.spec import catalogue
 from designer.result import designfile
-from designer import errors, model, search
+from designer import model, search
 from designer.result.record import search_record
 from designer.search import reference
 from designer.result.evaluation import evaluate

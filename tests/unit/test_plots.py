@@ -39,16 +39,6 @@ G0 = 9.80665  # standard gravity, m/s^2 (the paper's loads are masses)
 
 
 @pytest.fixture(scope="module")
-def proto_b() -> dict:
-    return load_design(DATA / "plot_prototype_b.json")
-
-
-@pytest.fixture(scope="module")
-def proto_c() -> dict:
-    return load_design(DATA / "plot_prototype_c.json")
-
-
-@pytest.fixture(scope="module")
 def optimized() -> dict:
     return load_design(DATA / "plot_optimized.json")
 

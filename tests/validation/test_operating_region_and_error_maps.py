@@ -21,22 +21,10 @@ import pytest
 
 from designer.model import estimator
 from designer.outputs import plots
-from designer.outputs.plots import candidates, common
-from designer.outputs.plots import write as plot_write
-from designer.result.designfile import load_design
+from designer.outputs.plots import common
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 G0 = 9.80665  # standard gravity, m/s^2 (the paper's loads are masses)
-
-
-@pytest.fixture(scope="module")
-def proto_b() -> dict:
-    return load_design(DATA / "plot_prototype_b.json")
-
-
-@pytest.fixture(scope="module")
-def proto_c() -> dict:
-    return load_design(DATA / "plot_prototype_c.json")
 
 
 def prototype_b_closed_form():
