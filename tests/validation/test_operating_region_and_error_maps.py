@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import copy
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,7 +22,6 @@ from designer.model import estimator
 from designer.outputs import plots
 from designer.outputs.plots import common
 
-DATA = Path(__file__).resolve().parents[1] / "data"
 G0 = 9.80665  # standard gravity, m/s^2 (the paper's loads are masses)
 
 
