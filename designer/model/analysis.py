@@ -72,8 +72,11 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     load, e = spec.load, spec.electronics
     sp = section_properties(g, ops)
     gain = volts_per_strain(e.excitation, spec.gauge.factor, e.gain, spec.bridge_factor)
+    # k = V_s G g n y_g / (4 E I_s), written in the order of operations the casadi graph has
+    # always had (4 * gain is exactly V_s G g n): IPOPT's path depends on it at rounding level
     k = 4 * gain * sp.y_g / (4 * m.E * sp.I_s)
-    factors = corrections.strain_factors(g, corrections.load() if table is None else table)
+    table = corrections.load() if table is None else table
+    factors = corrections.strain_factors(g, table)
     ks = [k * c for c in factors] if factors else [k] * len(g.stations)
     sigma_v = spec.sigma_v
     d = list(g.stations)
@@ -89,7 +92,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
         strains = tuple(s * c for s, c in zip(strains, factors))
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
-    widened = corrections.widened(g, corrections.load() if table is None else table)
+    widened = corrections.widened(g, table)
     deflection = tip_deflection(widened, sp, m.E, f_max, x_max)
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
