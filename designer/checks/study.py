@@ -31,7 +31,8 @@ from pathlib import Path
 
 MATERIAL = "6061-T6"
 GAUGE = "BF350-3AA"
-POCKET_LENGTH = 8.9e-3   # the gauge's 6.9 mm backing + 2 x 1 mm pocket margin (spec defaults)
+GAUGE_LENGTH = 6.9e-3    # BF350-3AA's backing (materials/gauges.yaml)
+POCKET_LENGTH = GAUGE_LENGTH + 2 * 1e-3   # + 2 x the spec's default 1 mm pocket margin
 POCKET_WIDTH = 5.5e-3
 CLAMP_CLEARANCE = 5e-3
 # The far station sits this many section sizes beyond the near station's feature, and the
@@ -70,7 +71,7 @@ class Case:
     def feature_length(self) -> float:
         from designer import model
 
-        return model.feature_length(self.feature, POCKET_LENGTH, self.hole, 6.9e-3)
+        return model.feature_length(self.feature, POCKET_LENGTH, self.hole, GAUGE_LENGTH)
 
     def stations(self) -> tuple[float, float]:
         near = self.clamp_clearance + self.feature_length / 2
