@@ -53,7 +53,8 @@ class Analysis:
     force_error: Any          # sigma_F / F_min
     position_error: Any       # sigma_x(F_min, x_max), m
     stress_root: Any
-    stress_feature: Any
+    stress_feature: Any       # nominal, at the first feature's clamp-side edge
+    stress_concentration: Any  # K_t at the feature (docs/model.md §7); 1 without a fit
     gauge_strain: tuple       # at F_max, x_max, per station
     min_signal_snr: Any
     deflection: Any           # free end, m
@@ -64,6 +65,11 @@ class Analysis:
     @property
     def max_stress(self):
         return max(self.stress_root, self.stress_feature)
+
+    @property
+    def stress_peak(self):
+        """The peak stress at the feature: K_t times the nominal stress."""
+        return self.stress_concentration * self.stress_feature
 
 
 def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Corrections | None = None) -> Analysis:
@@ -97,5 +103,6 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
     noise_strain = sigma_v / gain
-    return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, strains,
+    kt = corrections.stress_concentration(g, table)
+    return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, kt, strains,
                     snr, deflection, frequency, mass, noise_strain)

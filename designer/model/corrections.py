@@ -9,7 +9,9 @@ shipped as ``materials/corrections.yaml``:
 - ``strain``: 3-D gauge strain over the beam model's, away from the clamp;
 - ``extra_length``: how much longer, in section sizes, each reduced span acts (``Δ/2`` at each
   end), so that beam theory with EI(s) piecewise gives the 3-D free-end deflection;
-- ``clamp``: the strain of a station near the clamp over the same station far from it.
+- ``clamp``: the strain of a station near the clamp over the same station far from it;
+- ``stress``: K_t, the 3-D peak stress at the feature (a pocket's or flat's floor radius at its
+  ends, a hole's edge) over the beam model's nominal stress at the feature's clamp-side edge.
 
 A fit is a polynomial in its family's parameters, smooth so that IPOPT keeps exact
 derivatives, and valid over the box of the study (its ``domain``): designs are kept inside it
@@ -40,6 +42,7 @@ def parameters(g: Geometry) -> dict:
            "grid_ratio": g.grid_length / size}
     if g.feature == "pocket":
         out["depth_ratio"] = g.depth / (g.wall if g.section == "tube" else size)
+        out["radius_ratio"] = g.floor_radius / g.depth    # r/t of Peterson's shoulder-fillet charts
     if g.feature == "hole":
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":
@@ -143,6 +146,12 @@ def strain_factors(g: Geometry, table: Corrections) -> tuple:
     return tuple(base * clamp({**values, "clamp_decay": clamp_decay(r)}) for r in clamp_ratios(g))
 
 
+def stress_concentration(g: Geometry, table: Corrections):
+    """K_t at the feature: the ``stress`` fit, or 1 where the table has none."""
+    fit = table.fit(family(g), "stress")
+    return 1.0 if fit is None else fit(parameters(g))
+
+
 def widened(g: Geometry, table: Corrections) -> Geometry:
     """``g`` with each reduced span longer by the ``extra_length`` fit (half at each end)."""
     fit = table.fit(family(g), "extra_length")
@@ -171,7 +180,7 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     fam = family(g)
     values = parameters(g)
     out = []
-    for quantity in ("strain", "extra_length"):
+    for quantity in ("strain", "extra_length", "stress"):
         fit = table.fit(fam, quantity)
         for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
             if all(name != o[0] for o in out):

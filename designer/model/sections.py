@@ -34,6 +34,7 @@ class Geometry:
     gauge_length: float = 0.0
     grid_length: float = 0.0       # the gauge's active grid along the beam
     axes: int = 1
+    floor_radius: float = 0.0      # the end mill's corner radius where a pocket's floor meets its end walls
 
     @property
     def feature_length(self):

@@ -100,7 +100,8 @@ class BeamCad:
                               height=self.height if rectangle else None,
                               diameter=None if rectangle else self.width, wall=self.wall,
                               depth=self.pocket_depth, hole=self.hole_diameter, pocket_length=self.pocket_length,
-                              pocket_width=self.pocket_width, gauge_length=self.gauge_length, axes=self.axes)
+                              pocket_width=self.pocket_width, gauge_length=self.gauge_length, axes=self.axes,
+                              floor_radius=self.floor_radius if self.feature == "pocket" else 0.0)
 
     @property
     def feature_length(self) -> float:
