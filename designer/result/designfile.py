@@ -151,7 +151,8 @@ def rebuild(record: dict):
     material = Material(name=d["material"], description="from design.json", E=props["E"],
                         poisson=props.get("poisson", 0.3), yield_strength=props["yield"],
                         ultimate=props.get("ultimate", props["yield"]), fatigue=props.get("fatigue", props["yield"]),
-                        fatigue_cycles=props.get("fatigue_cycles", 1e7), density=props["density"], source="design.json")
+                        fatigue_cycles=props.get("fatigue_cycles", 1e7), density=props["density"], source="design.json",
+                        notch_length=props.get("notch_length", 0.0))
     section = Section(kind=d["section"]["kind"], **{k: d["section"][k] for k in SECTION_KEYS[d["section"]["kind"]]})
     f = d["feature"]
     feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})
