@@ -35,3 +35,40 @@ def test_anything_but_a_number_and_a_unit_is_refused_at_once(text):
 def test_an_overflowing_number_is_not_finite():
     with pytest.raises(SpecError, match="not a finite number"):
         units.parse("1e400 N", "force", "key")
+
+
+# ----------------------------------------------------------------- the YAML a spec may be written in
+
+SPEC = """\
+load: {force: [1 N, 20 N], position: [100 mm, 300 mm]}
+electronics: {excitation: 5 V, gain: 500, noise: 1 mV}
+"""
+
+
+@pytest.mark.parametrize("text, message", [
+    (SPEC + "bridge: half\nbridge: full\n", "line 4: the key 'bridge' is given twice (first at line 3)"),
+    ("load: &l {force: [1 N, 20 N], position: [100 mm, 300 mm]}\nelectronics: {excitation: 5 V, noise: 1 mV}\n"
+     "name: *l\n", "line 3: YAML aliases (*l) are not allowed"),
+    (SPEC + "name: " + "[" * 500 + "]" * 500 + "\n", "nested more than 20 levels deep"),
+    (SPEC + "name: " + "x" * 1_100_000 + "\n", "a spec or catalogue file is at most 1 MB"),
+])
+def test_a_spec_in_yaml_a_spec_never_needs_is_refused(text, message):
+    from designer.spec.reader import parse_spec_text
+
+    t0 = time.perf_counter()
+    with pytest.raises(SpecError) as err:
+        parse_spec_text(text, source="spec.yaml")
+    assert time.perf_counter() - t0 < 1.0
+    assert str(err.value).startswith("spec.yaml: ") and message in str(err.value)
+    assert len(str(err.value)) < 300
+
+
+def test_an_alias_bomb_is_refused_before_it_expands():
+    from designer.spec.reader import parse_spec_text
+
+    bomb = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8))
+    t0 = time.perf_counter()
+    with pytest.raises(SpecError, match="aliases"):
+        parse_spec_text(bomb)
+    assert time.perf_counter() - t0 < 1.0
