@@ -124,11 +124,15 @@ def cases(families=None) -> list[Case]:
                 chord_ok = 2 * math.sqrt((D / 2) ** 2 - (D / 2 - depth) ** 2) >= POCKET_WIDTH
                 if chord_ok:
                     out.append(Case("tube-pocket", diameter=D, wall=t * D, depth=depth))
-    for h in (3 * mm, 6 * mm):
-        for b_ratio in (1.0, 4.0, 16.0):
-            for clearance in (2 * mm, 6 * mm, 15 * mm):
-                out.append(Case("rectangle-none", width=b_ratio * h, height=h, clamp_clearance=clearance))
+    out += clamp_cases()
     return [c for c in out if families is None or c.family in families]
+
+
+def clamp_cases() -> list[Case]:
+    """The clamp's series (``checks.clamp_study``): plain bars with the first station moved out."""
+    from designer.checks import clamp_study
+
+    return [Case("rectangle-none", **bar) for bar in clamp_study.series()]
 
 
 @dataclass(frozen=True)
@@ -279,6 +283,13 @@ def fit_table(rows: list[dict], source: str = ""):
                     break
             if chosen is not None:
                 fits.setdefault(fam, {})[quantity] = chosen
+    if any(r["family"] == "rectangle-none" for r in rows):
+        from designer.checks import clamp_study
+
+        clamp = clamp_study.fit(rows)
+        if clamp.loo_max <= FIT_ACCEPT["strain"]:
+            fits["plain"] = {"clamp": clamp}
+        report.append(("plain", "clamp", "sech", clamp))
     return Corrections(fits, source), report
 
 
@@ -303,7 +314,8 @@ def main(argv=None) -> int:
                                encoding="utf-8")
         for fam, quantity, degree, f in report:
             shipped = table.fit(fam, quantity) is f
-            print(f"{fam:17s} {quantity:13s} degree {degree}: rms {f.rms:.4f}, leave-one-out max {f.loo_max:.4f}"
+            print(f"{fam:17s} {quantity:13s} {'degree ' if isinstance(degree, int) else ''}{degree}: rms {f.rms:.4f}, "
+                  f"leave-one-out max {f.loo_max:.4f}"
                   f"{'  shipped' if shipped else ''}")
         return 0
     rows = []

@@ -104,7 +104,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     # always had (4 * gain is exactly V_s G g n): IPOPT's path depends on it at rounding level
     k = 4 * gain * sp.y_g / (4 * m.E * sp.I_s)
     table = corrections.load() if table is None else table
-    factors = corrections.strain_factors(g, table)
+    factors = corrections.strain_factors(g, table, ops)
     ks = [k * c for c in factors] if factors else [k] * len(g.stations)
     sigma_v = spec.sigma_v
     d = list(g.stations)

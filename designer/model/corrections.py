@@ -9,7 +9,9 @@ shipped as ``materials/corrections.yaml``:
 - ``strain``: 3-D gauge strain over the beam model's, away from the clamp;
 - ``extra_length``: how much longer, in section sizes, each reduced span acts (``Δ/2`` at each
   end), so that beam theory with EI(s) piecewise gives the 3-D free-end deflection;
-- ``clamp``: the strain of a station near the clamp over the same station far from it;
+- ``clamp``: the strain of a station near the clamp over the same station far from it (one fit
+  for every family, under ``plain``: the clamp's restraint of the anticlastic bending of a wide
+  bar, ``ClampFit``);
 - ``stress``: K_t, the 3-D peak stress at the feature (a pocket's or flat's floor radius at its
   ends, a hole's edge) over the beam model's nominal stress at the feature's clamp-side edge.
 
@@ -55,9 +57,41 @@ def clamp_ratios(g: Geometry) -> tuple:
     return tuple(a / g.size for a, _ in g.reduced_spans)
 
 
-def clamp_decay(ratio):
-    """``1 / (1 + clamp_ratio)``: the clamp fit's variable, 0 far from the clamp."""
-    return 1 / (1 + ratio)
+def station_width_ratios(g: Geometry) -> tuple:
+    """Each station's distance from the clamp face over the section's width (b, or D): the clamp
+    fit's variable. The clamp's restraint spreads about one width along the beam."""
+    width = g.width if g.section == "rectangle" else g.diameter
+    return tuple(d / width for d in g.stations)
+
+
+@dataclass(frozen=True)
+class ClampFit:
+    """``C = 1 - A(w) sech(k (u - u0))`` with ``A(w) = a (1 - exp(-((w - 1)+ / w0)^p))``: the gauge
+    strain near the clamp over the same station far from it, for ``w = width_ratio`` (b/h; 1 for
+    round bars and tubes, which the clamp does not disturb) and ``u = d/b`` (``station_width_ratios``).
+
+    A rigid clamp stops the anticlastic curvature of a wide bar, so near it the bar bends in plane
+    strain and the surface strain falls towards ``1 - nu^2`` of the beam's; the restraint decays
+    over about one width (the sech's exponential tail). Very close to the clamp face the clamp's
+    own corner raises the strain again: the ``domain`` keeps ``u`` out of that zone."""
+
+    a: float
+    w0: float
+    p: float
+    k: float
+    u0: float
+    domain: dict            # station_width_ratio, width_ratio -> (low, high)
+    rms: float = 0.0
+    loo_max: float = 0.0
+
+    def __call__(self, w, u, ops=None):
+        from designer.model.ops import NUMERIC
+
+        ops = ops or NUMERIC
+        excess = (w - 1 + abs(w - 1)) / 2          # (w - 1)+, smooth enough: A and A' vanish at w = 1
+        amplitude = self.a * (1 - ops.exp(-(excess / self.w0) ** self.p))
+        z = self.k * (u - self.u0)
+        return 1 - 2 * amplitude / (ops.exp(z) + ops.exp(-z))
 
 
 @dataclass(frozen=True)
@@ -114,36 +148,51 @@ def _read_yaml(path):
 def from_dict(raw: dict) -> Corrections:
     fits = {}
     for fam, quantities in (raw.get("families") or {}).items():
-        fits[fam] = {q: Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
-                            tuple(float(c) for c in f["coefficients"]),
-                            {k: (float(v[0]), float(v[1])) for k, v in f["domain"].items()},
-                            float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
-                     for q, f in quantities.items()}
+        fits[fam] = {q: _fit_from_dict(f) for q, f in quantities.items()}
     return Corrections(fits, raw.get("source", ""))
+
+
+def _fit_from_dict(f: dict):
+    domain = {k: (float(v[0]), float(v[1])) for k, v in f["domain"].items()}
+    if f.get("form") == "clamp":
+        return ClampFit(*(float(f["coefficients"][k]) for k in ("a", "w0", "p", "k", "u0")), domain,
+                        float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
+    return Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
+               tuple(float(c) for c in f["coefficients"]), domain, float(f.get("rms", 0.0)),
+               float(f.get("loo_max", 0.0)))
+
+
+def _fit_to_dict(f) -> dict:
+    if isinstance(f, ClampFit):
+        return {"form": "clamp", "coefficients": {k: getattr(f, k) for k in ("a", "w0", "p", "k", "u0")},
+                "domain": {k: list(v) for k, v in f.domain.items()}, "rms": f.rms, "loo_max": f.loo_max}
+    return {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
+            "coefficients": list(f.coefficients), "domain": {k: list(v) for k, v in f.domain.items()},
+            "rms": f.rms, "loo_max": f.loo_max}
 
 
 def to_dict(c: Corrections) -> dict:
     return {"source": c.source,
-            "families": {fam: {q: {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
-                                   "coefficients": list(f.coefficients),
-                                   "domain": {k: list(v) for k, v in f.domain.items()},
-                                   "rms": f.rms, "loo_max": f.loo_max}
-                               for q, f in quantities.items()}
+            "families": {fam: {q: _fit_to_dict(f) for q, f in quantities.items()}
                          for fam, quantities in c.fits.items()}}
 
 
-def strain_factors(g: Geometry, table: Corrections) -> tuple:
+def clamp_fit(table: Corrections):
+    """The clamp's fit (one for every family)."""
+    return table.fit("plain", "clamp")
+
+
+def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
     """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at
     the station's distance from the clamp; empty when the table corrects neither."""
-    fam = family(g)
-    strain, clamp = table.fit(fam, "strain"), table.fit(fam, "clamp") or table.fit("plain", "clamp")
+    strain, clamp = table.fit(family(g), "strain"), clamp_fit(table)
     if strain is None and clamp is None:
         return ()
     values = parameters(g)
     base = strain(values) if strain is not None else 1.0
     if clamp is None:
         return tuple(base for _ in g.stations)
-    return tuple(base * clamp({**values, "clamp_decay": clamp_decay(r)}) for r in clamp_ratios(g))
+    return tuple(base * clamp(values["width_ratio"], u, ops) for u in station_width_ratios(g))
 
 
 def stress_concentration(g: Geometry, table: Corrections):
@@ -185,11 +234,11 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
         for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
             if all(name != o[0] for o in out):
                 out.append((name, values[name], lo, hi))
-    clamp = table.fit(fam, "clamp") or table.fit("plain", "clamp")
+    clamp = clamp_fit(table)
     if clamp is not None:
         for name, (lo, hi) in clamp.domain.items():
-            if name == "clamp_decay":
-                out += [(f"clamp_decay_{i + 1}", clamp_decay(r), lo, hi) for i, r in enumerate(clamp_ratios(g))]
+            if name == "station_width_ratio":
+                out += [(f"station_width_ratio_{i + 1}", u, lo, hi) for i, u in enumerate(station_width_ratios(g))]
             elif all(name != o[0] for o in out):
                 out.append((name, values[name], lo, hi))
     return out

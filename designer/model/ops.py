@@ -20,12 +20,13 @@ class Ops:
     acos: Callable
     fmax: Callable
     fmin: Callable
+    exp: Callable = np.exp
 
 
-NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin)
+NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin, np.exp)
 
 
 def casadi_ops() -> Ops:
     import casadi
 
-    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin)
+    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin, casadi.exp)
