@@ -35,6 +35,15 @@ _UNIT_NAME = r"(?:°|[^\W\d])+(?:\s*(?:\^|\*\*)\s*-?\d)?"
 _UNIT = re.compile(rf"{_UNIT_NAME}(?:\s*[*/·]\s*{_UNIT_NAME}|\s+{_UNIT_NAME})*")
 MAX_TEXT = 100   # characters of a quantity's text
 
+# The magnitudes fpdesign handles, per kind (SI): a nonzero value outside [smallest, largest]
+# is refused, naming the range, rather than carried into the solvers (1e300 N overflows the
+# optimiser's scaling, a position of 1e6 km stalls the elastica).
+RANGES = {
+    "force": (1e-9, 1e6), "length": (1e-9, 100.0), "voltage": (1e-15, 1e3), "strain": (1e-12, 1.0),
+    "frequency": (1e-6, 1e9), "ratio": (1e-12, 1e10), "resistance": (1e-3, 1e9), "pressure": (1.0, 1e13),
+    "density": (1e-3, 1e6), "mass": (1e-12, 1e5),
+}
+
 _SUBSTITUTIONS = (
     (re.compile(r"(?<![A-Za-z])(µε|με|ue|uε)(?![A-Za-z])"), "microstrain"),
     (re.compile(r"%"), " percent"),
@@ -65,6 +74,11 @@ def parse(value, kind: str, key: str) -> float:
         raise SpecError(f"{key}: {value!r} is not a value; expected {example}")
     if not math.isfinite(number):
         raise SpecError(f"{key}: {value!r} is not a finite number; expected {example}")
+    smallest, largest = RANGES[kind]
+    if number != 0 and not smallest <= abs(number) <= largest:
+        unit = f" {si_unit}" if si_unit else ""
+        raise SpecError(f"{key}: {value!r} is outside what fpdesign handles; its size must lie between "
+                        f"{smallest:g}{unit} and {largest:g}{unit}")
     return number
 
 

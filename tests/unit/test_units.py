@@ -72,3 +72,21 @@ def test_an_alias_bomb_is_refused_before_it_expands():
     with pytest.raises(SpecError, match="aliases"):
         parse_spec_text(bomb)
     assert time.perf_counter() - t0 < 1.0
+
+
+@pytest.mark.parametrize("text, kind, message", [
+    ("1e300 N", "force", "between 1e-09 N and 1e+06 N"),
+    ("1e6 km", "length", "between 1e-09 m and 100 m"),
+    ("1e300 V", "voltage", "between 1e-15 V and 1000 V"),
+    (1e300, "ratio", "between 1e-12 and 1e+10"),
+    ("1e-30 N", "force", "between 1e-09 N and 1e+06 N"),
+])
+def test_magnitudes_beyond_what_fpdesign_handles_name_the_range(text, kind, message):
+    with pytest.raises(SpecError) as err:
+        units.parse(text, kind, "key")
+    assert str(err.value).startswith("key: ") and "outside what fpdesign handles" in str(err.value)
+    assert message in str(err.value)
+
+
+def test_zero_stays_allowed_where_a_key_allows_it():
+    assert units.parse_positive("0 mm", "length", "limits.load_clearance", allow_zero=True) == 0.0
