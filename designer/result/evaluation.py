@@ -13,7 +13,7 @@ import numpy as np
 
 from designer import model
 from designer.spec.catalogue import Material
-from designer.errors import InputError
+from designer.errors import InputError, SpecError
 from designer.model import Analysis, Geometry, Limit, MaterialParams
 
 ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
@@ -168,4 +168,8 @@ def fixed_design(spec) -> Design:
 
     fd = spec.design
     geometry = geometry_for(spec, fd.section, fd.feature, fd.stations, spec.free_length)
+    problem = model.unbuildable(geometry)
+    if problem is not None:  # not a beam at all: bad input, nothing to judge or write
+        key, reason = problem
+        raise SpecError(f"design.{key}: {reason}")
     return Design(catalogue.material(fd.material, "design.material"), geometry)
