@@ -12,13 +12,17 @@ MM = 1e3   # m -> mm for display
 MV = 1e3   # V -> mV for display
 
 
+# Readings per load: more than this would only fill memory (each reading is a row).
+MAX_REPEATS = 10_000
+
+
 def _positive_int(text: str) -> int:
     try:
         value = int(text)
     except ValueError as exc:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from exc
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{text!r} must be 1 or more")
+    if not 1 <= value <= MAX_REPEATS:
+        raise argparse.ArgumentTypeError(f"{text!r} must be from 1 to {MAX_REPEATS}")
     return value
 
 
@@ -195,7 +199,7 @@ def run_measure(args) -> int:
 
     cal = readings.read_calibration(args.calibration)
     data = readings.read_readings(args.readings)
-    noise = units.parse(args.noise, "voltage", "--noise") if args.noise else None
+    noise = units.parse_positive(args.noise, "voltage", "--noise") if args.noise else None
     m = measure_readings(cal, data, noise)
     if args.output:
         readings.write_results(args.output, m)

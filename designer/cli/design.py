@@ -186,6 +186,12 @@ def _design_record(path: str) -> dict:
     return build_record("feasible" if ev.feasible else "infeasible", spec, ev)
 
 
+# simulate's bounds: each grid point draws in batches, so these bound the time (about a minute
+# at the largest) rather than the memory.
+MIN_DRAWS, MAX_DRAWS = 100, 10_000_000
+MAX_GRID = 100
+
+
 def run_simulate(args) -> int:
     import time
 
@@ -194,8 +200,13 @@ def run_simulate(args) -> int:
 
     from designer.checks.montecarlo import grid, simulate
 
-    if args.draws < 100:
-        raise SpecError(f"--draws: {args.draws} is too few; use at least 100")
+    if not MIN_DRAWS <= args.draws <= MAX_DRAWS:
+        raise SpecError(f"--draws: {args.draws} is not allowed; use {MIN_DRAWS} to {MAX_DRAWS:,}")
+    for name, n in zip(("NF", "NX"), args.grid):
+        if not 2 <= n <= MAX_GRID:
+            raise SpecError(f"--grid: {name} = {n} is not allowed; use 2 to {MAX_GRID}")
+    if not (math.isfinite(args.angle) and -360 <= args.angle <= 360):
+        raise SpecError(f"--angle: {args.angle!r} is not allowed; give degrees from -360 to 360")
     record = _design_record(args.design)
     d, p, s = record["design"], record["predicted"], record["spec"]
     (f_min, f_max), (x_min, x_max) = s["load"]["force"], s["load"]["position"]

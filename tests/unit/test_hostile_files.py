@@ -38,3 +38,42 @@ design:
     assert err.strip() == ("fpdesign: error: design.stations[1]: 0.4 m (400 mm) is off the beam; must lie "
                            "between 0 and the free length 300 mm")
     assert not out.exists()
+
+
+@pytest.fixture(scope="module")
+def probe_record(tmp_path_factory):
+    from pathlib import Path
+
+    out = tmp_path_factory.mktemp("probe") / "out"
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    assert main(["optimize", str(examples / "probe.yaml"), "-o", str(out), "--no-cad", "--no-plots", "--quiet"]) == 0
+    return out / "design.json"
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--draws", "2000000000"], "--draws: 2000000000 is not allowed; use 100 to 10,000,000"),
+    (["--grid", "3000", "3000"], "--grid: NF = 3000 is not allowed; use 2 to 100"),
+    (["--angle", "nan"], "--angle: nan is not allowed; give degrees from -360 to 360"),
+])
+def test_simulate_refuses_what_would_not_finish_or_means_nothing(probe_record, capsys, args, message):
+    assert main(["simulate", str(probe_record), *args]) == 2
+    assert capsys.readouterr().err.strip() == f"fpdesign: error: {message}"
+
+
+def test_readings_repeats_are_bounded(probe_record, tmp_path, capsys):
+    with pytest.raises(SystemExit) as stop:   # argparse: usage and the error, exit 2
+        from designer.cli import build_parser
+
+        build_parser().parse_args(["simulate-readings", str(probe_record), "-o", str(tmp_path / "r.csv"),
+                                   "--repeats", "100000000"])
+    assert stop.value.code == 2 and "must be from 1 to 10000" in capsys.readouterr().err
+    assert not (tmp_path / "r.csv").exists()
+
+
+def test_measure_refuses_a_negative_noise(probe_record, tmp_path, capsys):
+    readings, cal = tmp_path / "r.csv", tmp_path / "cal.json"
+    assert main(["simulate-readings", str(probe_record), "-o", str(readings), "--scheme", "9"]) == 0
+    assert main(["calibrate", str(readings), "-o", str(cal)]) == 0
+    capsys.readouterr()
+    assert main(["measure", str(cal), str(readings), "--noise", "-1 mV"]) == 2
+    assert capsys.readouterr().err.strip() == "fpdesign: error: --noise: '-1 mV' must be positive"
