@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from designer.cli.paths import guard_inputs
 from designer.errors import InputError
 
 
@@ -29,6 +30,7 @@ def run_export(args) -> int:
     outputs = {"step": args.step, "stl": args.stl, "svg": args.svg, "png": args.png, "drawing_png": args.drawing_png}
     if not any(outputs.values()):
         raise InputError("export: nothing to write; give at least one of --step, --stl, --svg, --drawing-png, --png")
+    guard_inputs({f"--{k.replace('_', '-')}": v for k, v in outputs.items()}, {"design.json": args.design})
     record = load_design(args.design)
     written = export(record, **outputs)
     for kind, path in written.items():

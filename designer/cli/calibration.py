@@ -8,6 +8,8 @@ from __future__ import annotations
 import argparse
 import math
 
+from designer.cli.paths import guard_inputs
+
 MM = 1e3   # m -> mm for display
 MV = 1e3   # V -> mV for display
 
@@ -106,6 +108,7 @@ def run_plan(args) -> int:
     from designer.calibration.design import design_constants
     from designer.calibration.schemes import plan
 
+    guard_inputs({"-o": args.output}, {"design.json": args.design})
     design = design_constants(readings.read_design(args.design))
     result = plan(design, args.repeats)
     if args.output:
@@ -153,6 +156,7 @@ def run_calibrate(args) -> int:
     from designer.calibration.design import design_constants
     from designer.calibration.fit import calibrate
 
+    guard_inputs({"-o": args.output}, {"readings": args.readings, "design.json": args.design})
     data = readings.read_readings(args.readings, need_loads=True)
     design = design_constants(readings.read_design(args.design)) if args.design else None
     result = calibrate(data, design, args.noise, design_option="--design")
@@ -197,6 +201,7 @@ def run_measure(args) -> int:
     from designer.calibration.measurement import measure_readings
     from designer.spec import units
 
+    guard_inputs({"-o": args.output}, {"calibration.json": args.calibration, "readings": args.readings})
     cal = readings.read_calibration(args.calibration)
     data = readings.read_readings(args.readings)
     noise = units.parse_positive(args.noise, "voltage", "--noise") if args.noise else None
@@ -247,6 +252,7 @@ def run_simulate_readings(args) -> int:
     from designer.calibration.design import design_constants
     from designer.calibration.schemes import scheme_loads
 
+    guard_inputs({"-o": args.output}, {"design.json": args.design})
     record = readings.read_design(args.design)
     design = design_constants(record)
     readings.write_simulated_readings(record, args.output, args.scheme, args.seed, args.repeats)

@@ -77,3 +77,23 @@ def test_measure_refuses_a_negative_noise(probe_record, tmp_path, capsys):
     capsys.readouterr()
     assert main(["measure", str(cal), str(readings), "--noise", "-1 mV"]) == 2
     assert capsys.readouterr().err.strip() == "fpdesign: error: --noise: '-1 mV' must be positive"
+
+
+def test_no_command_writes_over_its_own_input(probe_record, tmp_path, capsys):
+    import shutil
+
+    design = tmp_path / "design.json"
+    shutil.copy(probe_record, design)
+    readings = tmp_path / "r.csv"
+    assert main(["simulate-readings", str(design), "-o", str(readings), "--scheme", "9"]) == 0
+    before = design.read_bytes(), readings.read_bytes()
+    capsys.readouterr()
+    for argv, flag, path, what in [
+            (["calibrate", str(readings), "-o", str(readings)], "-o", readings, "readings"),
+            (["export", str(design), "--step", str(design)], "--step", design, "design.json"),
+            (["plan", str(design), "-o", str(design)], "-o", design, "design.json"),
+            (["simulate-readings", str(design), "-o", str(design)], "-o", design, "design.json")]:
+        assert main(argv) == 2
+        assert capsys.readouterr().err.strip() == (f"fpdesign: error: {flag}: {path} is the {what} this command "
+                                                   "reads; write to another file")
+    assert (design.read_bytes(), readings.read_bytes()) == before
