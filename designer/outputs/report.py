@@ -79,8 +79,8 @@ def verify_verdict(record: dict) -> str:
     if passed and passed[0]["round"] == 0:
         return "every limit holds in 3-D"
     if passed:
-        return f"every limit holds in 3-D after correction (round {passed[0]['round']} of {n - 1})"
-    return f"FAILS in 3-D after {n} round{'s' if n > 1 else ''}"
+        return f"every limit holds in 3-D after correction (round {passed[0]['round']})"
+    return "FAILS in 3-D in round 0" if n == 1 else f"FAILS in 3-D in every round (0-{n - 1})"
 
 
 def factors_text(adjustment: dict | None) -> str:
@@ -136,7 +136,8 @@ def markdown(record: dict) -> str:
             obj = "–" if c.get("objective") is None else f"{c['objective']:.4g}"
             defl = "–" if c.get("deflection") is None else f"{c['deflection'] * 1e3:.3g} mm"
             mass = "–" if c.get("mass") is None else f"{c['mass'] * 1e3:.3g} g"
-            lines.append(f"| {i} | {c['material']} | {c['section']} | {c['status']} | {obj} | {defl} | {mass} |")
+            status = c["status"] + (" (corrected in 3-D)" if c.get("adjustment") else "")
+            lines.append(f"| {i} | {c['material']} | {c['section']} | {status} | {obj} | {defl} | {mass} |")
     solver = record.get("solver", {})
     if solver.get("method") not in (None, "none"):
         lines += ["", "## Solver", "", f"method {solver['method']}, {solver.get('seconds', 0):.3g} s, "

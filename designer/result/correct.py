@@ -174,9 +174,13 @@ def messages(correction: Correction) -> list[str]:
                 f"model adjusted by the 3-D/model ratios ({_factors_text(final.adjustment)}) and its design meets "
                 "every limit in 3-D")
     else:
-        head = (f"infeasible in 3-D: after {n} round{'s' if n > 1 else ''} of the 3-D check no design meets every "
-                f"limit with the 3-D figures; the design shown is round {final.number}'s, the least over its limits")
+        head = (f"infeasible in 3-D: the design of no round ({_span(n)}) meets every limit with the 3-D figures; "
+                f"the design shown is round {final.number}'s, the least over its limits")
     return [head] + lines
+
+
+def _span(n: int) -> str:
+    return "round 0" if n == 1 else f"rounds 0-{n - 1}"
 
 
 def _factors_text(adjustment: Adjustment) -> str:

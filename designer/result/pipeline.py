@@ -110,7 +110,8 @@ def _verified(spec, found, record: dict, correction) -> dict:
         solver["fallbacks"] = list(solver.get("fallbacks", [])) + [
             f"{c.material} {c.family.label} (3-D round {r.number}): {f}"
             for r in correction.rounds if (c := r.candidate) is not None for f in c.fallbacks]
-        candidates = [final.candidate.record()] + [c.record() for c in found.candidates[1:]]
+        chosen = {**final.candidate.record(), "adjustment": final.adjustment.as_dict()}
+        candidates = [chosen] + [c.record() for c in found.candidates[1:]]
         record = _with_large_deflection(build_record("optimal", spec, final.evaluation, candidates, solver))
     verdict = final.verification
     summary = verdict.as_dict()
