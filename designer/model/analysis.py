@@ -18,6 +18,7 @@ from designer.model.sections import Geometry, SectionProperties, section_propert
 # numbers stay near one.
 E_UNIT = 1e9
 STRESS_UNIT = 1e6
+LENGTH_UNIT = 1e-3
 
 
 @dataclass(frozen=True)
@@ -25,22 +26,32 @@ class MaterialParams:
     """The material as the model needs it; floats, or casadi parameters."""
 
     E: Any
-    allowable: Any   # allowable stress, Pa
+    allowable: Any          # min(yield, fatigue if used) / safety factor, Pa: the root's and the fatigue limit
     density: Any
+    static_allowable: Any = None  # yield / safety factor, Pa: the nominal stress at a feature (docs/model.md §4);
+                                  # None: the same as ``allowable``
+    notch_length: Any = 0.0       # Peterson's characteristic length a, m (materials.yaml notch_length)
+
+    def __post_init__(self):
+        if self.static_allowable is None:
+            object.__setattr__(self, "static_allowable", self.allowable)
 
     @classmethod
     def of(cls, material, limits) -> "MaterialParams":
         """A catalogue material under the spec's ``limits`` (safety factor, fatigue)."""
-        return cls(material.E, material.allowable_stress(limits.safety_factor, limits.fatigue), material.density)
+        return cls(material.E, material.allowable_stress(limits.safety_factor, limits.fatigue), material.density,
+                   material.allowable_stress(limits.safety_factor, False), material.notch_length)
 
     def scaled(self) -> list:
-        """``[E, allowable, density]`` in the optimiser's parameter units (GPa, MPa, kg/m^3)."""
-        return [self.E / E_UNIT, self.allowable / STRESS_UNIT, self.density]
+        """``[E, allowable, density, static allowable, notch length]`` in the optimiser's parameter
+        units (GPa, MPa, kg/m^3, MPa, mm)."""
+        return [self.E / E_UNIT, self.allowable / STRESS_UNIT, self.density, self.static_allowable / STRESS_UNIT,
+                self.notch_length / LENGTH_UNIT]
 
     @classmethod
     def from_scaled(cls, p) -> "MaterialParams":
         """The inverse of ``scaled``: ``p`` may be numbers, arrays or casadi parameters."""
-        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2])
+        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2], p[3] * STRESS_UNIT, p[4] * LENGTH_UNIT)
 
 
 @dataclass(frozen=True)
@@ -56,6 +67,7 @@ class Analysis:
     stress_root: Any
     stress_feature: Any       # nominal, at the first feature's clamp-side edge
     stress_concentration: Any  # K_t at the feature (docs/model.md §7); 1 without a fit
+    notch_sensitivity: Any    # Peterson's q = r / (r + a) at the feature's notch radius r
     gauge_strain: tuple       # at F_max, x_max, per station
     min_signal_snr: Any
     deflection: Any           # free end, m
@@ -71,6 +83,16 @@ class Analysis:
     def stress_peak(self):
         """The peak stress at the feature: K_t times the nominal stress."""
         return self.stress_concentration * self.stress_feature
+
+    @property
+    def fatigue_factor(self):
+        """K_f = 1 + q (K_t - 1): the fatigue notch factor at the feature (docs/model.md §4)."""
+        return 1 + self.notch_sensitivity * (self.stress_concentration - 1)
+
+    @property
+    def stress_fatigue(self):
+        """The stress the fatigue limit checks at the feature: K_f times the nominal stress."""
+        return self.fatigue_factor * self.stress_feature
 
 
 def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Corrections | None = None,
@@ -118,5 +140,22 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     kt = corrections.stress_concentration(g, table)
     if adjust is not None:
         kt = kt * adjust.stress_concentration
-    return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, kt, strains,
-                    snr, deflection, frequency, mass, noise_strain)
+    q = notch_sensitivity(notch_radius(g), m.notch_length)
+    return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, kt, q,
+                    strains, snr, deflection, frequency, mass, noise_strain)
+
+
+def notch_radius(g: Geometry):
+    """The root radius of the feature's notch: a pocket's floor radius, a hole's radius; 0 without one."""
+    return {"pocket": g.floor_radius, "hole": g.hole / 2}.get(g.feature, 0.0)
+
+
+def notch_sensitivity(radius, notch_length):
+    """Peterson's notch sensitivity ``q = 1 / (1 + a / r) = r / (r + a)`` (R. E. Peterson, "Notch
+    sensitivity", in G. Sines and J. L. Waisman (eds.), Metal Fatigue, McGraw-Hill, 1959; as used in
+    N. E. Dowling, Mechanical Behavior of Materials, §10.3). A material without a constant
+    (``a = 0``) is fully notch sensitive, ``q = 1``; a feature without a notch has ``q = 0``."""
+    if isinstance(radius, (int, float)) and radius == 0:
+        return 0.0
+    return radius / (radius + notch_length)
+

@@ -60,12 +60,14 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     l_f = g.feature_length
     out = [
         Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
-        Limit("stress_feature", a.stress_feature, m.allowable, unit="Pa"),
+        Limit("stress_feature", a.stress_feature, m.static_allowable, unit="Pa"),
         Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain, unit="strain"),
         Limit("min_signal_snr", a.min_signal_snr, lim.min_snr, upper=False),
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]
+    if lim.fatigue and g.feature != "none":
+        out.append(Limit("fatigue_feature", a.stress_fatigue, m.allowable, unit="Pa"))
     out += [Limit(f"station_gap_{i + 1}", d[i + 1] - d[i], l_f + lim.gauge_gap, upper=False, scale=mm, unit="m")
             for i in range(len(d) - 1)]
     if lim.max_deflection is not None:

@@ -56,7 +56,7 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("position error (1σ at F_min, x_max)", f"{p['position_error'] * mm:.3g} mm "
                                                 f"(target {s['targets']['position_error'] * mm:.3g} mm)"),
         ("free-end deflection", f"{p['deflection'] * mm:.3g} mm ({p['deflection_ratio']:.2%} of the length)"),
-        ("max stress / allowable", f"{p['max_stress'] * 1e-6:.4g} / {p['stress_allowable'] * 1e-6:.4g} MPa"),
+        *stress_rows(record),
         ("gauge strain at F_max", ", ".join(f"{e * 1e6:.0f}" for e in p["gauge_strain"]) + " µε"),
         ("smallest signal / noise", f"{p['min_signal_snr']:.3g}"),
         ("sensitivity k", f"{p['sensitivity'][0] * 1e3:.4g} mV/(N·m)"),
@@ -107,6 +107,26 @@ def rounds_markdown(record: dict) -> list[str]:
         worst = "–" if r.get("worst_limit") is None else f"{r['worst_limit']} {r['worst_ratio']:.3f}"
         lines.append(f"| {r['round']} | {factors_text(r['adjustment'])} | {design} | {verdict} | {worst} |")
     return lines + [""]
+
+
+def stress_rows(record: dict) -> list[tuple]:
+    """The stress limits as report rows, the binding one (the least margin) named."""
+    by_name = {c["name"]: c for c in record["constraints"]}
+    p = record["predicted"]
+    rows = []
+    labels = {"stress_root": "root stress (nominal) / allowable",
+              "stress_feature": "feature stress, static (nominal) / yield allowable",
+              "fatigue_feature": f"feature stress, fatigue (K_f {p.get('fatigue_factor', 1):.3g} × nominal; "
+                                 f"K_t {p.get('stress_concentration', 1):.3g}) / fatigue allowable"}
+    present = [n for n in labels if n in by_name]
+    binding = min(present, key=lambda n: by_name[n]["margin"]) if present else None
+    for name in present:
+        c = by_name[name]
+        rows.append((labels[name], f"{c['value'] * 1e-6:.4g} / {c['limit'] * 1e-6:.4g} MPa"
+                     + ("  (binds)" if name == binding and len(present) > 1 else "")))
+    if not present:  # an older record
+        rows.append(("max stress / allowable", f"{p['max_stress'] * 1e-6:.4g} / {p['stress_allowable'] * 1e-6:.4g} MPa"))
+    return rows
 
 
 def binding_limits(record: dict) -> list[dict]:

@@ -25,10 +25,24 @@ def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
     """The JSON in ``path``; a missing, unreadable or malformed file raises ``error`` (an InputError)."""
     where = f"{what} {path}".strip()
     text = read_text(path, error, where)
+    if len(text) > MAX_JSON_CHARS:
+        raise error(f"{where}: the file is {len(text) / 1e6:.0f} MB; fpdesign's JSON files are at most "
+                    f"{MAX_JSON_CHARS / 1e6:.0f} MB")
     try:
-        return json.loads(text)
+        return json.loads(text, parse_constant=_no_constant)
     except json.JSONDecodeError as exc:
         raise error(f"{where}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
+    except RecursionError as exc:
+        raise error(f"{where}: nested too deeply to be an fpdesign file") from exc
+    except ValueError as exc:  # NaN or Infinity, which JSON does not have
+        raise error(f"{where}: {exc}") from exc
+
+
+MAX_JSON_CHARS = 50_000_000   # design.json with its fronts is about 100 kB
+
+
+def _no_constant(name: str):
+    raise ValueError(f"{name} is not a JSON number; give a finite number")
 
 
 @dataclass(frozen=True)
@@ -166,7 +180,8 @@ def rebuild(record: dict):
     material = Material(name=d["material"], description="from design.json", E=props["E"],
                         poisson=props.get("poisson", 0.3), yield_strength=props["yield"],
                         ultimate=props.get("ultimate", props["yield"]), fatigue=props.get("fatigue", props["yield"]),
-                        fatigue_cycles=props.get("fatigue_cycles", 1e7), density=props["density"], source="design.json")
+                        fatigue_cycles=props.get("fatigue_cycles", 1e7), density=props["density"], source="design.json",
+                        notch_length=props.get("notch_length", 0.0))
     section = Section(kind=d["section"]["kind"], **{k: d["section"][k] for k in SECTION_KEYS[d["section"]["kind"]]})
     f = d["feature"]
     feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})

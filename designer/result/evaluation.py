@@ -111,6 +111,9 @@ class Evaluation:
             "max_stress": float(a.max_stress), "stress_root": float(a.stress_root),
             "stress_feature": float(a.stress_feature),
             "stress_allowable": float(self.limits[0].limit),
+            "stress_feature_allowable": self.feature_allowable,
+            "stress_concentration": float(a.stress_concentration), "fatigue_factor": float(a.fatigue_factor),
+            "stress_peak": float(a.stress_peak), "stress_fatigue": float(a.stress_fatigue),
             "gauge_strain": [float(s) for s in a.gauge_strain],
             "min_signal_snr": float(a.min_signal_snr),
             "sensitivity": [float(k) for k in a.sensitivities],
@@ -119,6 +122,16 @@ class Evaluation:
             "mean_abs_force_error": float(a.force_error) * (2 / 3.141592653589793) ** 0.5,
             "mean_abs_position_error": float(a.position_error) * (2 / 3.141592653589793) ** 0.5,
         }
+
+    @property
+    def feature_allowable(self) -> float:
+        """The largest nominal stress the feature's limits allow: the static limit, or the fatigue
+        limit divided by K_f, whichever is lower (docs/model.md §4)."""
+        by_name = {lim.name: lim for lim in self.limits}
+        allowed = [float(by_name["stress_feature"].limit)]
+        if "fatigue_feature" in by_name:
+            allowed.append(float(by_name["fatigue_feature"].limit) / float(self.analysis.fatigue_factor))
+        return min(allowed)
 
     def constraint_records(self) -> list[dict]:
         return [lim.record() for lim in self.limits]

@@ -163,6 +163,10 @@ def in_nlp_units(value, objective: str):
     return value
 
 
+# The NLP's parameters: the material's (MaterialParams.scaled), then the cap on the primary objective.
+CAP = 5
+
+
 def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
     """The NLP's parameters: the material in GPa, MPa, kg/m^3, and the cap on the primary objective."""
     return MaterialParams.of(material, spec.limits).scaled() + [cap]
@@ -182,8 +186,8 @@ class FamilyProblem:
         self.spec, self.family = spec, family
         n, epigraph = len(variables.names), variables.epigraph
         x = ca.SX.sym("x", variables.size)
-        # E (GPa), allowable stress (MPa), density (kg/m^3), cap on the primary objective
-        par = ca.SX.sym("p", 4)
+        # the material (MaterialParams.scaled: GPa, MPa, kg/m^3, MPa, mm), then the cap on the primary objective
+        par = ca.SX.sym("p", CAP + 1)
         ops = model.casadi_ops()
         geometry = variables.geometry([x[i] * MM for i in range(n)])
         mat = MaterialParams.from_scaled(par)
@@ -202,7 +206,7 @@ class FamilyProblem:
         secondary = in_units[model.SECONDARY[spec.objective]]
         # The tie rule (docs/model.md §5) as a second stage: the secondary objective with the
         # primary capped inside the tie band. With a huge cap the constraint is idle.
-        g.append(f / par[3] - 1)
+        g.append(f / par[CAP] - 1)
         self.n_constraints = len(g)
         gv = ca.vertcat(*g)
         self.nlp = {"x": x, "p": par, "f": f, "g": gv}

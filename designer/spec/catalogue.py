@@ -25,6 +25,7 @@ class Material:
     fatigue_cycles: float
     density: float           # kg/m^3
     source: str
+    notch_length: float = 0.0  # Peterson's characteristic length a, m; 0: fully notch sensitive (q = 1)
 
     def allowable_stress(self, safety_factor: float, use_fatigue: bool) -> float:
         """``min(yield, fatigue if used) / safety_factor`` (MODEL.md section 4)."""
@@ -33,7 +34,8 @@ class Material:
 
     def properties(self) -> dict:
         return {"E": self.E, "poisson": self.poisson, "yield": self.yield_strength,
-                "ultimate": self.ultimate, "fatigue": self.fatigue, "density": self.density}
+                "ultimate": self.ultimate, "fatigue": self.fatigue, "density": self.density,
+                "notch_length": self.notch_length}
 
 
 @dataclass(frozen=True)
@@ -59,6 +61,7 @@ _MATERIAL_FIELDS = {  # yaml key -> (dataclass field, kind of quantity)
     "E": ("E", "pressure"), "poisson": ("poisson", "ratio"), "yield": ("yield_strength", "pressure"),
     "ultimate": ("ultimate", "pressure"), "fatigue": ("fatigue", "pressure"),
     "fatigue_cycles": ("fatigue_cycles", "ratio"), "density": ("density", "density"),
+    "notch_length": ("notch_length", "length"),
 }
 GAUGE_FIELDS = {
     "factor": "ratio", "resistance": "resistance", "length": "length", "width": "length",

@@ -13,7 +13,7 @@ from pathlib import Path
 import yaml
 
 from designer.spec import catalogue
-from designer.spec import units
+from designer.spec import strict_yaml, units
 from designer.spec.catalogue import Gauge
 from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
@@ -225,7 +225,9 @@ def load_spec(path: str | Path) -> Spec:
 
 def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor") -> Spec:
     try:
-        raw = yaml.safe_load(text)
+        raw = strict_yaml.load(text)
+    except strict_yaml.StrictYamlError as exc:
+        raise SpecError(f"{source}: {exc}") from exc
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""

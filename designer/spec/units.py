@@ -26,6 +26,15 @@ KINDS = {
     "mass": ("[mass]", "kg", "a mass such as '500 g'"),
 }
 
+# A quantity is a number and, after it, a unit made of unit names with optional small integer
+# powers, joined by spaces, '*', '/' or '·'. Anything else (a second number, a bare unit, an
+# arithmetic expression such as '10**10**10 N') is refused before pint sees it: pint would
+# multiply '3 N 4' into 12 N, read 'N' as 1 N and evaluate powers without bound.
+_NUMBER = re.compile(r"\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d{1,3})?)\s*(.*?)\s*$")
+_UNIT_NAME = r"(?:°|[^\W\d])+(?:\s*(?:\^|\*\*)\s*-?\d)?"
+_UNIT = re.compile(rf"{_UNIT_NAME}(?:\s*[*/·]\s*{_UNIT_NAME}|\s+{_UNIT_NAME})*")
+MAX_TEXT = 100   # characters of a quantity's text
+
 _SUBSTITUTIONS = (
     (re.compile(r"(?<![A-Za-z])(µε|με|ue|uε)(?![A-Za-z])"), "microstrain"),
     (re.compile(r"%"), " percent"),
@@ -62,16 +71,25 @@ def parse(value, kind: str, key: str) -> float:
 def _parse_text(text: str, dimension: str, si_unit: str, example: str, key: str) -> float:
     import pint
 
-    cleaned = text.strip()
+    shown = text if len(text) <= MAX_TEXT else text[:MAX_TEXT] + "..."
+    match = _NUMBER.fullmatch(text) if len(text) <= MAX_TEXT else None
+    unit = match.group(2) if match else ""
+    if unit == "%":
+        unit = "percent"
+    if match is None or (unit and not (_UNIT.fullmatch(unit) or unit == "percent")):
+        raise SpecError(f"{key}: {shown!r} cannot be read as a quantity (a number, then one unit); expected {example}")
+    number = float(match.group(1))
+    if not unit:
+        return number  # a bare number: SI
     for pattern, replacement in _SUBSTITUTIONS:
-        cleaned = pattern.sub(replacement, cleaned)
+        unit = pattern.sub(replacement, unit)
     ureg = registry()
     try:
-        quantity = ureg.Quantity(cleaned)
+        quantity = ureg.Quantity(number, unit.strip())
     except Exception as exc:  # pint raises several types for unreadable text
-        raise SpecError(f"{key}: {text!r} cannot be read as a quantity; expected {example}") from exc
-    if not isinstance(quantity, ureg.Quantity) or str(quantity.units) == "dimensionless":
-        return float(getattr(quantity, "magnitude", quantity))  # a bare number: SI
+        raise SpecError(f"{key}: {shown!r} cannot be read as a quantity; expected {example}") from exc
+    if str(quantity.units) == "dimensionless":
+        return float(quantity.magnitude)
     try:
         if dimension:
             return float(quantity.to(si_unit).magnitude)

@@ -93,10 +93,10 @@ def test_optimum_on_several_limits_at_once_is_found_and_meets_all_of_them():
     active = {c["name"] for c in constraints if c["active"]}
     # within 0.5 % of the limit (model.ACTIVE_TOLERANCE): the geometric limits bind exactly ...
     assert {"load_clearance", "width_min"} <= active
-    # ... and stress and accuracy within the 1 % by which the rounding retry tightened every
+    # ... and stress (fatigue at the hole) and accuracy within the 1 % by which the rounding retry tightened every
     # limit (search.run.ROUNDING_MARGINS): five limits meet at this optimum
     margins = {c["name"]: c["margin"] for c in constraints}
-    assert all(0 <= margins[n] <= 0.02 for n in ("stress_root", "stress_feature", "force_error"))
+    assert all(0 <= margins[n] <= 0.02 for n in ("stress_root", "fatigue_feature", "force_error"))
     assert _recheck(outcome, SEVERAL_LIMITS).feasible
     # the retry is on record: the first answer broke a limit once rounded
     assert any("re-solved with every limit tightened" in f for f in outcome.solver["fallbacks"])

@@ -101,7 +101,7 @@ def operating_region(design: Mapping) -> OperatingRegion:
                          s.force_max * s.position_max * s.stress_allowable / s.stress_root, 0.0)]
     if s.stress_feature is not None and s.feature != "none":
         upper.append(MomentLimit("stress_feature", f"stress limit at the {s.feature} edge",
-                                 s.force_max * (s.position_max - s.feature_edge) * s.stress_allowable
+                                 s.force_max * (s.position_max - s.feature_edge) * s.stress_feature_allowable
                                  / s.stress_feature, s.feature_edge))
     lower = MomentLimit("min_signal", f"smallest signal ({s.min_snr:g} × noise)",
                         s.min_snr * s.noise / s.sensitivity[-1], s.stations[-1])

@@ -35,6 +35,7 @@ class SensorData:
     stress_feature: float | None    # Pa, at the clamp-side edge of the first feature
     feature_edge: float | None      # m, where stress_feature acts
     stress_allowable: float
+    stress_feature_allowable: float   # the nominal stress the feature's static and fatigue limits allow
     force_target: float | None      # sigma_F / F_min
     position_target: float | None   # sigma_x(F_min, x_max), m
     axes: int
@@ -93,6 +94,8 @@ class SensorData:
             max_strain=_max_strain(body, spec),
             stress_root=stress_root, stress_feature=stress_feature, feature_edge=edge,
             stress_allowable=_positive(pred, "stress_allowable", "predicted"),
+            stress_feature_allowable=(_positive(pred, "stress_feature_allowable", "predicted", required=False)
+                                      or _positive(pred, "stress_allowable", "predicted")),
             force_target=_positive(targets, "force_error", "spec.targets", required=False),
             position_target=_positive(targets, "position_error", "spec.targets", required=False),
             axes=axes, objective_kind=str(spec.get("objective", "error")),

@@ -1,0 +1,74 @@
+"""Quantities in a spec: a number and one unit, nothing else (docs/spec.md, units)."""
+
+import time
+
+import pytest
+
+from designer.errors import SpecError
+from designer.spec import units
+
+
+@pytest.mark.parametrize("text, kind, si", [
+    ("50 N", "force", 50.0), ("2 lbf", "force", 2 * 4.4482216152605), ("0.5 in", "length", 0.0127),
+    (".5 mm", "length", 0.5e-3), ("1500 ue", "strain", 1.5e-3), ("1500 µε", "strain", 1.5e-3),
+    ("2700 kg/m^3", "density", 2700.0), ("2700 kg / m ** 3", "density", 2700.0), ("1 %", "ratio", 0.01),
+    ("120 Ω", "resistance", 120.0), ("1.3 mV", "voltage", 1.3e-3), ("68.9 GPa", "pressure", 68.9e9),
+    ("5e-3", "ratio", 5e-3), ("4 kN", "force", 4000.0),
+])
+def test_a_number_and_a_unit_in_si(text, kind, si):
+    # conversion factors: 1 lbf = 4.4482216152605 N and 1 in = 25.4 mm exactly (NIST SP 811)
+    assert units.parse(text, kind, "key") == pytest.approx(si, rel=1e-12)
+
+
+@pytest.mark.parametrize("text", ["3 N 4", "N", "2 mm 3", "10**10**10 N", "2**100000 N", "3 * 4 N", "(2+3) N",
+                                  "1e99999 N", "N" * 5000])
+def test_anything_but_a_number_and_a_unit_is_refused_at_once(text):
+    t0 = time.perf_counter()
+    with pytest.raises(SpecError) as err:
+        units.parse(text, "force", "load.force[1]")
+    assert time.perf_counter() - t0 < 1.0
+    message = str(err.value)
+    assert message.startswith("load.force[1]: ") and "expected a force" in message
+    assert len(message) < 300   # a long value is cut, not printed whole
+
+
+def test_an_overflowing_number_is_not_finite():
+    with pytest.raises(SpecError, match="not a finite number"):
+        units.parse("1e400 N", "force", "key")
+
+
+# ----------------------------------------------------------------- the YAML a spec may be written in
+
+SPEC = """\
+load: {force: [1 N, 20 N], position: [100 mm, 300 mm]}
+electronics: {excitation: 5 V, gain: 500, noise: 1 mV}
+"""
+
+
+@pytest.mark.parametrize("text, message", [
+    (SPEC + "bridge: half\nbridge: full\n", "line 4: the key 'bridge' is given twice (first at line 3)"),
+    ("load: &l {force: [1 N, 20 N], position: [100 mm, 300 mm]}\nelectronics: {excitation: 5 V, noise: 1 mV}\n"
+     "name: *l\n", "line 3: YAML aliases (*l) are not allowed"),
+    (SPEC + "name: " + "[" * 500 + "]" * 500 + "\n", "nested more than 20 levels deep"),
+    (SPEC + "name: " + "x" * 1_100_000 + "\n", "a spec or catalogue file is at most 1 MB"),
+])
+def test_a_spec_in_yaml_a_spec_never_needs_is_refused(text, message):
+    from designer.spec.reader import parse_spec_text
+
+    t0 = time.perf_counter()
+    with pytest.raises(SpecError) as err:
+        parse_spec_text(text, source="spec.yaml")
+    assert time.perf_counter() - t0 < 1.0
+    assert str(err.value).startswith("spec.yaml: ") and message in str(err.value)
+    assert len(str(err.value)) < 300
+
+
+def test_an_alias_bomb_is_refused_before_it_expands():
+    from designer.spec.reader import parse_spec_text
+
+    bomb = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8))
+    t0 = time.perf_counter()
+    with pytest.raises(SpecError, match="aliases"):
+        parse_spec_text(bomb)
+    assert time.perf_counter() - t0 < 1.0
