@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import signal
 import sys
 
 from designer import __version__
@@ -43,19 +44,43 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    from designer import interrupt
+
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
         return int(exc.code or 0)
+    restore = interrupt.install()
     try:
         return int(args.func(args) or 0)
     except FpdError as exc:
         print(f"fpdesign: error: {exc}", file=sys.stderr)
         return exc.exit_code
+    except OSError as exc:  # reading goes through errors.read_text: this is a file that cannot be written
+        if interrupt.received() is not None:
+            return _stopped(interrupt.received())
+        where = exc.filename if exc.filename is not None else "an output"
+        print(f"fpdesign: error: cannot write {where}: {exc.strerror or exc}", file=sys.stderr)
+        return 2
+    except Exception:
+        # a C extension may turn the signal into its own error (importing the CAD kernel gives
+        # ImportError "initialization failed"): the signal is the cause
+        if interrupt.received() is None:
+            raise
+        return _stopped(interrupt.received())
     except KeyboardInterrupt:
-        print("fpdesign: interrupted", file=sys.stderr)
-        return 130
+        return _stopped(signal.SIGINT)
+    except interrupt.Terminated:
+        return _stopped(signal.SIGTERM)
+    finally:
+        restore()
+
+
+def _stopped(signum: int) -> int:
+    """The one line and the exit code (128 + the signal) of a run stopped by Ctrl-C or SIGTERM."""
+    print("fpdesign: interrupted" if signum == signal.SIGINT else "fpdesign: terminated", file=sys.stderr)
+    return 128 + int(signum)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -11,8 +11,17 @@ from pathlib import Path
 
 
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file in the same folder."""
+    """Write ``data`` to ``path`` through a temporary file in the same folder. A path that exists
+    and is not a regular file (``/dev/null``, a FIFO, a terminal) is written directly: replacing it
+    would put a regular file in the place of a device."""
     path = Path(path)
+    if is_special(path):
+        try:
+            with open(path, "wb") as fh:
+                fh.write(data)
+        except OSError as exc:
+            raise OSError(exc.errno, exc.strerror, str(path)) from exc
+        return path
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     try:
@@ -25,6 +34,22 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
             os.unlink(tmp)
         raise
     return path
+
+
+def is_special(path: Path) -> bool:
+    """True for an existing path that is neither a regular file nor a folder: a device, a FIFO."""
+    return path.exists() and not path.is_file() and not path.is_dir()
+
+
+def move_into_place(tmp: Path, target: Path) -> None:
+    """``os.replace(tmp, target)``, except that a device or FIFO at ``target`` receives the
+    content instead of being replaced by a regular file."""
+    if is_special(target):
+        with open(tmp, "rb") as src, open(target, "wb") as dst:
+            shutil.copyfileobj(src, dst)
+        os.unlink(tmp)
+    else:
+        os.replace(tmp, target)
 
 
 def file_mode() -> int:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from designer import interrupt
 from designer.search.problem import Solve
 
 NLOPT_XTOL = 1e-8
@@ -78,7 +79,9 @@ def nlopt_solve(problem, method: str, params, x0) -> Solve:
         code = opt.last_optimize_result()
         return Solve(np.asarray(x), code > 0, _nlopt_message(code), counter["n"], method)
     except Exception as exc:  # nlopt's own exception types do not derive from RuntimeError
-        # RoundoffLimited, forced stops and failures: the run is recorded as failed, never raised.
+        # RoundoffLimited, forced stops and failures: the run is recorded as failed, never raised,
+        # unless it stopped for a signal.
+        interrupt.check()
         return Solve(x_start, False, f"nlopt {type(exc).__name__}: {exc}", counter["n"], method)
 
 

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer import model
+from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
 from designer.result.evaluation import Design
@@ -254,7 +254,9 @@ class FamilyProblem:
         try:
             sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
         except RuntimeError as exc:
+            interrupt.check()
             return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, "ipopt")
+        interrupt.check()  # IPOPT reports Ctrl-C or SIGTERM as a user stop and returns
         stats = solver.stats()
         evals = int(stats.get("iter_count", 0))
         return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),

@@ -11,7 +11,7 @@ import re
 from pathlib import Path
 
 from designer.errors import FpdError
-from designer.outputs.files import temporary_sibling
+from designer.outputs.files import move_into_place, temporary_sibling
 from designer.outputs.part import ascii_text
 
 # STL tessellation: 0.01 mm chordal deviation, 0.1 rad angular deviation.
@@ -29,7 +29,7 @@ def write_step(solid, path: str | os.PathLike, name: str) -> Path:
     path = Path(path)
     with temporary_sibling(path) as tmp:
         step_file(solid, tmp, name)
-        os.replace(tmp, path)
+        move_into_place(tmp, path)
     return path
 
 
@@ -38,7 +38,7 @@ def write_stl(solid, path: str | os.PathLike) -> Path:
     path = Path(path)
     with temporary_sibling(path) as tmp:
         stl_file(solid, tmp)
-        os.replace(tmp, path)
+        move_into_place(tmp, path)
     return path
 
 

@@ -20,7 +20,7 @@ from designer.outputs.cad.step import step_file, stl_file
 from designer.outputs.drawing.figures import figure_bytes
 from designer.outputs.drawing.picture import plot_model
 from designer.outputs.drawing.sheet import plot_drawing
-from designer.outputs.files import file_mode
+from designer.outputs.files import file_mode, move_into_place
 from designer.outputs.part import BeamCad
 
 
@@ -82,7 +82,7 @@ def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]
         mode = file_mode()
         for tmp, target in staged:
             os.chmod(tmp, mode)
-            os.replace(tmp, target)
+            move_into_place(tmp, target)
     finally:
         for tmp, _ in staged:
             with contextlib.suppress(FileNotFoundError):

@@ -1,0 +1,56 @@
+"""Signals and device outputs (docs/spec.md, exit codes): a stopped run exits 128 + the signal
+with one line and leaves nothing behind; a device is written to, never replaced by a file."""
+
+import os
+import signal
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from designer.cli import main
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.parametrize("signum, code, line", [(signal.SIGTERM, 143, "fpdesign: terminated"),
+                                                (signal.SIGINT, 130, "fpdesign: interrupted")])
+@pytest.mark.parametrize("delay", [1.5, 4.0])
+def test_a_signal_stops_optimize_and_leaves_nothing(tmp_path, signum, code, line, delay):
+    # 1.5 s: during the imports or the search; 4 s: the fronts or the CAD kernel (on this machine)
+    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "optimize", str(EXAMPLES / "gripper-finger.yaml"),
+                             "-o", str(tmp_path / "out")], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    time.sleep(delay)
+    if proc.poll() is not None:
+        pytest.skip("the run finished before the signal")
+    proc.send_signal(signum)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == code, err
+    lines = [x for x in err.splitlines() if "CasADi" not in x]   # IPOPT's own note of the stop
+    assert lines == [line]
+    assert sorted(p.name for p in tmp_path.iterdir()) == []      # no output folder, no hidden scratch
+
+
+def test_a_device_is_written_not_replaced(tmp_path, capsys):
+    record = tmp_path / "out" / "design.json"
+    assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(record.parent), "--no-cad", "--no-plots",
+                 "--quiet"]) == 0
+    assert main(["plan", str(record), "-o", os.devnull]) == 0
+    assert stat.S_ISCHR(os.stat(os.devnull).st_mode)
+    if os.path.exists("/dev/full"):
+        capsys.readouterr()
+        assert main(["plan", str(record), "-o", "/dev/full"]) == 2
+        assert capsys.readouterr().err.strip() == "fpdesign: error: cannot write /dev/full: No space left on device"
+        assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
+
+
+def test_an_output_below_a_file_is_bad_input(tmp_path, capsys):
+    (tmp_path / "afile").write_text("x")
+    assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(tmp_path / "afile" / "out"), "--no-cad",
+                 "--no-plots", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"fpdesign: error: cannot write {tmp_path / 'afile'}") and len(err.splitlines()) == 1
