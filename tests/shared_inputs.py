@@ -233,3 +233,45 @@ def check_plot_files(paths, names, formats):
             assert data.startswith(PNG_SIGNATURE)
         else:
             assert ET.fromstring(data).tag.endswith("svg")
+
+
+# ----------------------------------------------------------------- the 3-D check's correction loop
+# unit/test_adjust.py, unit/test_correct.py, e2e/test_cli_verify_rounds.py
+
+# The gripper finger with a stiffer deflection limit, one material and one section: its optimum
+# sits on the deflection limit with the stresses well below the allowable, and a deep flat on a
+# round bar is more compliant in 3-D than the beam model says (docs/model.md §12).
+STIFF_FINGER = """\
+name: stiff-finger
+load:
+  force: [0.5 N, 20 N]
+  position: [40 mm, 110 mm]
+electronics:
+  excitation: 5 V
+  gain: 128
+  noise_rti: 50 nV
+gauge: BF350-3AA
+bridge: half
+stations: 2
+limits:
+  max_deflection: 0.4 mm
+  width: [4 mm, 16 mm]
+  height: [3 mm, 16 mm]
+targets:
+  force_error: 1 %
+  position_error: 1 mm
+search:
+  materials: [7075-T6]
+  sections: [round]
+  feature: pocket
+objective: error
+"""
+
+# A fixed design of the same finger: a round bar with flats.
+STIFF_FINGER_DESIGN = """\
+design:
+  material: 7075-T6
+  section: {kind: round, diameter: 11 mm}
+  stations: [9.5 mm, 30.6 mm]
+  feature: {kind: pocket, depth: 2 mm}
+"""

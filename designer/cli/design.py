@@ -21,6 +21,9 @@ def register(sub) -> None:
     p.add_argument("--verify", action="store_true", help="check the chosen design with a 3-D finite-element model")
     p.add_argument("--verify-mesh", choices=("coarse", "normal", "fine"), default="normal",
                    help="mesh of the 3-D check [normal]")
+    p.add_argument("--verify-rounds", type=int, default=None, metavar="N",
+                   help="with --verify: corrected rounds when the design fails in 3-D (the model adjusted by the "
+                        "3-D/model ratios and solved again) [3]")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=run_optimize)
 
@@ -119,10 +122,13 @@ def run_optimize(args) -> int:
 
     if args.method not in METHODS:
         raise SpecError(f"--method: {args.method!r} is not allowed; must be {describe_allowed(METHODS)}")
+    rounds = DesignOptions.verify_rounds if args.verify_rounds is None else args.verify_rounds
+    if rounds < 0:
+        raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
     spec = load_spec(args.spec)
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
         result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
-                                            tradeoff=not args.no_plots, progress=progress))
+                                            verify_rounds=rounds, tradeoff=not args.no_plots, progress=progress))
     writers = []
     if result.verification is not None:
         from designer.checks import fea

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from designer.model import corrections
+from designer.model.adjust import Adjustment
 from designer.model.beam import natural_frequency, tip_deflection
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
@@ -94,9 +95,11 @@ class Analysis:
         return self.fatigue_factor * self.stress_feature
 
 
-def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Corrections | None = None) -> Analysis:
+def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Corrections | None = None,
+            adjust: Adjustment | None = None) -> Analysis:
     """The forward model for geometry ``g`` of material ``m`` under ``spec`` (a Spec), with the
-    feature corrections of ``table`` (the shipped one by default; ``Corrections({})``: none)."""
+    feature corrections of ``table`` (the shipped one by default; ``Corrections({})``: none) and
+    the design's 3-D/model factors ``adjust`` (none by default: the plain model)."""
     load, e = spec.load, spec.electronics
     sp = section_properties(g, ops)
     gain = volts_per_strain(e.excitation, spec.gauge.factor, e.gain, spec.bridge_factor)
@@ -106,6 +109,11 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     table = corrections.load() if table is None else table
     factors = corrections.strain_factors(g, table, ops)
     ks = [k * c for c in factors] if factors else [k] * len(g.stations)
+    if adjust is not None:
+        if len(adjust.gauge_strain) != len(g.stations):
+            raise ValueError(f"adjustment.gauge_strain: {len(adjust.gauge_strain)} factors for "
+                             f"{len(g.stations)} stations")
+        ks = [ki * c for ki, c in zip(ks, adjust.gauge_strain)]
     sigma_v = spec.sigma_v
     d = list(g.stations)
     f_min, f_max, x_min, x_max = load.force_min, load.force_max, load.position_min, load.position_max
@@ -118,14 +126,20 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     strains = tuple(f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d)
     if factors:
         strains = tuple(s * c for s, c in zip(strains, factors))
+    if adjust is not None:
+        strains = tuple(s * c for s, c in zip(strains, adjust.gauge_strain))
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
     widened = corrections.widened(g, table)
     deflection = tip_deflection(widened, sp, m.E, f_max, x_max)
+    if adjust is not None:
+        deflection = deflection * adjust.deflection
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
     noise_strain = sigma_v / gain
     kt = corrections.stress_concentration(g, table)
+    if adjust is not None:
+        kt = kt * adjust.stress_concentration
     q = notch_sensitivity(notch_radius(g), m.notch_length)
     return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, kt, q,
                     strains, snr, deflection, frequency, mass, noise_strain)

@@ -63,7 +63,50 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("mass (free length)", f"{p['mass'] * 1e3:.4g} g"),
         ("first natural frequency", f"{p['natural_frequency']:.4g} Hz"),
     ]
+    if d.get("adjustment"):
+        rows.append(("model factors (3-D / model)", factors_text(d["adjustment"])))
+    rounds = record.get("verify_rounds")
+    if rounds:
+        rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def verify_verdict(record: dict) -> str:
+    """The 3-D check's loop in a few words: passed at once, passed after correction, or failed."""
+    rounds = record["verify_rounds"]
+    passed = [r for r in rounds if r["passed"]]
+    n = len(rounds)
+    if passed and passed[0]["round"] == 0:
+        return "every limit holds in 3-D"
+    if passed:
+        return f"every limit holds in 3-D after correction (round {passed[0]['round']})"
+    return "FAILS in 3-D in round 0" if n == 1 else f"FAILS in 3-D in every round (0-{n - 1})"
+
+
+def factors_text(adjustment: dict | None) -> str:
+    if adjustment is None:
+        return "plain model"
+    strain = ", ".join(f"{f:.3f}" for f in adjustment["gauge_strain"])
+    return (f"strain {strain}; deflection {adjustment['deflection']:.3f}; "
+            f"K_t × {adjustment['stress_concentration']:.3f}")
+
+
+def rounds_markdown(record: dict) -> list[str]:
+    """The rounds of the 3-D check as a Markdown table (docs/spec.md §4, ``verify_rounds``)."""
+    lines = ["## 3-D check", "", verify_verdict(record) + ".", "",
+             "| round | model factors (3-D / model) | design | 3-D verdict | worst 3-D limit |",
+             "|---|---|---|---|---|"]
+    for r in record["verify_rounds"]:
+        d = r.get("design")
+        design = "–" if d is None else (f"{d['material']} {section_text(d['section'])}, "
+                                        f"{feature_text(d['feature'])}")
+        if "stopped" in r:
+            verdict = r["stopped"]
+        else:
+            verdict = "holds" if r["passed"] else "**fails**: " + ", ".join(r["failed"])
+        worst = "–" if r.get("worst_limit") is None else f"{r['worst_limit']} {r['worst_ratio']:.3f}"
+        lines.append(f"| {r['round']} | {factors_text(r['adjustment'])} | {design} | {verdict} | {worst} |")
+    return lines + [""]
 
 
 def stress_rows(record: dict) -> list[tuple]:
@@ -104,6 +147,8 @@ def markdown(record: dict) -> str:
         flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
         lines.append(f"| {c['name']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
                      f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
+    if record.get("verify_rounds"):
+        lines += [""] + rounds_markdown(record)
     if record.get("candidates"):
         lines += ["", "## Candidates", "", "| rank | material | section | status | objective | deflection | mass |",
                   "|---|---|---|---|---|---|---|"]
@@ -111,7 +156,8 @@ def markdown(record: dict) -> str:
             obj = "–" if c.get("objective") is None else f"{c['objective']:.4g}"
             defl = "–" if c.get("deflection") is None else f"{c['deflection'] * 1e3:.3g} mm"
             mass = "–" if c.get("mass") is None else f"{c['mass'] * 1e3:.3g} g"
-            lines.append(f"| {i} | {c['material']} | {c['section']} | {c['status']} | {obj} | {defl} | {mass} |")
+            status = c["status"] + (" (corrected in 3-D)" if c.get("adjustment") else "")
+            lines.append(f"| {i} | {c['material']} | {c['section']} | {status} | {obj} | {defl} | {mass} |")
     solver = record.get("solver", {})
     if solver.get("method") not in (None, "none"):
         lines += ["", "## Solver", "", f"method {solver['method']}, {solver.get('seconds', 0):.3g} s, "

@@ -143,6 +143,21 @@ def validate(record, source: str = "design.json") -> None:
     axes = design.get("axes", 1)
     if axes not in (1, 2):
         raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")
+    adjustment = _adjustment(design)
+    if adjustment is not None and len(adjustment.gauge_strain) != len(stations):
+        raise DesignFileError(f"design.adjustment.gauge_strain: {len(adjustment.gauge_strain)} factors for "
+                              f"{len(stations)} stations; it needs one per station")
+
+
+def _adjustment(design: dict):
+    """The design's 3-D/model factors (``design.adjustment``), or None when it has none."""
+    data = design.get("adjustment")
+    if data is None:
+        return None
+    try:
+        return model.Adjustment.from_dict(data)
+    except ValueError as exc:
+        raise DesignFileError(f"design.{exc}") from exc
 
 
 def rebuild(record: dict):
@@ -171,4 +186,4 @@ def rebuild(record: dict):
     f = d["feature"]
     feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})
     geometry = geometry_for(spec, section, feature, d["stations"], d["length"], axes=d.get("axes", 1))
-    return spec, Design(material, geometry)
+    return spec, Design(material, geometry, _adjustment(d))

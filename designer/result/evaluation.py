@@ -14,15 +14,19 @@ import numpy as np
 from designer import model
 from designer.spec.catalogue import Material
 from designer.errors import InputError, SpecError
-from designer.model import Analysis, Geometry, Limit, MaterialParams
+from designer.model import Adjustment, Analysis, Geometry, Limit, MaterialParams
 
 ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
 
 
 @dataclass(frozen=True)
 class Design:
+    """A material and a geometry, judged with the plain beam model or, with ``adjustment``,
+    with the model adjusted to the design's 3-D check (docs/model.md §11)."""
+
     material: Material
     geometry: Geometry
+    adjustment: Adjustment | None = None
 
     def material_params(self, spec) -> MaterialParams:
         return MaterialParams.of(self.material, spec.limits)
@@ -37,7 +41,7 @@ class Design:
         return Design(self.material, replace(
             g, width=r(g.width), height=r(g.height), diameter=r(g.diameter), wall=r(g.wall),
             depth=r(g.depth) if g.feature == "pocket" else 0.0, hole=r(g.hole) if g.feature == "hole" else 0.0,
-            stations=tuple(r(s) for s in g.stations), length=r(g.length)))
+            stations=tuple(r(s) for s in g.stations), length=r(g.length)), self.adjustment)
 
     def section_dict(self) -> dict:
         g = self.geometry
@@ -63,7 +67,10 @@ class Design:
                 "stations": [float(s) for s in g.stations], "length": float(g.length), "axes": g.axes}
 
     def to_dict(self, spec) -> dict:
-        return {**self.shape_dict(), "bridge": spec.bridge, "gauge": spec.gauge.as_dict()}
+        out = {**self.shape_dict(), "bridge": spec.bridge, "gauge": spec.gauge.as_dict()}
+        if self.adjustment is not None:
+            out["adjustment"] = self.adjustment.as_dict()
+        return out
 
     def label(self) -> str:
         return f"{self.material.name} {self.geometry.section}"
@@ -134,7 +141,7 @@ def evaluate(design: Design, spec) -> Evaluation:
     """Judge ``design``; sizes or electronics so far off that the numbers break are an InputError."""
     params = design.material_params(spec)
     try:
-        a = model.analyse(design.geometry, params, spec)
+        a = model.analyse(design.geometry, params, spec, adjust=design.adjustment)
         lims = tuple(model.limits(design.geometry, a, params, spec))
         ev = Evaluation(design, a, lims, float(model.objective(a, spec)), float(model.error_ratio(a, spec.targets)))
         predicted = ev.predicted()

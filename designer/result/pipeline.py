@@ -1,7 +1,8 @@
 """The library pipeline: a spec in, a complete and frozen design result out.
 
 ``design(spec, options)`` runs the search, the large-deflection check (elastica), the optional
-3-D check and the trade-off fronts, and builds the design.json record once from all of them;
+3-D check with its correction loop (``result.correct``) and the trade-off fronts, and builds the
+design.json record once from all of them;
 ``evaluate_fixed(spec)`` does the same for the spec's fixed ``design:`` block. The commands
 only parse, call these and write files.
 """
@@ -12,17 +13,21 @@ from dataclasses import dataclass
 from typing import Callable
 
 from designer import model
+from designer.errors import InputError
+from designer.result import correct
 from designer.result.evaluation import Evaluation, evaluate, fixed_design
 from designer.result.record import build_record, search_record
 
 
 @dataclass(frozen=True)
 class DesignOptions:
-    """How ``design`` runs: the search method, the 3-D check, the fronts, progress reports."""
+    """How ``design`` runs: the search method, the 3-D check and its correction rounds, the
+    fronts, progress reports."""
 
     method: str = "ipopt"
     verify: bool = False
     verify_mesh: str = "normal"
+    verify_rounds: int = correct.MAX_ROUNDS  # corrected rounds after the first 3-D check
     tradeoff: bool = True
     progress: Callable[[str, int, int], None] | None = None  # progress(stage, done, total)
 
@@ -34,8 +39,9 @@ class DesignResult:
     record: dict
     evaluation: Evaluation
     search: object = None          # search.SearchResult, for optimised designs
-    verification: object = None    # checks.fea.VerifyResult, when the 3-D check ran
+    verification: object = None    # checks.fea.VerifyResult of the reported design, when the 3-D check ran
     tradeoff: dict | None = None
+    correction: object = None      # result.correct.Correction: every round of the 3-D check
 
     @property
     def status(self) -> str:
@@ -53,21 +59,25 @@ def design(spec, options: DesignOptions = DesignOptions()) -> DesignResult:
     report = options.progress
     found = optimize(spec, method=options.method,
                      progress=None if report is None else (lambda done, total: report("search", done, total)))
-    status = found.status
     record = _with_large_deflection(search_record(spec, found))
-    verification = None
-    if options.verify and status == "optimal":
-        if report is not None:
-            report("3-D check", 0, 1)
-        verification, record = _verified(record, options.verify_mesh)
+    evaluation, verification, correction = found.best, None, None
+    if options.verify and found.status == "optimal":
+        if options.verify_rounds < 0:
+            raise InputError(f"verify_rounds: {options.verify_rounds} is not allowed; must be 0 or more")
+        correction = correct.run(spec, found, options.verify_mesh, options.verify_rounds, options.method,
+                                 progress=None if report is None else (lambda done, total:
+                                                                       report("3-D check", done, total)))
+        evaluation, verification = correction.final.evaluation, correction.final.verification
+        record = _verified(spec, found, record, correction)
     tradeoff = None
-    if options.tradeoff and found.success and spec.objective == "error":
+    # the fronts are the plain model's: a design corrected by the 3-D check is not on them
+    if options.tradeoff and found.success and spec.objective == "error" and not (correction and correction.corrected):
         from designer.search.tradeoff import fronts
 
         if report is not None:
             report("trade-off fronts", 0, 1)
         tradeoff = fronts(spec, found)
-    return DesignResult(record, found.best, found, verification, tradeoff)
+    return DesignResult(record, evaluation, found, verification, tradeoff, correction)
 
 
 def evaluate_fixed(spec) -> DesignResult:
@@ -88,18 +98,29 @@ def _with_large_deflection(record: dict) -> dict:
     return {**record, "large_deflection": result.as_dict(), "messages": record["messages"] + [result.summary()]}
 
 
-def _verified(record: dict, mesh: str):
-    """The 3-D check of the chosen design; one that fails it is reported infeasible, never shipped."""
-    from designer.checks import fea
-
-    verdict = fea.verify_design(record, mesh=mesh)
+def _verified(spec, found, record: dict, correction) -> dict:
+    """The record of the design the 3-D check's loop reports: the first that passed in 3-D, or,
+    when none did, the least failing, reported infeasible (never shipped)."""
+    final = correction.final
+    if final.number > 0:  # a corrected design replaces the search's choice and its candidate record
+        solver = dict(found.solver)
+        solves = [r.candidate for r in correction.rounds if r.candidate is not None]
+        solver["solves"] = solver.get("solves", 0) + sum(len(c.solves) for c in solves)
+        solver["evaluations"] = solver.get("evaluations", 0) + sum(s.evaluations for c in solves for s in c.solves)
+        solver["fallbacks"] = list(solver.get("fallbacks", [])) + [
+            f"{c.material} {c.family.label} (3-D round {r.number}): {f}"
+            for r in correction.rounds if (c := r.candidate) is not None for f in c.fallbacks]
+        chosen = {**final.candidate.record(), "adjustment": final.adjustment.as_dict()}
+        candidates = [chosen] + [c.record() for c in found.candidates[1:]]
+        record = _with_large_deflection(build_record("optimal", spec, final.evaluation, candidates, solver))
+    verdict = final.verification
     summary = verdict.as_dict()
     summary.pop("profile", None)  # the strain profile goes to verify.json only
     messages = list(record["messages"])
-    status = record["status"]
-    if not verdict.passed:
+    if not correction.passed:
         failed = [c.name for c in verdict.limits if not c.satisfied]
-        status = "infeasible"
         messages.append("the 3-D check finds limits the beam model missed: " + ", ".join(failed) + "; see verify.md")
+    messages += correct.messages(correction)
     messages.extend(m for m in verdict.messages if m not in messages)
-    return verdict, {**record, "status": status, "verification": summary, "messages": messages}
+    return {**record, "status": "optimal" if correction.passed else "infeasible", "verification": summary,
+            "verify_rounds": [r.record() for r in correction.rounds], "messages": messages}

@@ -33,7 +33,7 @@ def grid_solve(problem, params) -> Solve:
     material = MaterialParams.from_scaled(params)
     g = problem.geometry([x[:, i] * MM for i in range(len(names))])
     with np.errstate(invalid="ignore", divide="ignore"):  # impossible grid points give NaN: infeasible
-        a = model.analyse(g, material, problem.spec)
+        a = model.analyse(g, material, problem.spec, adjust=problem.adjustment)
         lims = model.limits(g, a, material, problem.spec, include_targets=not problem.epigraph)
         viol = model.worst_normalised(lims, len(x))
     viol = np.where(np.isnan(viol), np.inf, viol)

@@ -62,9 +62,10 @@ class FamilyVariables:
     names: tuple
     lower: np.ndarray
     upper: np.ndarray
+    adjustment: object = None  # model.Adjustment: the model adjusted to a 3-D check, carried by every design
 
     @classmethod
-    def of(cls, spec, family: Family) -> "FamilyVariables":
+    def of(cls, spec, family: Family, adjustment=None) -> "FamilyVariables":
         """The variables of ``family`` under ``spec``; SpecError when the limits leave no room."""
         fam = family
         lim = spec.limits
@@ -96,7 +97,7 @@ class FamilyVariables:
         if lo and any(a > b for a, b in zip(lo, hi)):
             bad = names[[a > b for a, b in zip(lo, hi)].index(True)]
             raise SpecError(f"limits: the bounds leave no room for {bad}; check limits.width and limits.height")
-        return cls(spec, family, tuple(names), np.array(lo), np.array(hi))
+        return cls(spec, family, tuple(names), np.array(lo), np.array(hi), adjustment)
 
     def geometry(self, v) -> Geometry:
         """A Geometry from variable values in SI (floats, arrays or casadi)."""
@@ -114,7 +115,7 @@ class FamilyVariables:
                         floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0)
 
     def design(self, x, material) -> Design:
-        return Design(material, self.geometry([float(v) * MM for v in x[: len(self.names)]]))
+        return Design(material, self.geometry([float(v) * MM for v in x[: len(self.names)]]), self.adjustment)
 
     @property
     def epigraph(self) -> bool:
@@ -172,12 +173,16 @@ def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
 
 
 class FamilyProblem:
-    """The NLP of one family as casadi functions, over ``FamilyVariables``; material as parameters."""
+    """The NLP of one family as casadi functions, over ``FamilyVariables``; material as parameters.
 
-    def __init__(self, spec, family: Family):
+    ``adjustment`` (a ``model.Adjustment``) puts a design's 3-D/model factors into the model as
+    constants; without it the graph is the plain model's.
+    """
+
+    def __init__(self, spec, family: Family, adjustment=None):
         import casadi as ca
 
-        self.variables = variables = FamilyVariables.of(spec, family)
+        self.variables = variables = FamilyVariables.of(spec, family, adjustment)
         self.spec, self.family = spec, family
         n, epigraph = len(variables.names), variables.epigraph
         x = ca.SX.sym("x", variables.size)
@@ -186,7 +191,7 @@ class FamilyProblem:
         ops = model.casadi_ops()
         geometry = variables.geometry([x[i] * MM for i in range(n)])
         mat = MaterialParams.from_scaled(par)
-        a = model.analyse(geometry, mat, spec, ops)
+        a = model.analyse(geometry, mat, spec, ops, adjust=adjustment)
         lims = [lim for lim in model.limits(geometry, a, mat, spec, include_targets=not epigraph, ops=ops)
                 if lim.name not in BOUND_LIMITS]
         self.limit_names = [lim.name for lim in lims]
@@ -214,6 +219,7 @@ class FamilyProblem:
     lower = property(lambda self: self.variables.lower)
     upper = property(lambda self: self.variables.upper)
     epigraph = property(lambda self: self.variables.epigraph)
+    adjustment = property(lambda self: self.variables.adjustment)
     size = property(lambda self: self.variables.size)
 
     def geometry(self, v) -> Geometry:

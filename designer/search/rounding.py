@@ -45,7 +45,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
                     length=round(float(g.length) / ROUNDING) * ROUNDING, **named)
     params = design.material_params(spec)
     with np.errstate(all="ignore"):
-        a = model.analyse(trial, params, spec)
+        a = model.analyse(trial, params, spec, adjust=design.adjustment)
         lims = model.limits(trial, a, params, spec)
         viol = model.worst_normalised(lims, len(combos))
         objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
@@ -65,7 +65,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
     chosen = replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
                      **{f: float(v[best]) for f, v in named.items()})
     try:
-        return evaluate(Design(design.material, chosen), spec)
+        return evaluate(Design(design.material, chosen, design.adjustment), spec)
     except InputError:
         return None
 

@@ -79,13 +79,15 @@ class SearchResult(OptimizeResult):
         return self.nfev
 
 
-def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False) -> Candidate:
-    """Solve one material x family from several starts; fall back to another method when no
-    start gives a verified design. Every answer is rounded and checked."""
+def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False, starts=None,
+                    margin: float = 0.0) -> Candidate:
+    """Solve one material x family from several starts (``problem.starts()`` unless given); fall
+    back to another method when no start gives a verified design. Every answer is rounded and
+    checked. IPOPT keeps every constraint ``margin`` inside its limit."""
     spec = problem.spec
     params = material_params(material, spec)
     evaluation, solves, fallbacks = None, [], []
-    starts = problem.starts()
+    starts = problem.starts() if starts is None else list(starts)
     checked = []
     if method in ("grid", "isres", "direct"):
         starts = starts[:1]  # global methods do not depend on the start
@@ -93,7 +95,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     for m in dict.fromkeys(methods):
         verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
         for i, x0 in enumerate(starts):
-            s = solve(problem, m, params, x0)
+            s = solve(problem, m, params, x0, margin)
             solves.append(s)
             if m == "ipopt" and s.message in IPOPT_INFEASIBLE:
                 verdicts += 1
@@ -200,6 +202,17 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         message = messages[0]
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
                         candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations)
+
+
+def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str = "ipopt",
+            margin: float = 0.0) -> Candidate:
+    """``previous``'s material and ``family`` solved again with the model adjusted by
+    ``adjustment`` (a ``model.Adjustment``), from ``previous`` first and then the usual starts;
+    IPOPT keeps every constraint ``margin`` inside its limit. No tie-break stage: it would
+    move the design back onto the limits the margin keeps it off."""
+    problem = FamilyProblem(spec, family, adjustment)
+    starts = [_start_from(problem, previous)] + problem.starts()
+    return solve_candidate(problem, previous.design.material, method, starts=starts, margin=margin)
 
 
 def _start_from(problem: FamilyProblem, ev: Evaluation):

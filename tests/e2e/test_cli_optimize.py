@@ -103,9 +103,10 @@ def test_unknown_method_is_bad_input(capsys):
 def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
     # The probe's optimum sits on the fatigue limit at the pocket edge with the model's K_t; the
     # 3-D model's concentration at the pocket's floor radii is larger, so --verify must report it.
+    # No correction rounds: the design the search chose is judged as it is.
     out = tmp_path / "out"
     code = main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(out), "--no-plots", "--no-cad", "--quiet",
-                 "--verify", "--verify-mesh", "coarse"])
+                 "--verify", "--verify-mesh", "coarse", "--verify-rounds", "0"])
     text = capsys.readouterr().out
     record = json.loads((out / "design.json").read_text())
     verification = record["verification"]
@@ -114,6 +115,7 @@ def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
     assert "fatigue_feature" in failed
     assert all(c["model_satisfied"] for c in verification["limits"])  # the beam model passed it
     assert code == 1 and record["status"] == "infeasible"
+    assert [r["round"] for r in record["verify_rounds"]] == [0] and "adjustment" not in record["design"]
     assert "3-D check" in " ".join(record["messages"]) and "FAILS" in text
     assert (out / "verify.md").exists() and (out / "surface-strain.png").exists()
 
