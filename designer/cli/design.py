@@ -68,11 +68,11 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
     ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing."""
     from designer.outputs import report
     from designer.errors import InputError
-    from designer.outputs.files import atomic_write_json, atomic_write_text, staged_directory
+    from designer.outputs.files import atomic_write_json, atomic_write_text, previous_outputs, staged_directory
 
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
-    with staged_directory(out_dir) as scratch:
+    with staged_directory(out_dir, stale=previous_outputs(out_dir)) as scratch:
         files = record.setdefault("files", {})
         if cad and (cad_module := _optional("designer.outputs.cad")) is not None:
             try:

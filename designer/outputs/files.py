@@ -83,8 +83,10 @@ def atomic_write_json(path: str | os.PathLike, obj) -> Path:
 
 
 @contextlib.contextmanager
-def staged_directory(target: str | os.PathLike):
-    """Yield a scratch folder; on success its files are moved into ``target``.
+def staged_directory(target: str | os.PathLike, stale=()):
+    """Yield a scratch folder; on success its files are moved into ``target``, and the files of
+    ``stale`` (names relative to ``target``: a previous run's outputs) that this run did not write
+    again are removed, so that the folder holds one run's outputs.
 
     If the block raises, the scratch folder is removed and ``target`` is left as it was.
     """
@@ -94,10 +96,36 @@ def staged_directory(target: str | os.PathLike):
     try:
         yield scratch
         target.mkdir(parents=True, exist_ok=True)
+        written = set()
         for item in sorted(scratch.rglob("*")):
             if item.is_file():
-                dest = target / item.relative_to(scratch)
+                name = item.relative_to(scratch)
+                dest = target / name
                 dest.parent.mkdir(parents=True, exist_ok=True)
                 os.replace(item, dest)
+                written.add(name.as_posix())
+        for name in set(stale) - written:
+            old = target / name
+            if old.resolve().parent == target.resolve() and old.is_file():  # names in the folder itself
+                with contextlib.suppress(OSError):
+                    old.unlink()
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
+
+
+def previous_outputs(folder: Path) -> set:
+    """The files an earlier run listed in ``folder/design.json`` (``files``), with design.json and
+    report.md; empty when the folder holds no readable design.json."""
+    import json
+
+    try:
+        files = json.loads((Path(folder) / "design.json").read_text(encoding="utf-8")).get("files", {})
+    except (OSError, ValueError, AttributeError, RecursionError):
+        return set()
+    names = {"design.json", "report.md"}
+    if isinstance(files, dict):
+        for value in files.values():
+            for name in (value if isinstance(value, list) else [value]):
+                if isinstance(name, str) and name and "/" not in name and "\\" not in name and name not in (".", ".."):
+                    names.add(name)
+    return names

@@ -55,3 +55,14 @@ def test_an_output_below_a_file_is_bad_input(tmp_path, capsys):
                  "--no-plots", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"fpdesign: error: cannot write {tmp_path / 'afile'}") and len(err.splitlines()) == 1
+
+
+def test_a_reused_output_folder_holds_one_runs_outputs(tmp_path):
+    out = tmp_path / "out"
+    assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(out), "--no-cad", "--quiet"]) == 0
+    plots = [p for p in out.iterdir() if p.suffix in (".png", ".svg")]
+    assert plots
+    (out / "my-notes.txt").write_text("kept")
+    assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(out), "--no-cad", "--no-plots", "--quiet"]) == 0
+    # the previous run's plots are gone; the user's own file stays
+    assert sorted(p.name for p in out.iterdir()) == ["design.json", "my-notes.txt", "report.md"]
