@@ -156,12 +156,15 @@ def _calibration_from_dict(record) -> Calibration:
         if cov_arr.shape != (3, 3) or not np.all(np.isfinite(cov_arr)):
             raise CalibrationFileError(f"{where}.unscaled_covariance: {cov!r} must be a 3 x 3 matrix")
         residuals = raw.get("residuals", [])
+        if not isinstance(residuals, list) or not all(
+                isinstance(r, (int, float)) and not isinstance(r, bool) and math.isfinite(r) for r in residuals):
+            raise CalibrationFileError(f"{where}.residuals: {_short(residuals)} must be a list of numbers (V)")
         bridges.append(BridgeCalibration(
             Bridge(station, axis), _cal_number(raw, "k", where), _cal_number(raw, "d", where),
             _cal_number(raw, "c", where), _cal_number(raw, "se_k", where, True),
             _cal_number(raw, "se_d", where, True), _cal_number(raw, "se_c", where, True),
             _cal_number(raw, "r2", where, True), _cal_number(raw, "residual_rms", where, True) or 0.0,
-            tuple(float(r) for r in residuals) if isinstance(residuals, list) else (),
+            tuple(float(r) for r in residuals),
             tuple(tuple(float(v) for v in row) for row in cov_arr),
             _cal_number(raw, "design_k", where, True), _cal_number(raw, "design_d", where, True)))
         if bridges[-1].k == 0:
@@ -193,3 +196,9 @@ def _calibration_from_dict(record) -> Calibration:
         _cal_number(noise, "design", "noise", True, True), span_pair("force"), span_pair("position"),
         None if record.get("design") is None else str(record["design"]),
         tuple(str(w) for w in record.get("warnings") or []), str(record.get("source", "")))
+
+
+def _short(value) -> str:
+    """``repr`` of a value from a file, cut to a line."""
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."

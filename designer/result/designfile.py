@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer import model
+from designer.result.record import VERSION
 from designer.errors import DesignFileError, SpecError, describe_allowed, read_text
 
 SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
@@ -91,19 +92,32 @@ def _get(obj, key: str, where: str):
     return obj[key]
 
 
-def _positive(obj, key: str, where: str) -> float:
+def _positive(obj, key: str, where: str, largest: float = math.inf) -> float:
     value = _get(obj, key, where)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise DesignFileError(f"{where}.{key}: {value!r} must be a number (SI units)")
     if value <= 0:
         raise DesignFileError(f"{where}.{key}: {value!r} must be positive")
+    if value > largest:
+        raise DesignFileError(f"{where}.{key}: {value!r} must be at most {largest:g}")
     return float(value)
+
+
+# Material properties a design.json may carry beyond E, yield and density, with their bounds (SI).
+OPTIONAL_PROPERTIES = {"poisson": (-0.99, 0.4999), "ultimate": (1.0, 1e13), "fatigue": (1.0, 1e13),
+                       "fatigue_cycles": (1.0, 1e12), "notch_length": (0.0, 0.1)}
+# A section or feature size beyond this is not a sensor beam (and overflows the model).
+LARGEST_SIZE = 100.0   # m
 
 
 def validate(record, source: str = "design.json") -> None:
     """Raise DesignFileError naming the first key that is missing or impossible."""
     if not isinstance(record, dict):
         raise DesignFileError(f"{source}: must be a JSON object with keys 'spec' and 'design'")
+    version = record.get("version", VERSION)
+    if version != VERSION or isinstance(version, bool):
+        raise DesignFileError(f"version: {version!r} is not a design.json this fpdesign reads; it reads version "
+                              f"{VERSION}")
     spec = _get(record, "spec", "")
     if not isinstance(spec, dict):
         raise DesignFileError(f"spec: {spec!r} must be an object (the normalised spec of SPEC.md)")
@@ -114,17 +128,23 @@ def validate(record, source: str = "design.json") -> None:
     props = _get(design, "material_properties", "design")
     for key in ("E", "yield", "density"):
         _positive(props, key, "design.material_properties")
+    for key, (low, high) in OPTIONAL_PROPERTIES.items():
+        if key in props:
+            value = props[key]
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+                raise DesignFileError(f"design.material_properties.{key}: {value!r} must be a number from "
+                                      f"{low:g} to {high:g}")
     section = _get(design, "section", "design")
     kind = _get(section, "kind", "design.section")
     if not isinstance(kind, str) or kind not in SECTION_KEYS:
         raise DesignFileError(f"design.section.kind: {kind!r} is not allowed; must be {describe_allowed(SECTION_KEYS)}")
-    dims = {k: _positive(section, k, "design.section") for k in SECTION_KEYS[kind]}
+    dims = {k: _positive(section, k, "design.section", LARGEST_SIZE) for k in SECTION_KEYS[kind]}
     feature = _get(design, "feature", "design")
     fkind = _get(feature, "kind", "design.feature")
     if not isinstance(fkind, str) or fkind not in FEATURE_KEYS:
         raise DesignFileError(f"design.feature.kind: {fkind!r} is not allowed; must be {describe_allowed(FEATURE_KEYS)}")
-    fdims = {k: _positive(feature, k, "design.feature") for k in FEATURE_KEYS[fkind]}
-    length = _positive(design, "length", "design")
+    fdims = {k: _positive(feature, k, "design.feature", LARGEST_SIZE) for k in FEATURE_KEYS[fkind]}
+    length = _positive(design, "length", "design", LARGEST_SIZE)
     stations = _get(design, "stations", "design")
     if not isinstance(stations, list) or len(stations) < 2:
         raise DesignFileError(f"design.stations: {stations!r} must be a list of at least 2 positions")

@@ -97,3 +97,45 @@ def test_no_command_writes_over_its_own_input(probe_record, tmp_path, capsys):
         assert capsys.readouterr().err.strip() == (f"fpdesign: error: {flag}: {path} is the {what} this command "
                                                    "reads; write to another file")
     assert (design.read_bytes(), readings.read_bytes()) == before
+
+
+@pytest.mark.parametrize("path, value, message", [
+    (("version",), 99, "version: 99 is not a design.json this fpdesign reads; it reads version 1"),
+    (("design", "material_properties", "fatigue"), "abc",
+     "design.material_properties.fatigue: 'abc' must be a number from 1 to 1e+13"),
+    (("design", "material_properties", "poisson"), -5, "design.material_properties.poisson: -5 must be a number"),
+    (("design", "section", "width"), 1e300, "design.section.width: 1e+300 must be at most 100"),
+])
+@pytest.mark.parametrize("command", [["verify"], ["export", "--step", "x.step"], ["plan"], ["simulate"]])
+def test_impossible_design_json_fields_are_bad_input(probe_record, tmp_path, capsys, path, value, message, command):
+    import json
+
+    record = json.loads(probe_record.read_text())
+    if path == ("design", "section", "width") and record["design"]["section"]["kind"] != "rectangle":
+        path = ("design", "section", "diameter")
+        message = message.replace("width", "diameter")
+    node = record
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    bad = tmp_path / "design.json"
+    bad.write_text(json.dumps(record))
+    argv = [command[0], str(bad), *[str(tmp_path / a) if a.endswith(".step") else a for a in command[1:]]]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "x.step").exists()
+
+
+def test_calibration_residuals_must_be_numbers(probe_record, tmp_path, capsys):
+    import json
+
+    readings, cal = tmp_path / "r.csv", tmp_path / "cal.json"
+    assert main(["simulate-readings", str(probe_record), "-o", str(readings), "--scheme", "9"]) == 0
+    assert main(["calibrate", str(readings), "-o", str(cal)]) == 0
+    record = json.loads(cal.read_text())
+    record["bridges"][0]["residuals"] = ["abc"]
+    cal.write_text(json.dumps(record))
+    capsys.readouterr()
+    assert main(["measure", str(cal), str(readings)]) == 2
+    assert "bridges[0].residuals: ['abc'] must be a list of numbers (V)" in capsys.readouterr().err
