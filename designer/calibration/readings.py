@@ -148,7 +148,16 @@ def _cell(cell: str, source: str, line_no: int, name: str) -> float:
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a number") from exc
     if not math.isfinite(value):
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a finite number")
+    largest = LARGEST.get(name, LARGEST["V"])
+    if abs(value) > largest:
+        raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is beyond what a reading can be; "
+                       f"its size must be at most {largest:g}")
     return value
+
+
+# The largest size of a reading, per column (as the CSV holds it): loads, positions, angles and
+# voltages (every V column) beyond these are typing errors, and would overflow the fit.
+LARGEST = {"force_N": 1e6, "mass_g": 1e8, "position_mm": 1e5, "angle_deg": 360.0, "V": 1e3}
 
 
 def read_readings(path, need_loads: bool = False) -> Readings:

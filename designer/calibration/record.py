@@ -183,7 +183,10 @@ def _calibration_from_dict(record) -> Calibration:
         value = span.get(key)
         if not isinstance(value, list) or len(value) != 2:
             raise CalibrationFileError(f"span.{key}: {value!r} must be a pair [min, max] (SI)")
-        return tuple(json_number(v, f"span.{key}[{j}]", error=CalibrationFileError) for j, v in enumerate(value))
+        pair = tuple(json_number(v, f"span.{key}[{j}]", error=CalibrationFileError) for j, v in enumerate(value))
+        if not pair[0] <= pair[1]:
+            raise CalibrationFileError(f"span.{key}: {value!r} is reversed; the first value must not exceed the second")
+        return pair
 
     source = noise.get("source", "none")
     if source not in ("residual", "design", "none"):

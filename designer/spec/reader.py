@@ -263,6 +263,9 @@ def _required(raw: dict, key: str, parent: str):
 
 def _catalogue_name(value, key: str, lookup):
     """A catalogue entry by name; a name that is not text is refused before the look-up."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        raise SpecError(f"{key}: {value!r} was read as a number; quote a name that looks like one "
+                        f"(\"{value}\"), as `fpdesign materials` lists them")
     if not isinstance(value, str):
         raise SpecError(f"{key}: {value!r} is not a catalogue name; give one name as text, "
                         "as `fpdesign materials` lists them")

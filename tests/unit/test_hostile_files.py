@@ -139,3 +139,34 @@ def test_calibration_residuals_must_be_numbers(probe_record, tmp_path, capsys):
     capsys.readouterr()
     assert main(["measure", str(cal), str(readings)]) == 2
     assert "bridges[0].residuals: ['abc'] must be a list of numbers (V)" in capsys.readouterr().err
+
+
+def test_a_reversed_calibration_span_and_absurd_readings_are_bad_input(probe_record, tmp_path, capsys):
+    import json
+
+    readings, cal = tmp_path / "r.csv", tmp_path / "cal.json"
+    assert main(["simulate-readings", str(probe_record), "-o", str(readings), "--scheme", "9"]) == 0
+    assert main(["calibrate", str(readings), "-o", str(cal)]) == 0
+    record = json.loads(cal.read_text())
+    record["span"]["force"] = record["span"]["force"][::-1]
+    cal.write_text(json.dumps(record))
+    capsys.readouterr()
+    assert main(["measure", str(cal), str(readings)]) == 2
+    assert "span.force: " in capsys.readouterr().err
+    lines = readings.read_text().splitlines()
+    cells = lines[2].split(",")
+    cells[-1] = "1e308"
+    lines[2] = ",".join(cells)
+    readings.write_text("\n".join(lines) + "\n")
+    assert main(["calibrate", str(readings), "-o", str(tmp_path / "c2.json")]) == 2
+    assert "line 3, column V2: '1e308' is beyond what a reading can be" in capsys.readouterr().err
+    assert not (tmp_path / "c2.json").exists()
+
+
+def test_a_material_name_read_as_a_number_says_to_quote_it(tmp_path, capsys):
+    spec = tmp_path / "spec.yaml"
+    spec.write_text("load: {force: [1 N, 20 N], position: [100 mm, 300 mm]}\n"
+                    "electronics: {excitation: 5 V, gain: 500, noise: 1 mV}\nsearch: {materials: [304]}\n")
+    assert main(["optimize", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 2
+    assert 'search.materials[0]: 304 was read as a number; quote a name that looks like one ("304")' in \
+        capsys.readouterr().err
