@@ -20,7 +20,7 @@ MIN_CLEARANCE = 0.5e-3
 # clamp face's own corner raises the strain again (a 16:1 plate: 0.93 at 0.27 widths, 1.00 at 0.10).
 MIN_STATION_WIDTH_RATIO = 0.25
 MAX_WIDTH_RATIO = 16.0
-START = (0.07, 2.7, 2.0, 3.0, 0.32)   # a, w0, p, k, u0
+START = (0.07, 2.7, 3.0, 0.32)   # a, w0, k, u0
 
 
 def series() -> list[dict]:
@@ -53,14 +53,13 @@ def fit(rows: list[dict]):
     from designer.model.corrections import ClampFit
 
     data = np.array([p for p in points(rows) if p[1] >= MIN_STATION_WIDTH_RATIO and p[0] <= MAX_WIDTH_RATIO])
-    domain = {"station_width_ratio": (MIN_STATION_WIDTH_RATIO, math.inf), "width_ratio": (0.0, MAX_WIDTH_RATIO)}
+    # no lower bound on b/h: a ratio of sizes is positive, and an idle bound at 0 only hampers IPOPT
+    domain = {"station_width_ratio": (MIN_STATION_WIDTH_RATIO, math.inf), "width_ratio": (-math.inf, MAX_WIDTH_RATIO)}
 
     def solve(d, start):
         def residual(c):
             return ClampFit(*c, domain)(d[:, 0], d[:, 1]) - d[:, 2]
-        # p >= 2: the amplitude's slope and its growth vanish at w = 1 (square bars are common),
-        # so the optimiser's derivatives stay smooth there
-        return least_squares(residual, start, bounds=([0, 0.1, 2, 0.1, 0], [1, 100, 4, 20, 2])).x
+        return least_squares(residual, start, bounds=([0, 0.1, 0.1, 0], [1, 100, 20, 2])).x
 
     coefficients = solve(data, START)
     resid = ClampFit(*coefficients, domain)(data[:, 0], data[:, 1]) - data[:, 2]

@@ -64,9 +64,13 @@ def station_width_ratios(g: Geometry) -> tuple:
     return tuple(d / width for d in g.stations)
 
 
+CLAMP_COEFFICIENTS = ("a", "w0", "k", "u0")
+SECH_REACH = 15.0   # sech(15) = 6e-7
+
+
 @dataclass(frozen=True)
 class ClampFit:
-    """``C = 1 - A(w) sech(k (u - u0))`` with ``A(w) = a (1 - exp(-((w - 1)+ / w0)^p))``: the gauge
+    """``C = 1 - A(w) sech(k (u - u0))`` with ``A(w) = a (1 - exp(-((w - 1)+ / w0)^2))``: the gauge
     strain near the clamp over the same station far from it, for ``w = width_ratio`` (b/h; 1 for
     round bars and tubes, which the clamp does not disturb) and ``u = d/b`` (``station_width_ratios``).
 
@@ -77,7 +81,6 @@ class ClampFit:
 
     a: float
     w0: float
-    p: float
     k: float
     u0: float
     domain: dict            # station_width_ratio, width_ratio -> (low, high)
@@ -88,9 +91,13 @@ class ClampFit:
         from designer.model.ops import NUMERIC
 
         ops = ops or NUMERIC
-        excess = (w - 1 + abs(w - 1)) / 2          # (w - 1)+, smooth enough: A and A' vanish at w = 1
-        amplitude = self.a * (1 - ops.exp(-(excess / self.w0) ** self.p))
-        z = self.k * (u - self.u0)
+        # (w - 1)+ squared: A and A' vanish at w = 1 (square bars are common), and a product, not
+        # a power, keeps the derivatives finite where the excess is zero
+        excess = (w - 1 + abs(w - 1)) / (2 * self.w0)
+        amplitude = self.a * (1 - ops.exp(-excess * excess))
+        # beyond |z| = SECH_REACH the restraint is below 1e-6 of its peak: z is held there, so
+        # that a narrow bar's station many widths out does not put e^z of 1e16 into the optimiser
+        z = self.k * (ops.fmin(u, self.u0 + SECH_REACH / self.k) - self.u0)
         return 1 - 2 * amplitude / (ops.exp(z) + ops.exp(-z))
 
 
@@ -155,7 +162,7 @@ def from_dict(raw: dict) -> Corrections:
 def _fit_from_dict(f: dict):
     domain = {k: (float(v[0]), float(v[1])) for k, v in f["domain"].items()}
     if f.get("form") == "clamp":
-        return ClampFit(*(float(f["coefficients"][k]) for k in ("a", "w0", "p", "k", "u0")), domain,
+        return ClampFit(*(float(f["coefficients"][k]) for k in CLAMP_COEFFICIENTS), domain,
                         float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
     return Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
                tuple(float(c) for c in f["coefficients"]), domain, float(f.get("rms", 0.0)),
@@ -164,7 +171,7 @@ def _fit_from_dict(f: dict):
 
 def _fit_to_dict(f) -> dict:
     if isinstance(f, ClampFit):
-        return {"form": "clamp", "coefficients": {k: getattr(f, k) for k in ("a", "w0", "p", "k", "u0")},
+        return {"form": "clamp", "coefficients": {k: getattr(f, k) for k in CLAMP_COEFFICIENTS},
                 "domain": {k: list(v) for k, v in f.domain.items()}, "rms": f.rms, "loo_max": f.loo_max}
     return {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
             "coefficients": list(f.coefficients), "domain": {k: list(v) for k, v in f.domain.items()},

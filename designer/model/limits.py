@@ -78,23 +78,49 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         out += [Limit("force_error", a.force_error, spec.targets.force_error),
                 Limit("position_error", a.position_error, spec.targets.position_error, unit="m")]
     out += section_limits(g, spec, ops)
-    out += domain_limits(g, table)
+    out += domain_limits(g, table, spec)
     return out
 
 
-def domain_limits(g: Geometry, table=None) -> list[Limit]:
+def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
     """The fitted domain of the feature corrections (docs/model.md §7) as limits on the
-    dimensionless geometry: ``domain_<parameter>_min`` and ``_max``."""
+    dimensionless geometry: ``domain_<parameter>_min`` and ``_max``. With the ``spec``, a station's
+    distance from the clamp over the width is left out where the clamp clearance already keeps
+    every station far enough out for the widest section the spec allows: an idle constraint
+    only makes the optimiser's path harder."""
     from designer.model import corrections
 
     table = corrections.load() if table is None else table
     out = []
     for name, value, lo, hi in corrections.domain_bounds(g, table):
+        if name.startswith("station_width_ratio_") and math.isfinite(lo) and not math.isfinite(hi):
+            if spec is not None and _clamp_room(g, spec) >= lo * _widest(g, spec):
+                continue
+            # d_i >= lo b, linear in the sizes
+            width = g.width if g.section == "rectangle" else g.diameter
+            station = g.stations[int(name.rsplit("_", 1)[1]) - 1]
+            out.append(Limit(f"domain_{name}_min", station, lo * width, upper=False, scale=1e-3, unit="m"))
+            continue
         if math.isfinite(lo):
             out.append(Limit(f"domain_{name}_min", value, lo, upper=False, scale=max(abs(lo), 0.1)))
         if math.isfinite(hi):
             out.append(Limit(f"domain_{name}_max", value, hi, scale=max(abs(hi), 0.1)))
     return out
+
+
+def _clamp_room(g: Geometry, spec) -> float:
+    """The nearest a first station may come to the clamp face (the clamp-clearance limit)."""
+    return spec.limits.clamp_clearance + float(g.feature_length) / 2 if _is_number(g.feature_length) else 0.0
+
+
+def _widest(g: Geometry, spec) -> float:
+    """The widest section (b, or D) the spec's size limits allow."""
+    lim = spec.limits
+    return lim.width[1] if g.section == "rectangle" else min(lim.width[1], lim.height[1])
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, (int, float))
 
 
 def worst_normalised(limits: list[Limit], n: int) -> np.ndarray:
