@@ -17,6 +17,7 @@ from designer.calibration.record import SPAN_TOLERANCE, BridgeCalibration, Calib
 from designer.calibration.regression import SAME_VALUE, rank_problem, regress
 # CalibrationFileError lives in designer.errors; it stays importable from here, its old home.
 from designer.errors import CalibrationFileError, CsvError, InputError  # noqa: F401
+from designer.names import NOISE_CHOICES
 
 # --------------------------------------------------------------------- named constants
 
@@ -48,7 +49,6 @@ D_TOLERANCE = 2e-3
 SIGNIFICANT_SIGMAS = 3.0
 
 #: Noise sources for standard errors and measurement uncertainty.
-NOISE_CHOICES = ("auto", "residual", "design")
 
 
 def _mm(value: float) -> str:

@@ -10,10 +10,10 @@ from designer.calibration.data import STANDARD_GRAVITY, LoadSet
 from designer.calibration.design import DesignConstants
 from designer.calibration.measurement import predicted_sigma
 from designer.errors import InputError
+from designer.names import SCHEMES
 
 # --------------------------------------------------------------------- load schemes
 
-SCHEMES = ("paper", "4", "9", "grid")
 #: The paper's section 4.3 Monte Carlo grid: 7 loads by 7 positions over the region.
 GRID_POINTS = 7
 #: Biaxial load angles of section 4.2.1: 0 to 90 degrees in 15 degree steps.

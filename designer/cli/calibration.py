@@ -29,8 +29,7 @@ def _positive_int(text: str) -> int:
 
 
 def register(subparsers) -> None:
-    from designer.calibration.fit import NOISE_CHOICES
-    from designer.calibration.schemes import SCHEMES
+    from designer.names import NOISE_CHOICES, SCHEMES
 
     p = subparsers.add_parser(
         "plan", help="the calibration loads (4- and 9-point schemes) and their effect on accuracy",

@@ -153,8 +153,10 @@ def test_prototype_a_deflects_a_third_of_its_length_and_says_so(examples, tmp_pa
     # which must reach both design.json and the terminal.
     out = tmp_path / "a"
     code, stdout = _run_capturing(examples / "prototype-a.yaml", out)
-    assert code == 0
     record = json.loads((out / "design.json").read_text(encoding="utf-8"))
+    # The clamp's restraint of the wide plate (docs/model.md §7, 3-D: 0.93 at station 1) costs the
+    # paper's design its 4 % position target, by a fraction of a percent: exit 1 for that alone
+    assert code == 1 and {c["name"] for c in record["constraints"] if not c["satisfied"]} == {"position_error"}
     b, h, ell, x, f = 0.050, 3.18e-3, 0.800, 0.650, 2000 * GF
     expected = f * x ** 2 * (3 * ell - x) / (6 * E_6061 * b * h ** 3 / 12) / ell
     assert record["predicted"]["deflection_ratio"] == pytest.approx(expected, rel=1e-9)
@@ -210,7 +212,7 @@ design:
 #   2 N) = 6.8 mm; 0.6 mm flats change k by a few per cent, and 5 mm would take 37 % more: exit 1.
 # Prototype B misses its 4 % force target once the holes' 3-D strain is modelled (5.5 %, see
 # test_design_json_has_every_key_of_spec_md).
-EXPECTED_CODE = {"prototype-a": 0, "prototype-b": 1, "prototype-c": 0, "rectangle pocket": 1,
+EXPECTED_CODE = {"prototype-a": 1, "prototype-b": 1, "prototype-c": 0, "rectangle pocket": 1,
                  "biaxial tube flats": 1}
 
 
