@@ -18,6 +18,7 @@ def register(sub) -> None:
                    help="ipopt (default), slsqp, mma, ccsaq, cobyla, isres, direct or grid")
     p.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
     p.add_argument("--no-plots", action="store_true", help="do not write the plots")
+    p.add_argument("--svg", action="store_true", help="also write the plots as SVG")
     p.add_argument("--verify", action="store_true", help="check the chosen design with a 3-D finite-element model")
     p.add_argument("--verify-mesh", choices=("coarse", "normal", "fine"), default="normal",
                    help="mesh of the 3-D check [normal]")
@@ -32,6 +33,7 @@ def register(sub) -> None:
     e.add_argument("-o", "--output", default="out", help="output folder [out]")
     e.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
     e.add_argument("--no-plots", action="store_true", help="do not write the plots")
+    e.add_argument("--svg", action="store_true", help="also write the plots as SVG")
     e.set_defaults(func=run_evaluate)
 
     s = sub.add_parser("simulate", help="Monte Carlo of the estimator over the operating region")
@@ -106,7 +108,8 @@ def run_evaluate(args) -> int:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
     result = evaluate_fixed(spec)
-    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots)
+    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots,
+                  extra_plots={"formats": _plot_formats(args)})
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.success else 1
@@ -134,12 +137,18 @@ def run_optimize(args) -> int:
         from designer.checks import fea
 
         writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
-    extra = {"tradeoff": result.tradeoff} if result.tradeoff is not None else None
+    extra = {"formats": _plot_formats(args)}
+    if result.tradeoff is not None:
+        extra["tradeoff"] = result.tradeoff
     write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
                   writers=writers)
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.status == "optimal" else 1
+
+
+def _plot_formats(args) -> tuple:
+    return ("png", "svg") if args.svg else ("png",)
 
 
 class _progress_display:

@@ -23,8 +23,8 @@ def _register_plot(sub) -> None:
     p.add_argument("design", help="design.json written by optimize or evaluate")
     p.add_argument("-o", "--output", default=None,
                    help="folder for the plots [the folder of design.json]")
-    p.add_argument("--format", choices=tuple(FORMAT_CHOICES), default="both",
-                   help="png, svg or both [both]")
+    p.add_argument("--format", choices=tuple(FORMAT_CHOICES), default="png",
+                   help="png, svg or both [png]")
     p.add_argument("--tradeoff", metavar="JSON", default=None,
                    help="trade-off points: {\"max_deflection\": [...], \"min_frequency\": [...]}, each "
                         "point {material, section, x, objective, feasible}")

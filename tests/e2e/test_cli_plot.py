@@ -65,3 +65,15 @@ def test_plot_command_missing_prediction_names_the_key(tmp_path, capsys):
     path.write_text(json.dumps(record))
     assert main(["plot", str(path)]) == 2
     assert "predicted.sensitivity: missing" in capsys.readouterr().err
+
+
+def test_evaluate_writes_svg_copies_of_the_plots_only_when_asked(tmp_path):
+    from pathlib import Path
+
+    example = Path(__file__).resolve().parents[2] / "examples" / "prototype-c.yaml"
+    plain, svg = tmp_path / "png", tmp_path / "svg"
+    assert main(["evaluate", str(example), "-o", str(plain), "--no-cad"]) == 0
+    assert main(["evaluate", str(example), "-o", str(svg), "--no-cad", "--svg"]) == 0
+    names = ("operating-region", "voltage-isolines", "error-maps", "candidates")
+    check_plot_files([p for p in plain.iterdir() if p.suffix in (".png", ".svg")], names, ("png",))
+    check_plot_files([p for p in svg.iterdir() if p.suffix in (".png", ".svg")], names, ("png", "svg"))

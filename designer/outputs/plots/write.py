@@ -1,4 +1,4 @@
-"""Writing every plot of a design as PNG and SVG files: all of them or none."""
+"""Writing every plot of a design as PNG (and, when asked, SVG) files: all of them or none."""
 
 from __future__ import annotations
 
@@ -17,10 +17,11 @@ from designer.outputs.plots.tradeoff import TRADEOFF_ALIASES, TRADEOFF_AXES, plo
 PLOT_NAMES = ("operating-region", "voltage-isolines", "error-maps", "candidates",
               "tradeoff-deflection", "tradeoff-frequency")
 FORMATS = ("png", "svg")
+DEFAULT_FORMATS = ("png",)   # SVG copies only when asked: each doubles a plot's drawing time
 PNG_DPI = 150
 
 
-def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = FORMATS,
+def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAULT_FORMATS,
                        tradeoff: Mapping[str, Sequence[Mapping]] | None = None) -> list[Path]:
     """Write the plots of a design into ``out_dir``; all of them or none.
 
