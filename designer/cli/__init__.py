@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import signal
 import sys
 
@@ -74,6 +75,21 @@ def main(argv: list[str] | None = None) -> int:
         return _stopped(signal.SIGTERM)
     finally:
         restore()
+
+
+def run() -> None:
+    """The ``fpdesign`` command: ``main`` with the process's exit code. A run stopped by Ctrl-C or
+    SIGTERM, already cleaned up, leaves at once: a solver that caught the signal too may have left
+    it pending, and the interpreter's shutdown would raise it again."""
+    code = main()
+    if code in STOP_CODES:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+    sys.exit(code)
+
+
+STOP_CODES = (128 + signal.SIGINT, 128 + signal.SIGTERM)
 
 
 def _stopped(signum: int) -> int:

@@ -1,7 +1,5 @@
 """``python -m designer.cli``: the fpdesign command."""
 
-import sys
+from designer.cli import run
 
-from designer.cli import main
-
-sys.exit(main())
+run()

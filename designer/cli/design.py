@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import math
 import sys
 from pathlib import Path
@@ -65,9 +66,12 @@ def _optional(module: str):
 
 
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
-                  writers=()) -> None:
+                  writers=(), fronts=None) -> None:
     """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
-    ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing."""
+    ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing.
+
+    The CAD model is built in a child process while this one computes ``fronts`` (a callable
+    giving the trade-off fronts, or None) and draws the plots."""
     from designer.outputs import report
     from designer.errors import InputError
     from designer.outputs.files import atomic_write_json, atomic_write_text, previous_outputs, staged_directory
@@ -76,21 +80,36 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
     with staged_directory(out_dir, stale=previous_outputs(out_dir)) as scratch:
         files = record.setdefault("files", {})
-        if cad and (cad_module := _optional("designer.outputs.cad")) is not None:
-            try:
-                written = cad_module.write_cad_outputs(record, scratch)
-            except DesignFileError as exc:
-                if record["status"] != "infeasible":
-                    raise
-                # the least-infeasible design may not be buildable (features overlapping)
-                record["messages"].append(f"no CAD model for this infeasible design: {exc}")
-            else:
-                files.update({k: Path(v).name for k, v in written.items()})
-        if plots and (plot_module := _optional("designer.outputs.plots")) is not None:
-            written = plot_module.write_design_plots(record, scratch, **(extra_plots or {}))
-            files["plots"] = sorted(Path(p).name for p in written)
-        for write in writers:
-            files.update({k: Path(v).name for k, v in write(scratch).items()})
+        cad_job = None
+        if cad and importlib.util.find_spec("cadquery") is not None:
+            from designer.outputs.background import Background
+            from designer.outputs.cad.writer import write_cad_outputs
+
+            cad_job = Background(write_cad_outputs, dict(record), scratch)
+        try:
+            extra = dict(extra_plots or {})
+            if fronts is not None:
+                tradeoff = fronts()
+                if tradeoff is not None:
+                    extra["tradeoff"] = tradeoff
+            if plots and (plot_module := _optional("designer.outputs.plots")) is not None:
+                written = plot_module.write_design_plots(record, scratch, **extra)
+                files["plots"] = sorted(Path(p).name for p in written)
+            for write in writers:
+                files.update({k: Path(v).name for k, v in write(scratch).items()})
+            if cad_job is not None:
+                try:
+                    written = cad_job.result()
+                except DesignFileError as exc:
+                    if record["status"] != "infeasible":
+                        raise
+                    # the least-infeasible design may not be buildable (features overlapping)
+                    record["messages"].append(f"no CAD model for this infeasible design: {exc}")
+                else:
+                    files.update({k: Path(v).name for k, v in written.items()})
+        finally:
+            if cad_job is not None:
+                cad_job.stop()
         files["report"] = "report.md"
         atomic_write_text(scratch / "report.md", report.markdown(record))
         atomic_write_json(scratch / "design.json", record)
@@ -117,7 +136,7 @@ def run_evaluate(args) -> int:
 
 def run_optimize(args) -> int:
     from designer.outputs import report
-    from designer.result.pipeline import DesignOptions, design
+    from designer.result.pipeline import DesignOptions, design, tradeoff_fronts
     from designer.spec.reader import load_spec
 
     from designer.errors import describe_allowed
@@ -131,17 +150,16 @@ def run_optimize(args) -> int:
     spec = load_spec(args.spec)
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
         result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
-                                            verify_rounds=rounds, tradeoff=not args.no_plots, progress=progress))
-    writers = []
-    if result.verification is not None:
-        from designer.checks import fea
+                                            verify_rounds=rounds, tradeoff=False, progress=progress))
+        writers = []
+        if result.verification is not None:
+            from designer.checks import fea
 
-        writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
-    extra = {"formats": _plot_formats(args)}
-    if result.tradeoff is not None:
-        extra["tradeoff"] = result.tradeoff
-    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
-                  writers=writers)
+            writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
+        # the fronts are computed while the CAD model builds in a child process
+        fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
+        write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots,
+                      extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts)
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.status == "optimal" else 1

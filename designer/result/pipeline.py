@@ -9,7 +9,7 @@ only parse, call these and write files.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 from designer import model
@@ -69,15 +69,24 @@ def design(spec, options: DesignOptions = DesignOptions()) -> DesignResult:
                                                                        report("3-D check", done, total)))
         evaluation, verification = correction.final.evaluation, correction.final.verification
         record = _verified(spec, found, record, correction)
-    tradeoff = None
-    # the fronts are the plain model's: a design corrected by the 3-D check is not on them
-    if options.tradeoff and found.success and spec.objective == "error" and not (correction and correction.corrected):
-        from designer.search.tradeoff import fronts
+    result = DesignResult(record, evaluation, found, verification, None, correction)
+    if options.tradeoff:
+        result = replace(result, tradeoff=tradeoff_fronts(spec, result, report))
+    return result
 
-        if report is not None:
-            report("trade-off fronts", 0, 1)
-        tradeoff = fronts(spec, found)
-    return DesignResult(record, evaluation, found, verification, tradeoff, correction)
+
+def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
+    """The trade-off fronts around an optimised design (``search.tradeoff``), or None where they do
+    not apply: no optimum, an objective other than the error, or a design the 3-D check corrected
+    (the fronts are the plain model's, and such a design is not on them)."""
+    found, correction = result.search, result.correction
+    if found is None or not found.success or spec.objective != "error" or (correction and correction.corrected):
+        return None
+    from designer.search.tradeoff import fronts
+
+    if progress is not None:
+        progress("trade-off fronts", 0, 1)
+    return fronts(spec, found)
 
 
 def evaluate_fixed(spec) -> DesignResult:

@@ -1,0 +1,56 @@
+"""Running an output job in a child process beside the main one (the machine's other core).
+
+The CAD model (the CAD kernel alone takes seconds to load) is built in a child while the main
+process computes the trade-off fronts and draws the plots. The child is started with ``spawn``:
+a fresh interpreter, so that nothing of the parent's solver state or threads is forked into it.
+An error in the child is raised again in the parent by ``result``; ``stop`` ends the child when
+the parent stops first (an error, Ctrl-C, SIGTERM).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import signal
+
+
+def _run(connection, target, args):
+    signal.signal(signal.SIGINT, signal.SIG_IGN)   # the parent decides; it stops the child itself
+    try:
+        connection.send((True, target(*args)))
+    except BaseException as exc:  # noqa: BLE001 - every failure goes back to the parent
+        try:
+            connection.send((False, exc))
+        except Exception:  # an exception that cannot be pickled: its text
+            connection.send((False, RuntimeError(f"{type(exc).__name__}: {exc}")))
+    finally:
+        connection.close()
+
+
+class Background:
+    """``target(*args)`` in a child process; ``target`` must be importable by name."""
+
+    def __init__(self, target, *args):
+        context = multiprocessing.get_context("spawn")
+        self._parent, child = context.Pipe(duplex=False)
+        self._process = context.Process(target=_run, args=(child, target, args), daemon=True)
+        self._process.start()
+        child.close()
+
+    def result(self):
+        """The child's return value, or its exception raised here."""
+        try:
+            ok, value = self._parent.recv()
+        except EOFError:
+            self._process.join()
+            raise RuntimeError(f"the background job ended without an answer (exit code {self._process.exitcode})")
+        self._process.join()
+        if not ok:
+            raise value
+        return value
+
+    def stop(self) -> None:
+        """End the child if it still runs."""
+        if self._process.is_alive():
+            self._process.terminate()
+            self._process.join(5)
+        self._parent.close()
