@@ -66,12 +66,13 @@ def _optional(module: str):
 
 
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
-                  writers=(), fronts=None) -> None:
+                  writers=(), fronts=None, progress=None) -> None:
     """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
     ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing.
 
     The CAD model is built in a child process while this one computes ``fronts`` (a callable
-    giving the trade-off fronts, or None) and draws the plots."""
+    giving the trade-off fronts, or None) and draws the plots. ``progress(stage, done, total)``
+    hears of the plots and of the wait for the CAD model."""
     from designer.outputs import report
     from designer.errors import InputError
     from designer.outputs.files import atomic_write_json, atomic_write_text, previous_outputs, staged_directory
@@ -93,11 +94,15 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
                 if tradeoff is not None:
                     extra["tradeoff"] = tradeoff
             if plots and (plot_module := _optional("designer.outputs.plots")) is not None:
-                written = plot_module.write_design_plots(record, scratch, **extra)
+                written = plot_module.write_design_plots(
+                    record, scratch, **extra,
+                    progress=None if progress is None else (lambda done, total: progress("plots", done, total)))
                 files["plots"] = sorted(Path(p).name for p in written)
             for write in writers:
                 files.update({k: Path(v).name for k, v in write(scratch).items()})
             if cad_job is not None:
+                if progress is not None:
+                    progress("CAD model, drawing and picture", 0, 1)
                 try:
                     written = cad_job.result()
                 except DesignFileError as exc:
@@ -159,7 +164,8 @@ def run_optimize(args) -> int:
         # the fronts are computed while the CAD model builds in a child process
         fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
         write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots,
-                      extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts)
+                      extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
+                      progress=progress)
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.status == "optimal" else 1

@@ -84,9 +84,8 @@ def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
         return None
     from designer.search.tradeoff import fronts
 
-    if progress is not None:
-        progress("trade-off fronts", 0, 1)
-    return fronts(spec, found)
+    return fronts(spec, found, progress=None if progress is None else
+                  (lambda done, total: progress("trade-off fronts", done, total)))
 
 
 def evaluate_fixed(spec) -> DesignResult:

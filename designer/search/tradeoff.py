@@ -22,19 +22,24 @@ def _levels(centre: float) -> np.ndarray:
     return np.geomspace(centre / SPAN ** 0.5, centre * SPAN ** 0.5, LEVELS)
 
 
-def fronts(spec, outcome, materials: int = MATERIALS) -> dict:
-    """``{"max_deflection": [points], "min_frequency": [points]}`` for ``plots.write_design_plots``."""
+def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
+    """``{"max_deflection": [points], "min_frequency": [points]}`` for ``plots.write_design_plots``;
+    ``progress(done, total)``, if given, hears of each level solved."""
     leading = list(dict.fromkeys(c.material for c in outcome.candidates))[:materials]
     chosen = outcome.best.analysis
     base = replace(spec, objective="error")
     out = {}
     sweeps = (("max_deflection", float(chosen.deflection), spec.limits.max_deflection),
               ("min_frequency", float(chosen.natural_frequency), spec.limits.min_frequency))
+    done = 0
     for key, value, given in sweeps:
         points = []
         for level in _levels(given or value):
             variant = replace(base, limits=replace(base.limits, **{key: float(level)}))
             result = optimize(variant, materials=leading, tie_break=False)
+            done += 1
+            if progress is not None:
+                progress(done, len(sweeps) * LEVELS)
             for cand in result.candidates:
                 ev = cand.evaluation
                 points.append({"material": cand.material, "section": cand.family.label, "x": float(level),

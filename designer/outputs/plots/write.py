@@ -22,13 +22,14 @@ PNG_DPI = 150
 
 
 def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAULT_FORMATS,
-                       tradeoff: Mapping[str, Sequence[Mapping]] | None = None) -> list[Path]:
+                       tradeoff: Mapping[str, Sequence[Mapping]] | None = None, progress=None) -> list[Path]:
     """Write the plots of a design into ``out_dir``; all of them or none.
 
     Files: ``operating-region``, ``voltage-isolines``, ``error-maps``, ``candidates`` and, when
     trade-off points are given (``tradeoff={"max_deflection": [...], "min_frequency": [...]}``, or a
     ``"tradeoff"`` key of the design), ``tradeoff-deflection`` and ``tradeoff-frequency``; each in
-    every format of ``formats`` (``"png"``, ``"svg"``). Returns the paths written.
+    every format of ``formats`` (``"png"``, ``"svg"``). Returns the paths written. ``progress``,
+    if given, is called as ``progress(done, total)`` after each plot.
     """
     from designer.outputs.files import staged_directory
 
@@ -63,12 +64,14 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     out_dir = Path(out_dir)
     written = []
     with staged_directory(out_dir) as scratch:
-        for name, make in makers:
+        for i, (name, make) in enumerate(makers):
             fig = make()
             for fmt in formats:
                 fig.savefig(scratch / f"{name}.{fmt}", format=fmt, dpi=PNG_DPI,
                             metadata={"Date": None} if fmt == "svg" else None)
                 written.append(out_dir / f"{name}.{fmt}")
+            if progress is not None:
+                progress(i + 1, len(makers))
     return written
 
 
