@@ -7,6 +7,7 @@ import math
 import sys
 from pathlib import Path
 
+from designer.cli.paths import output_folder, seed
 from designer.errors import DesignFileError, SpecError
 
 
@@ -39,7 +40,7 @@ def register(sub) -> None:
     s.add_argument("--draws", type=int, default=100_000, help="noise draws per grid point [100000]")
     s.add_argument("--grid", type=int, nargs=2, default=(7, 7), metavar=("NF", "NX"),
                    help="forces x positions in the grid [7 7, as the paper's section 4.3]")
-    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--seed", type=seed, default=0, help="seed of the noise draws, 0 or more [0]")
     s.add_argument("--angle", type=float, default=30.0, help="biaxial designs: load angle in degrees [30]")
     s.add_argument("--readings", metavar="CSV", help="also write noisy bridge readings at the paper's loads")
     s.add_argument("--scheme", default="paper", help="loads for --readings: paper, 4, 9 or grid [paper]")
@@ -101,12 +102,13 @@ def run_evaluate(args) -> int:
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import load_spec
 
+    out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec)
     if spec.design is None:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
     result = evaluate_fixed(spec)
-    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots)
+    write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots)
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.success else 1
@@ -125,6 +127,7 @@ def run_optimize(args) -> int:
     rounds = DesignOptions.verify_rounds if args.verify_rounds is None else args.verify_rounds
     if rounds < 0:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
+    out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec)
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
         result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
@@ -135,7 +138,7 @@ def run_optimize(args) -> int:
 
         writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
     extra = {"tradeoff": result.tradeoff} if result.tradeoff is not None else None
-    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
+    write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots, extra_plots=extra,
                   writers=writers)
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
@@ -213,6 +216,14 @@ def run_simulate(args) -> int:
             raise SpecError(f"--grid: {name} = {n} is not allowed; use 2 to {MAX_GRID}")
     if not (math.isfinite(args.angle) and -360 <= args.angle <= 360):
         raise SpecError(f"--angle: {args.angle!r} is not allowed; give degrees from -360 to 360")
+    if args.readings:
+        from designer.calibration.schemes import SCHEMES
+        from designer.cli.paths import guard_inputs
+        from designer.errors import describe_allowed
+
+        if args.scheme not in SCHEMES:
+            raise SpecError(f"--scheme: {args.scheme!r} is not allowed; must be {describe_allowed(SCHEMES)}")
+        guard_inputs({"--readings": args.readings}, {"design": args.design})
     record = _design_record(args.design)
     d, p, s = record["design"], record["predicted"], record["spec"]
     (f_min, f_max), (x_min, x_max) = s["load"]["force"], s["load"]["position"]

@@ -19,11 +19,9 @@ def register(sub) -> None:
 def run_verify(args) -> int:
     from designer.checks import fea
     from designer.result.designfile import load_design
-    from designer.errors import InputError
+    from designer.cli.paths import output_folder
 
-    out_dir = Path(args.output)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for the verify report")
+    out_dir = output_folder(args.output, what="the verify report")
     record = load_design(args.design)
     result = fea.verify_design(record, mesh=args.mesh, out_dir=out_dir, mesh_option="--mesh")
     _print_summary(result)
