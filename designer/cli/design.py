@@ -277,21 +277,36 @@ def run_materials(args) -> int:
     from rich.console import Console
     from rich.table import Table
 
-    t = Table(title="materials (allowable = min(yield, fatigue) / safety factor)")
-    for col in ("name", "E (GPa)", "ν", "yield (MPa)", "ultimate (MPa)", "fatigue (MPa @ cycles)",
-                "density (kg/m³)", "source"):
-        t.add_column(col, overflow="fold")
+    # The figures in narrow columns, the sources (long citations) as numbered notes below each
+    # table, so that the list reads at 80 columns.
+    sources: list[str] = []
+
+    def note(source: str) -> str:
+        if source not in sources:
+            sources.append(source)
+        return f"[{sources.index(source) + 1}]"
+
+    t = Table(title="materials (allowable = min(yield, fatigue) / safety factor)", box=None, padding=(0, 1))
+    for col in ("name", "E\nGPa", "ν", "yield\nMPa", "UTS\nMPa", "fatigue\nMPa", "at\ncycles", "ρ\nkg/m³",
+                "source"):
+        t.add_column(col, justify="left" if col == "name" else "right", no_wrap=True)
     for m in mats.values():
         t.add_row(m.name, f"{m.E / 1e9:.1f}", f"{m.poisson:.3g}", f"{m.yield_strength / 1e6:.0f}",
-                  f"{m.ultimate / 1e6:.0f}", f"{m.fatigue / 1e6:.0f} @ {m.fatigue_cycles:.0e}",
-                  f"{m.density:.0f}", m.source)
-    g = Table(title="strain gauges")
-    for col in ("name", "G", "R (Ω)", "backing (mm)", "grid (mm)", "max strain (µε)", "source"):
-        g.add_column(col, overflow="fold")
+                  f"{m.ultimate / 1e6:.0f}", f"{m.fatigue / 1e6:.0f}", f"{m.fatigue_cycles:.0e}",
+                  f"{m.density:.0f}", note(m.source))
+    g = Table(title="strain gauges", box=None, padding=(0, 1))
+    for col in ("name", "G", "R\nΩ", "backing\nmm", "grid\nmm", "max\nµε", "source"):
+        g.add_column(col, justify="left" if col == "name" else "right", no_wrap=True)
     for x in gauges.values():
         g.add_row(x.name, f"{x.factor:.3g}", f"{x.resistance:.0f}", f"{x.length * 1e3:.1f} × {x.width * 1e3:.1f}",
-                  f"{x.grid_length * 1e3:.1f} × {x.grid_width * 1e3:.1f}", f"{x.max_strain * 1e6:.0f}", x.source)
-    console = Console()
+                  f"{x.grid_length * 1e3:.1f} × {x.grid_width * 1e3:.1f}", f"{x.max_strain * 1e6:.0f}",
+                  note(x.source))
+    console = Console(highlight=False)
     console.print(t)
+    console.print()
     console.print(g)
+    console.print()
+    console.print("sources:")
+    for i, source in enumerate(sources, 1):
+        console.print(f"[{i}] {source}", markup=False)
     return 0

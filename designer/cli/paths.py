@@ -19,10 +19,13 @@ def _same(a: str | os.PathLike, b: str | os.PathLike) -> bool:
 
 
 def guard_inputs(outputs: dict, inputs: dict) -> None:
-    """InputError when an output (``{flag: path}``) is one of the inputs (``{name: path}``)."""
+    """InputError when an output file (``{flag: path}``) is one of the inputs (``{name: path}``)
+    or a folder: checked before any work is done."""
     for flag, out in outputs.items():
         if not out:
             continue
+        if Path(out).is_dir():
+            raise InputError(f"{flag}: {out} is a folder; give a file name")
         for name, path in inputs.items():
             if path and _same(out, path):
                 raise InputError(f"{flag}: {out} is the {name} this command reads; write to another file")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 from designer.cli.paths import output_folder, seed
@@ -101,6 +102,12 @@ def run_bench(args) -> int:
     suite = examples + bench.generate_suite(args.count, args.seed)
     if not suite:
         raise InputError("nothing to run: no example specs found and --count is 0; give --specs DIR or --count N")
+    if not examples:
+        # say so: the example specs ship with the source repository, not with an installed package
+        where = (f"no optimiser specs in {folder}" if folder is not None else
+                 "no examples folder beside the package (the examples ship with the source repository)")
+        print(f"fpdesign bench: {where}; running the {args.count} generated specs only; give --specs DIR to "
+              "add specs of your own", file=sys.stderr)
     result = _bench_with_progress(bench, suite, methods, levels, args, skipped)
     try:
         paths = bench.write_bench(result, Path(args.output))

@@ -20,6 +20,12 @@ MM = 1e-3
 METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")
 IPOPT_TOLERANCE = 1e-9
 IPOPT_MAX_ITER = 300
+#: casadi's options of every IPOPT solve. ``show_eval_warnings`` off: a trial step of IPOPT's
+#: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
+#: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
+#: "NaN detected" on standard error for every such trial, which is noise to the user.
+IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.constr_viol_tol": 1e-9,
+                 "ipopt.mu_strategy": "adaptive", "error_on_fail": False, "show_eval_warnings": False}
 EPIGRAPH_UPPER = 1e6
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -239,9 +245,7 @@ class FamilyProblem:
         if stage not in self._ipopt:
             import casadi as ca
 
-            opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-                    "ipopt.tol": IPOPT_TOLERANCE, "ipopt.constr_viol_tol": 1e-9,
-                    "ipopt.max_iter": IPOPT_MAX_ITER, "ipopt.mu_strategy": "adaptive", "error_on_fail": False}
+            opts = dict(IPOPT_OPTIONS, **{"ipopt.tol": IPOPT_TOLERANCE, "ipopt.max_iter": IPOPT_MAX_ITER})
             nlp = self.nlp if stage == "primary" else self.nlp_secondary
             self._ipopt[stage] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_{stage}", "ipopt",
                                            nlp, opts)
