@@ -130,7 +130,7 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     loaded = magnitude > SAME_VALUE
     force_span = (float(magnitude[loaded].min()), float(magnitude[loaded].max()))
     position_span = (float(loads.position[loaded].min()), float(loads.position[loaded].max()))
-    warnings += _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, design,
+    warnings += _fit_warnings(readings, bridges, fits, residual_noise, dof_total, design,
                               force_span, position_span)
     return Calibration(bridges, n, sigma, source, residual_noise, dof_total, design_noise, force_span,
                        position_span, design.name if design is not None else None, tuple(warnings),
@@ -163,7 +163,7 @@ def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, s
                           "calibrate with more points"]
 
 
-def _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, design, force_span,
+def _fit_warnings(readings, bridges, fits, residual_noise, dof_total, design, force_span,
                   position_span) -> list[str]:
     from scipy import stats
 
