@@ -7,6 +7,9 @@ parameters. Variables are in millimetres and constraints normalised (``value/lim
 
 from __future__ import annotations
 
+import contextlib
+import io
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -255,12 +258,19 @@ class FamilyProblem:
         """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``."""
         lo, hi = self.bounds()
         solver = self.ipopt(stage)
+        # casadi writes its warnings through Python's standard error; a signal inside IPOPT makes
+        # it warn "KeyboardInterruptException" before the run stops with its own one line: held
+        # back here, and passed on only when the run goes on
+        said = io.StringIO()
         try:
-            sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+            with contextlib.redirect_stderr(said):
+                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
         except RuntimeError as exc:
             interrupt.check()
+            sys.stderr.write(said.getvalue())
             return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, "ipopt")
         interrupt.check()  # IPOPT reports Ctrl-C or SIGTERM as a user stop and returns
+        sys.stderr.write(said.getvalue())
         stats = solver.stats()
         evals = int(stats.get("iter_count", 0))
         return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),

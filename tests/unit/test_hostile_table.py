@@ -543,3 +543,39 @@ def test_the_table_covers_every_command_with_150_cases_or_more():
     assert commands >= {"optimize", "evaluate", "simulate", "export", "plot", "verify", "plan", "calibrate",
                         "measure", "simulate-readings", "materials", "bench"}
     assert len(CASES) >= 150
+
+
+# Signals: Ctrl-C (SIGINT) and SIGTERM stop a long command with 130 or 143, one line, no
+# traceback, nothing written (docs/spec.md §10). The signal comes from a timer while the command runs.
+SIGNAL_COMMANDS = (
+    ("optimize", str(Path(__file__).resolve().parents[2] / "examples" / "probe.yaml"), "-o", "{out}", "--quiet"),
+    ("simulate", "{design}", "--draws", "10000000", "--readings", "{out}.csv"),
+    ("bench", "--count", "3", "--quiet", "-o", "{out}"),
+)
+SIGNAL_DELAY = 1.0   # s: every one of these runs for longer than this
+
+
+@pytest.mark.parametrize("signum, code, message", [(2, 130, "fpdesign: interrupted"),
+                                                   (15, 143, "fpdesign: terminated")], ids=["SIGINT", "SIGTERM"])
+@pytest.mark.parametrize("argv", SIGNAL_COMMANDS, ids=[c[0] for c in SIGNAL_COMMANDS])
+def test_a_signal_stops_the_command_with_its_code_and_writes_nothing(argv, signum, code, message, good_files,
+                                                                       tmp_path, monkeypatch, capsys):
+    import signal
+    import threading
+
+    argv, _ = _prepare(Case("signal", argv), tmp_path, good_files)
+    monkeypatch.chdir(tmp_path)
+    before = _snapshot(tmp_path)
+    capsys.readouterr()
+    timer = threading.Timer(SIGNAL_DELAY, os.kill, (os.getpid(), signal.Signals(signum)))
+    timer.start()
+    try:
+        t0 = time.perf_counter()
+        assert main(argv) == code
+        seconds = time.perf_counter() - t0
+    finally:
+        timer.cancel()
+    err = capsys.readouterr().err
+    assert err.strip() == message and "Traceback" not in err
+    assert _snapshot(tmp_path) == before
+    assert seconds < SIGNAL_DELAY + CASE_SECONDS
