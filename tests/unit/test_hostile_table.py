@@ -579,3 +579,6 @@ def test_a_signal_stops_the_command_with_its_code_and_writes_nothing(argv, signu
     assert err.strip() == message and "Traceback" not in err
     assert _snapshot(tmp_path) == before
     assert seconds < SIGNAL_DELAY + CASE_SECONDS
+    from designer import interrupt
+
+    assert interrupt.received() is None   # the next run in this process is not stopped by it
