@@ -50,6 +50,8 @@ def install():
         return lambda: None
 
     def restore():
+        global _received
         for s, h in previous.items():
             signal.signal(s, h)
+        _received = None   # the signal belonged to the run that handled it; later library calls go on
     return restore

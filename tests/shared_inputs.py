@@ -275,3 +275,29 @@ design:
   stations: [9.5 mm, 30.6 mm]
   feature: {kind: pocket, depth: 2 mm}
 """
+
+
+# ----------------------------------------------------------------- signals
+# e2e/test_signals_and_devices.py, unit/test_hostile_table.py
+
+def wait_for_handlers(proc, timeout=30.0):
+    """Until the command in ``proc`` has put its SIGTERM handler in place (Linux: the caught-signal
+    mask in /proc/PID/status); before that the interpreter is still starting and Python's
+    defaults act. Elsewhere: a fixed second."""
+    import signal
+    import time
+
+    status = Path(f"/proc/{proc.pid}/status")
+    if not status.exists():
+        time.sleep(1.0)
+        return
+    start = time.monotonic()
+    while time.monotonic() - start < timeout and proc.poll() is None:
+        try:
+            caught = next((line.split()[1] for line in status.read_text().splitlines() if line.startswith("SigCgt:")),
+                          "0")
+        except OSError:
+            return
+        if int(caught, 16) & (1 << (signal.SIGTERM - 1)):
+            return
+        time.sleep(0.02)

@@ -119,6 +119,8 @@ def design_constants(record: dict) -> DesignConstants:
     spec = _require(record, "spec", "")
     design = _require(record, "design", "")
     predicted = _require(record, "predicted", "")
+    if not isinstance(predicted, dict):
+        raise DesignFileError(f"predicted: {predicted!r} must be an object of the predicted figures")
     raw_stations = _require(design, "stations", "design")
     if not isinstance(raw_stations, list) or len(raw_stations) < 2:
         raise DesignFileError(f"design.stations: {raw_stations!r} must be a list of at least 2 positions (m)")

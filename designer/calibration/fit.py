@@ -8,6 +8,7 @@ this module chooses the noise sigma_V for the standard errors and says what look
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -33,9 +34,10 @@ MIN_R2 = 0.999
 MIN_NOISE_DOF = 10
 #: Significance of the test "residuals larger than the design's noise" (chi-square, one-sided).
 NOISE_TEST_P = 1e-3
-#: A residual this many standard deviations from the fit marks its row as a likely bad load
-#: (two-sided normal probability 6e-5 per residual).
-OUTLIER_SIGMAS = 4.0
+#: False-alarm rate of the outlier test: the probability that clean readings (normal noise of
+#: equal sigma_V on every channel, the bridges linear in F and F x) flag any row of a calibration.
+#: Each row is tested at OUTLIER_ALPHA / (rows x axes) (Bonferroni), so the rate is at most this.
+OUTLIER_ALPHA = 0.01
 #: Bridges of one design are nominally identical (MODEL.md: the same feature at every station).
 #: Gauge-factor tolerance (about 1 %), placement and bonding give a few per cent of spread
 #: between bridges; more than 5 % beyond what the design predicts points to a bad gauge or bridge.
@@ -128,7 +130,7 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     loaded = magnitude > SAME_VALUE
     force_span = (float(magnitude[loaded].min()), float(magnitude[loaded].max()))
     position_span = (float(loads.position[loaded].min()), float(loads.position[loaded].max()))
-    warnings += _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, design,
+    warnings += _fit_warnings(readings, bridges, fits, residual_noise, dof_total, design,
                               force_span, position_span)
     return Calibration(bridges, n, sigma, source, residual_noise, dof_total, design_noise, force_span,
                        position_span, design.name if design is not None else None, tuple(warnings),
@@ -161,7 +163,7 @@ def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, s
                           "calibrate with more points"]
 
 
-def _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, design, force_span,
+def _fit_warnings(readings, bridges, fits, residual_noise, dof_total, design, force_span,
                   position_span) -> list[str]:
     from scipy import stats
 
@@ -186,15 +188,10 @@ def _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, des
                        f"sigma_V = {_mv(design.noise)} (chi-square test, p < {NOISE_TEST_P:g}): the bridges "
                        "do not follow V = c + k F (x - d) over these loads, or the electronics are noisier "
                        "than designed")
-    if sigma is not None:
-        for axis, (cols, fit) in fits.items():
-            if fit.dof < 1:
-                continue
-            scale = sigma * np.sqrt(np.clip(1 - fit.leverage, 1e-12, None))[:, None]
-            z = np.abs(fit.residuals) / scale
-            for row, j in zip(*np.nonzero(z > OUTLIER_SIGMAS)):
-                out.append(_outlier_message(readings, row, readings.bridges[cols[j]].name,
-                                            fit.residuals[row, j], z[row, j]))
+    tests = n * len(fits)
+    for axis, (cols, fit) in fits.items():
+        for o in outlier_rows(fit, OUTLIER_ALPHA / tests):
+            out.append(_outlier_message(readings, o, readings.bridges[cols[o.bridge]].name, tests))
     out += _k_warnings(bridges, design)
     if design is not None:
         for b in bridges:
@@ -208,12 +205,67 @@ def _fit_warnings(readings, bridges, fits, sigma, residual_noise, dof_total, des
     return out
 
 
-def _outlier_message(readings, row, name, residual, z) -> str:
+@dataclass(frozen=True)
+class Outlier:
+    """A calibration row that the leave-one-out test flags (``outlier_rows``)."""
+
+    row: int
+    statistic: float     # F of the row's mean shift, F(m, m (n - p - 1)) for a clean row
+    p_value: float
+    bridge: int          # the fit's column (bridge) whose deleted residual is largest
+    residual: float      # that bridge's deleted residual e / (1 - h), V
+    t: float             # ... externally studentized: e / (s_(i) sqrt(1 - h))
+
+
+def outlier_rows(fit, alpha: float) -> list[Outlier]:
+    """The rows of one regression (eq. 27 fitted to m bridges over the same n loads) whose
+    readings lie off the fit of the other rows, at significance ``alpha`` per row.
+
+    The mean-shift outlier test with leave-one-out (externally studentized) residuals (Cook &
+    Weisberg 1982, *Residuals and Influence in Regression*, §2.2.2; Montgomery, Peck & Vining
+    2012, *Introduction to Linear Regression Analysis*, 5th ed., §4.2.1, "R-student"), pooled
+    over the m bridges, whose noise is independent with one sigma_V: giving row i a shift of
+    its own in every bridge lowers the residual sum of squares by
+    ``Q_i = sum_j e_ij^2 / (1 - h_ii)``; the fit without row i keeps
+    ``RSS_(i) = RSS - Q_i`` on ``m (n - p - 1)`` degrees of freedom, independent of ``Q_i``; so
+    ``F_i = (Q_i / m) / (RSS_(i) / (m (n - p - 1)))`` follows F(m, m (n - p - 1)) for a clean
+    row (for m = 1, the square of the externally studentized residual, t(n - p - 1)). The spread
+    is that of the other rows, so a bad row cannot hide by inflating it (a residual scored
+    against its own fit's spread is bounded by sqrt(n - p): 2.45 for the 9-point scheme).
+    A row misplaced by dx shifts bridge j by k_j F dx, and F_i then follows the noncentral F with
+    ``lambda = (1 - h_ii) sum_j (k_j F dx)^2 / sigma_V^2``.
+    """
+    from scipy import stats
+
+    e = np.asarray(fit.residuals, dtype=float)
+    n, m = e.shape
+    p = n - fit.dof
+    dof = m * (n - p - 1)
+    if dof < 1:
+        return []
+    h = np.asarray(fit.leverage, dtype=float)
+    testable = 1 - h > 1e-9                          # a row the fit passes through exactly has no test
+    q = np.where(testable, np.sum(e ** 2, axis=1) / np.where(testable, 1 - h, 1.0), 0.0)
+    s2 = np.clip(float(np.sum(e ** 2)) - q, 0.0, None) / dof    # the spread without row i
+    testable &= s2 > 0
+    f = np.where(testable, (q / m) / np.where(testable, s2, 1.0), 0.0)
+    p_values = np.where(testable, stats.f.sf(f, m, dof), 1.0)
+    out = []
+    for i in np.nonzero(p_values < alpha)[0]:
+        t = e[i] / np.sqrt(s2[i] * (1 - h[i]))
+        j = int(np.argmax(np.abs(t)))
+        out.append(Outlier(int(i), float(f[i]), float(p_values[i]), j, float(e[i, j] / (1 - h[i])), float(t[j])))
+    return out
+
+
+def _outlier_message(readings, o: Outlier, name: str, tests: int) -> str:
     loads = readings.loads
+    row = o.row
     where = (f"{readings.row(row)} (force {loads.force[row]:.4g} N, position {loads.position[row] * 1e3:.4g} mm)"
              if loads is not None else readings.row(row))
-    return (f"{where}, column {name}: residual {_mv(residual)} is {z:.1f} standard deviations from the fit: "
-            "a misplaced or mis-recorded load?")
+    return (f"{where}, column {name}: the row lies off the fit of the other rows: leave-one-out residual "
+            f"{_mv(o.residual)}, {abs(o.t):.1f} standard deviations from the fit (outlier test p = {o.p_value:.2g}, "
+            f"below {OUTLIER_ALPHA:g}/{tests}): a misplaced or mis-recorded load?")
 
 
 def _k_warnings(bridges, design) -> list[str]:

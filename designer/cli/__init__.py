@@ -53,10 +53,20 @@ def main(argv: list[str] | None = None) -> int:
             args = build_parser().parse_args(argv)
         except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
             return int(exc.code or 0)
-        return int(args.func(args) or 0)
+        code = int(args.func(args) or 0)
+        sys.stdout.flush()   # a closed pipe shows here, inside the handlers, not at exit
+        return code
     except FpdError as exc:
         print(f"fpdesign: error: {exc}", file=sys.stderr)
         return exc.exit_code
+    except BrokenPipeError:
+        return _pipe_closed()
+    except SystemExit:
+        # rich meets a closed pipe by pointing standard output at the null device and raising
+        # SystemExit(1), which would read as "infeasible"
+        if _stdout_is_null():
+            return PIPE_CLOSED
+        raise
     except OSError as exc:  # reading goes through errors.read_text: this is a file that cannot be written
         if interrupt.received() is not None:
             return _stopped(interrupt.received())
@@ -90,6 +100,35 @@ def run() -> None:
 
 
 STOP_CODES = (128 + signal.SIGINT, 128 + signal.SIGTERM)
+
+
+#: The exit code of a command whose standard output was closed before it finished printing
+#: (``fpdesign optimize spec.yaml | head``): 128 + SIGPIPE, as a program stopped by the signal.
+PIPE_CLOSED = 141
+
+
+def _pipe_closed() -> int:
+    """A reader that stopped reading (``| head``) is no error: no message, no traceback, and
+    nothing more is printed (standard output goes to the null device, so that Python's own
+    flush at exit does not fail again). Files are written before the summary is printed."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):   # stdout replaced by an object without a file descriptor
+        pass
+    return PIPE_CLOSED
+
+
+def _stdout_is_null() -> bool:
+    import os
+
+    try:
+        return os.path.samestat(os.fstat(sys.stdout.fileno()), os.stat(os.devnull))
+    except (OSError, ValueError):
+        return False
 
 
 def _stopped(signum: int) -> int:

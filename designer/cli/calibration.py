@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from designer.cli.paths import guard_inputs
+from designer.cli.paths import guard_inputs, seed
 
 MM = 1e3   # m -> mm for display
 MV = 1e3   # V -> mV for display
@@ -71,7 +71,7 @@ def register(subparsers) -> None:
     p.add_argument("design", help="design.json")
     p.add_argument("-o", "--output", required=True, help="readings.csv to write")
     p.add_argument("--scheme", choices=SCHEMES, default="paper")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=seed, default=0, help="names the simulated sensor, 0 or more [0]")
     p.add_argument("--repeats", type=_positive_int, default=1, help="readings per load (default 1)")
     p.set_defaults(func=run_simulate_readings)
 

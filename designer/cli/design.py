@@ -8,6 +8,7 @@ import math
 import sys
 from pathlib import Path
 
+from designer.cli.paths import output_folder, seed
 from designer.errors import DesignFileError, SpecError
 
 
@@ -42,7 +43,7 @@ def register(sub) -> None:
     s.add_argument("--draws", type=int, default=100_000, help="noise draws per grid point [100000]")
     s.add_argument("--grid", type=int, nargs=2, default=(7, 7), metavar=("NF", "NX"),
                    help="forces x positions in the grid [7 7, as the paper's section 4.3]")
-    s.add_argument("--seed", type=int, default=0)
+    s.add_argument("--seed", type=seed, default=0, help="seed of the noise draws, 0 or more [0]")
     s.add_argument("--angle", type=float, default=30.0, help="biaxial designs: load angle in degrees [30]")
     s.add_argument("--readings", metavar="CSV", help="also write noisy bridge readings at the paper's loads")
     s.add_argument("--scheme", default="paper", help="loads for --readings: paper, 4, 9 or grid [paper]")
@@ -127,12 +128,13 @@ def run_evaluate(args) -> int:
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import load_spec
 
+    out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec)
     if spec.design is None:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
     result = evaluate_fixed(spec)
-    write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots,
+    write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
                   extra_plots={"formats": _plot_formats(args)})
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
@@ -152,6 +154,7 @@ def run_optimize(args) -> int:
     rounds = DesignOptions.verify_rounds if args.verify_rounds is None else args.verify_rounds
     if rounds < 0:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
+    out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec)
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
         result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
@@ -163,7 +166,7 @@ def run_optimize(args) -> int:
             writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
         # the fronts are computed while the CAD model builds in a child process
         fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
-        write_outputs(result.record, Path(args.output), cad=not args.no_cad, plots=not args.no_plots,
+        write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
                       extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
                       progress=progress)
     report.print_summary(result.record)
@@ -246,6 +249,14 @@ def run_simulate(args) -> int:
             raise SpecError(f"--grid: {name} = {n} is not allowed; use 2 to {MAX_GRID}")
     if not (math.isfinite(args.angle) and -360 <= args.angle <= 360):
         raise SpecError(f"--angle: {args.angle!r} is not allowed; give degrees from -360 to 360")
+    if args.readings:
+        from designer.calibration.schemes import SCHEMES
+        from designer.cli.paths import guard_inputs
+        from designer.errors import describe_allowed
+
+        if args.scheme not in SCHEMES:
+            raise SpecError(f"--scheme: {args.scheme!r} is not allowed; must be {describe_allowed(SCHEMES)}")
+        guard_inputs({"--readings": args.readings}, {"design": args.design})
     record = _design_record(args.design)
     d, p, s = record["design"], record["predicted"], record["spec"]
     (f_min, f_max), (x_min, x_max) = s["load"]["force"], s["load"]["position"]
@@ -299,21 +310,36 @@ def run_materials(args) -> int:
     from rich.console import Console
     from rich.table import Table
 
-    t = Table(title="materials (allowable = min(yield, fatigue) / safety factor)")
-    for col in ("name", "E (GPa)", "ν", "yield (MPa)", "ultimate (MPa)", "fatigue (MPa @ cycles)",
-                "density (kg/m³)", "source"):
-        t.add_column(col, overflow="fold")
+    # The figures in narrow columns, the sources (long citations) as numbered notes below each
+    # table, so that the list reads at 80 columns.
+    sources: list[str] = []
+
+    def note(source: str) -> str:
+        if source not in sources:
+            sources.append(source)
+        return f"[{sources.index(source) + 1}]"
+
+    t = Table(title="materials (allowable = min(yield, fatigue) / safety factor)", box=None, padding=(0, 1))
+    for col in ("name", "E\nGPa", "ν", "yield\nMPa", "UTS\nMPa", "fatigue\nMPa", "at\ncycles", "ρ\nkg/m³",
+                "source"):
+        t.add_column(col, justify="left" if col == "name" else "right", no_wrap=True)
     for m in mats.values():
         t.add_row(m.name, f"{m.E / 1e9:.1f}", f"{m.poisson:.3g}", f"{m.yield_strength / 1e6:.0f}",
-                  f"{m.ultimate / 1e6:.0f}", f"{m.fatigue / 1e6:.0f} @ {m.fatigue_cycles:.0e}",
-                  f"{m.density:.0f}", m.source)
-    g = Table(title="strain gauges")
-    for col in ("name", "G", "R (Ω)", "backing (mm)", "grid (mm)", "max strain (µε)", "source"):
-        g.add_column(col, overflow="fold")
+                  f"{m.ultimate / 1e6:.0f}", f"{m.fatigue / 1e6:.0f}", f"{m.fatigue_cycles:.0e}",
+                  f"{m.density:.0f}", note(m.source))
+    g = Table(title="strain gauges", box=None, padding=(0, 1))
+    for col in ("name", "G", "R\nΩ", "backing\nmm", "grid\nmm", "max\nµε", "source"):
+        g.add_column(col, justify="left" if col == "name" else "right", no_wrap=True)
     for x in gauges.values():
         g.add_row(x.name, f"{x.factor:.3g}", f"{x.resistance:.0f}", f"{x.length * 1e3:.1f} × {x.width * 1e3:.1f}",
-                  f"{x.grid_length * 1e3:.1f} × {x.grid_width * 1e3:.1f}", f"{x.max_strain * 1e6:.0f}", x.source)
-    console = Console()
+                  f"{x.grid_length * 1e3:.1f} × {x.grid_width * 1e3:.1f}", f"{x.max_strain * 1e6:.0f}",
+                  note(x.source))
+    console = Console(highlight=False)
     console.print(t)
+    console.print()
     console.print(g)
+    console.print()
+    console.print("sources:")
+    for i, source in enumerate(sources, 1):
+        console.print(f"[{i}] {source}", markup=False)
     return 0

@@ -19,10 +19,39 @@ def _same(a: str | os.PathLike, b: str | os.PathLike) -> bool:
 
 
 def guard_inputs(outputs: dict, inputs: dict) -> None:
-    """InputError when an output (``{flag: path}``) is one of the inputs (``{name: path}``)."""
+    """InputError when an output file (``{flag: path}``) is one of the inputs (``{name: path}``)
+    or a folder: checked before any work is done."""
     for flag, out in outputs.items():
         if not out:
             continue
+        if Path(out).is_dir():
+            raise InputError(f"{flag}: {out} is a folder; give a file name")
         for name, path in inputs.items():
             if path and _same(out, path):
                 raise InputError(f"{flag}: {out} is the {name} this command reads; write to another file")
+
+
+def output_folder(path, flag: str = "-o", what: str = "the outputs"):
+    """``Path(path)``, checked before any work is done: InputError when it names a file."""
+    folder = Path(path)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{flag}: {folder} is a file, not a folder; give a folder for {what}")
+    return folder
+
+
+#: The largest seed numpy's generators take from a command line (any 63-bit number works; the
+#: bound keeps a typing slip such as 10**100 from reading as a seed).
+MAX_SEED = 2**63 - 1
+
+
+def seed(text: str) -> int:
+    """argparse type of ``--seed``: a whole number from 0 to MAX_SEED (numpy refuses negative seeds)."""
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from exc
+    if not 0 <= value <= MAX_SEED:
+        raise argparse.ArgumentTypeError(f"{text!r} must be from 0 to {MAX_SEED}")
+    return value

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
+from designer.cli.paths import output_folder, seed
 from designer.errors import InputError
 
 FORMAT_CHOICES = {"png": ("png",), "svg": ("svg",), "both": ("png", "svg")}
@@ -35,9 +37,9 @@ def run_plot(args) -> int:
     from designer.outputs.plots.write import write_design_plots
     from designer.result.designfile import load_design, read_json
 
+    out_dir = output_folder(args.output, what="the plots") if args.output else Path(args.design).resolve().parent
     design = load_design(args.design)
     tradeoff = read_json(args.tradeoff, what="--tradeoff") if args.tradeoff else None
-    out_dir = Path(args.output) if args.output else Path(args.design).resolve().parent
     try:
         paths = write_design_plots(design, out_dir, formats=FORMAT_CHOICES[args.format], tradeoff=tradeoff)
     except OSError as exc:
@@ -49,6 +51,12 @@ def run_plot(args) -> int:
 
 
 # ------------------------------------------------------------------ bench
+
+# bench's bounds, so that a typing slip cannot start a run of days: each generated spec runs
+# every method (about 10 s), and the reference grid search grows as levels**variables (5 levels
+# take seconds per spec, 12 about an hour).
+MAX_COUNT = 1000
+MAX_LEVELS = 12
 
 def _register_bench(sub) -> None:
     b = sub.add_parser(
@@ -62,7 +70,7 @@ def _register_bench(sub) -> None:
     b.add_argument("--count", type=int, default=50, metavar="N", help="generated specs [50]")
     b.add_argument("--methods", default=None, metavar="LIST",
                    help="comma-separated methods [ipopt,slsqp,mma,ccsaq,cobyla,isres,direct,grid]")
-    b.add_argument("--seed", type=int, default=0, metavar="S", help="seed of the generated specs [0]")
+    b.add_argument("--seed", type=seed, default=0, metavar="S", help="seed of the generated specs [0]")
     b.add_argument("--levels", type=int, default=None, metavar="L",
                    help="grid points per variable of the reference search [5]")
     b.add_argument("-o", "--output", default="bench", help="output folder [bench]")
@@ -74,11 +82,12 @@ def run_bench(args) -> int:
     from designer import bench
     from designer.search.problem import METHODS
 
-    if args.count < 0:
-        raise InputError(f"--count: {args.count} must be 0 or more")
+    if not 0 <= args.count <= MAX_COUNT:
+        raise InputError(f"--count: {args.count} is not allowed; use 0 to {MAX_COUNT}")
     levels = bench.REFERENCE_LEVELS if args.levels is None else args.levels
-    if levels < 2:
-        raise InputError(f"--levels: {levels} must be at least 2")
+    if not 2 <= levels <= MAX_LEVELS:
+        raise InputError(f"--levels: {levels} is not allowed; use 2 to {MAX_LEVELS}")
+    output_folder(args.output, what="the bench's files")
     methods = METHODS
     if args.methods is not None:
         methods = tuple(m.strip() for m in args.methods.split(",") if m.strip())
@@ -93,6 +102,12 @@ def run_bench(args) -> int:
     suite = examples + bench.generate_suite(args.count, args.seed)
     if not suite:
         raise InputError("nothing to run: no example specs found and --count is 0; give --specs DIR or --count N")
+    if not examples:
+        # say so: the example specs ship with the source repository, not with an installed package
+        where = (f"no optimiser specs in {folder}" if folder is not None else
+                 "no examples folder beside the package (the examples ship with the source repository)")
+        print(f"fpdesign bench: {where}; running the {args.count} generated specs only; give --specs DIR to "
+              "add specs of your own", file=sys.stderr)
     result = _bench_with_progress(bench, suite, methods, levels, args, skipped)
     try:
         paths = bench.write_bench(result, Path(args.output))

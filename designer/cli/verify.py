@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 
 def register(sub) -> None:
     p = sub.add_parser("verify", help="check a design with a 3-D finite-element model of its STEP solid")
@@ -19,11 +17,9 @@ def register(sub) -> None:
 def run_verify(args) -> int:
     from designer.checks import fea
     from designer.result.designfile import load_design
-    from designer.errors import InputError
+    from designer.cli.paths import output_folder
 
-    out_dir = Path(args.output)
-    if out_dir.exists() and not out_dir.is_dir():
-        raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for the verify report")
+    out_dir = output_folder(args.output, what="the verify report")
     record = load_design(args.design)
     result = fea.verify_design(record, mesh=args.mesh, out_dir=out_dir, mesh_option="--mesh")
     _print_summary(result)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import shutil
@@ -22,6 +23,7 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
         except OSError as exc:
             raise OSError(exc.errno, exc.strerror, str(path)) from exc
         return path
+    _not_a_folder(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     try:
@@ -34,6 +36,13 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
             os.unlink(tmp)
         raise
     return path
+
+
+def _not_a_folder(path: Path) -> None:
+    """IsADirectoryError naming ``path`` when a file is to be written where a folder is (the
+    temporary sibling would be written and then fail to replace it, naming itself)."""
+    if path.is_dir():
+        raise IsADirectoryError(errno.EISDIR, "it is a folder; give a file name", str(path))
 
 
 def is_special(path: Path) -> bool:
@@ -63,6 +72,7 @@ def file_mode() -> int:
 def temporary_sibling(path: Path):
     """A temporary file name next to ``path`` with ``file_mode()``, for writers that need a path
     (move it into place with ``os.replace``); removed again unless it was moved."""
+    _not_a_folder(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)

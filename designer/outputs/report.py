@@ -30,8 +30,15 @@ def section_text(section: dict) -> str:
     return f"tube Ø{section['diameter'] * mm:.2f} × {section['wall'] * mm:.2f} mm wall"
 
 
-def feature_text(feature: dict) -> str:
+def feature_text(feature: dict, section: dict | None = None) -> str:
+    """The feature as the drawing names it: a pocket (a slot) on a rectangle, flats on a round
+    bar or tube (cut across the bar; their width at the surface is the chord the depth leaves)."""
     mm = 1e3
+    if feature["kind"] == "pocket" and section is not None and section["kind"] in ("round", "tube"):
+        depth, diameter = feature["depth"], section["diameter"]
+        chord = 2 * math.sqrt(max(depth * (diameter - depth), 0.0))
+        return (f"flat {feature['length'] * mm:.2f} mm long, {depth * mm:.2f} mm deep "
+                f"({chord * mm:.2f} mm wide at the surface)")
     if feature["kind"] == "pocket":
         return (f"pocket {feature['length'] * mm:.2f} × {feature['width'] * mm:.2f} mm, "
                 f"{feature['depth'] * mm:.2f} mm deep")
@@ -47,7 +54,7 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("status", record["status"]),
         ("material", d["material"]),
         ("section", section_text(d["section"])),
-        ("feature", feature_text(d["feature"])),
+        ("feature", feature_text(d["feature"], d["section"])),
         ("free length", f"{d['length'] * mm:.2f} mm"),
         ("gauge stations", ", ".join(f"{x * mm:.2f}" for x in d["stations"]) + " mm from the clamp"),
         ("bridges", f"{d['bridge']}, {d['axes']} axis" + ("es" if d["axes"] == 2 else "")),
@@ -99,7 +106,7 @@ def rounds_markdown(record: dict) -> list[str]:
     for r in record["verify_rounds"]:
         d = r.get("design")
         design = "–" if d is None else (f"{d['material']} {section_text(d['section'])}, "
-                                        f"{feature_text(d['feature'])}")
+                                        f"{feature_text(d['feature'], d['section'])}")
         if "stopped" in r:
             verdict = r["stopped"]
         else:
@@ -150,14 +157,16 @@ def markdown(record: dict) -> str:
     if record.get("verify_rounds"):
         lines += [""] + rounds_markdown(record)
     if record.get("candidates"):
-        lines += ["", "## Candidates", "", "| rank | material | section | status | objective | deflection | mass |",
-                  "|---|---|---|---|---|---|---|"]
+        lines += ["", "## Candidates", "", candidate_order(record), "",
+                  "| rank | material | section | status | objective | worst violation | deflection | mass |",
+                  "|---|---|---|---|---|---|---|---|"]
         for i, c in enumerate(record["candidates"], 1):
             obj = "–" if c.get("objective") is None else f"{c['objective']:.4g}"
             defl = "–" if c.get("deflection") is None else f"{c['deflection'] * 1e3:.3g} mm"
             mass = "–" if c.get("mass") is None else f"{c['mass'] * 1e3:.3g} g"
             status = c["status"] + (" (corrected in 3-D)" if c.get("adjustment") else "")
-            lines.append(f"| {i} | {c['material']} | {c['section']} | {status} | {obj} | {defl} | {mass} |")
+            lines.append(f"| {i} | {c['material']} | {c['section']} | {status} | {obj} | {_violation(c)} | {defl} "
+                         f"| {mass} |")
     solver = record.get("solver", {})
     if solver.get("method") not in (None, "none"):
         lines += ["", "## Solver", "", f"method {solver['method']}, {solver.get('seconds', 0):.3g} s, "
@@ -176,6 +185,23 @@ def markdown(record: dict) -> str:
         if name + ".png" in record.get("files", {}).get("plots", []):
             lines += [f"![{name}]({name}.png)", ""]
     return "\n".join(lines)
+
+
+def candidate_order(record: dict) -> str:
+    """How the candidates are ranked and the reported one picked (designer.search.run)."""
+    objective = record.get("spec", {}).get("objective", "error")
+    if record.get("status") == "infeasible":
+        return ("No candidate meets every limit. Ranked by the worst violation, the largest "
+                "value/limit − 1 over the limits (designs that are not a beam last, failed solves at "
+                "the end); the first, the least infeasible, is the reported design.")
+    return (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "
+            "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
+            "the first is the reported design.")
+
+
+def _violation(c: dict) -> str:
+    v = c.get("worst_violation")
+    return "–" if v is None else ("none" if v <= 0 else f"{v:.3g}")
 
 
 def print_summary(record: dict, console=None) -> None:
@@ -200,12 +226,12 @@ def print_summary(record: dict, console=None) -> None:
                         f"[{'red' if not c['satisfied'] else 'yellow'}]{percent(c['margin'])}[/]")
         console.print(lim)
     if record.get("candidates"):
-        cand = Table(title="the chosen candidate and the runners-up")
-        for col in ("material", "section", "status", "objective", ""):
+        cand = Table(title="the chosen candidate and the runners-up", caption=candidate_order(record))
+        for col in ("material", "section", "status", "objective", "worst violation", ""):
             cand.add_column(col)
         for i, c in enumerate(record["candidates"][:6]):
             obj = "–" if c.get("objective") is None or not math.isfinite(c["objective"]) else f"{c['objective']:.4g}"
-            cand.add_row(c["material"], c["section"], c["status"], obj, "chosen" if i == 0 else "")
+            cand.add_row(c["material"], c["section"], c["status"], obj, _violation(c), "chosen" if i == 0 else "")
         console.print(cand)
     for msg in record.get("messages", []):
         console.print(f"[yellow]{msg}[/]")

@@ -79,9 +79,9 @@ def read_design(path: str | Path) -> DesignRecord:
 
 
 def load_design(path: str | Path) -> dict:
-    record = read_json(path)
-    validate(record, source=str(path))
-    return record
+    """design.json at ``path`` as its dictionary, checked as ``read_design`` checks it (its spec
+    included): every command that reads a design.json refuses the same files."""
+    return read_design(path).data
 
 
 def _get(obj, key: str, where: str):
@@ -118,6 +118,8 @@ def validate(record, source: str = "design.json") -> None:
     if version != VERSION or isinstance(version, bool):
         raise DesignFileError(f"version: {version!r} is not a design.json this fpdesign reads; it reads version "
                               f"{VERSION}")
+    if not isinstance(record.get("predicted", {}), dict):
+        raise DesignFileError(f"predicted: {record['predicted']!r} must be an object of the predicted figures")
     spec = _get(record, "spec", "")
     if not isinstance(spec, dict):
         raise DesignFileError(f"spec: {spec!r} must be an object (the normalised spec of SPEC.md)")

@@ -7,6 +7,9 @@ parameters. Variables are in millimetres and constraints normalised (``value/lim
 
 from __future__ import annotations
 
+import contextlib
+import io
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -20,6 +23,12 @@ MM = 1e-3
 METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")
 IPOPT_TOLERANCE = 1e-9
 IPOPT_MAX_ITER = 300
+#: casadi's options of every IPOPT solve. ``show_eval_warnings`` off: a trial step of IPOPT's
+#: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
+#: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
+#: "NaN detected" on standard error for every such trial, which is noise to the user.
+IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.constr_viol_tol": 1e-9,
+                 "ipopt.mu_strategy": "adaptive", "error_on_fail": False, "show_eval_warnings": False}
 EPIGRAPH_UPPER = 1e6
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -239,9 +248,7 @@ class FamilyProblem:
         if stage not in self._ipopt:
             import casadi as ca
 
-            opts = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-                    "ipopt.tol": IPOPT_TOLERANCE, "ipopt.constr_viol_tol": 1e-9,
-                    "ipopt.max_iter": IPOPT_MAX_ITER, "ipopt.mu_strategy": "adaptive", "error_on_fail": False}
+            opts = dict(IPOPT_OPTIONS, **{"ipopt.tol": IPOPT_TOLERANCE, "ipopt.max_iter": IPOPT_MAX_ITER})
             nlp = self.nlp if stage == "primary" else self.nlp_secondary
             self._ipopt[stage] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_{stage}", "ipopt",
                                            nlp, opts)
@@ -251,12 +258,19 @@ class FamilyProblem:
         """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``."""
         lo, hi = self.bounds()
         solver = self.ipopt(stage)
+        # casadi writes its warnings through Python's standard error; a signal inside IPOPT makes
+        # it warn "KeyboardInterruptException" before the run stops with its own one line: held
+        # back here, and passed on only when the run goes on
+        said = io.StringIO()
         try:
-            sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+            with contextlib.redirect_stderr(said):
+                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
         except RuntimeError as exc:
             interrupt.check()
+            sys.stderr.write(said.getvalue())
             return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, "ipopt")
         interrupt.check()  # IPOPT reports Ctrl-C or SIGTERM as a user stop and returns
+        sys.stderr.write(said.getvalue())
         stats = solver.stats()
         evals = int(stats.get("iter_count", 0))
         return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import re
 from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
@@ -123,4 +124,14 @@ def gauge(name: str, key: str = "gauge.name") -> Gauge:
 
 
 def customised(base: Gauge, **fields) -> Gauge:
-    return replace(base, **fields)
+    """``base`` with ``fields`` replaced; a gauge that differs from its catalogue entry says so in
+    its name (reports and the drawing's title block), ``"BF120-3AA (modified max_strain)"``."""
+    changed = [k for k, v in fields.items() if getattr(base, k) != v]
+    name = f"{base.name} (modified {', '.join(changed)})" if changed else base.name
+    return replace(base, name=name, **fields)
+
+
+def modified_from(name: str) -> str | None:
+    """The catalogue gauge that ``name`` says it modifies (``customised``), else None."""
+    match = re.fullmatch(r"(.+) \(modified [a-z_, ]+\)", name)
+    return match.group(1) if match and match.group(1) in gauges() else None

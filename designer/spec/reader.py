@@ -369,6 +369,8 @@ def _parse_gauge(raw) -> Gauge:
     name = raw.get("name")
     if name is not None and not isinstance(name, str):
         _catalogue_name(name, "gauge.name", catalogue.gauge)
+    if name is not None and (base := catalogue.modified_from(name)) is not None:
+        name = base   # a modified catalogue gauge as design.json records it: the same gauge again
     if name is not None and name in catalogue.gauges():
         return catalogue.customised(catalogue.gauge(name), **fields)
     missing = [k for k in ("factor", "length", "width", "max_strain") if k not in fields]

@@ -120,8 +120,8 @@ BAD_SPECS = {
                                               "cad.corner_radius": "1.5 mm"},
                                              ["cad.corner_radius", "1.5 mm", "design.feature.depth", "1 mm"]),
     # Far outside any physical range: the numbers overflow or divide by zero in the model.
-    "sub-atomic width": ({"design.section.width": "1e-30 mm"}, ["outside what fpdesign handles", "1e-09 m"]),
-    "absurd gain": ({"electronics.gain": 1e300}, ["outside what fpdesign handles", "1e+10"]),
+    "sub-atomic width": ({"design.section.width": "1e-30 mm"}, ["'1e-30 mm'", "outside what fpdesign handles"]),
+    "absurd gain": ({"electronics.gain": 1e300}, ["electronics.gain", "outside what fpdesign handles"]),
     "YAML syntax error": ("load: [200 gf, 2000 gf\nelectronics: {excitation: 5 V\n", ["YAML syntax error", "line"]),
     "YAML tab indentation": ("load:\n\tforce: [1 N, 2 N]\n", ["YAML syntax error", "line 2"]),
     "empty file": ("", ["empty", "load", "electronics"]),

@@ -23,7 +23,7 @@ def test_bench_command_writes_its_files_and_prints_the_table(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv, message", [
     (["--methods", "ipopt,newton"], "--methods: 'newton' is not a method"),
-    (["--count", "-1"], "--count: -1 must be 0 or more"),
+    (["--count", "-1"], "--count: -1 is not allowed; use 0 to 1000"),
     (["--specs", "no-such-folder"], "--specs: no-such-folder is not a folder"),
     (["--count", "0", "--specs", "EMPTY"], "nothing to run"),
 ])

@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from designer.cli import main
+from shared_inputs import wait_for_handlers
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -25,7 +26,7 @@ def test_a_signal_stops_optimize_and_leaves_nothing(tmp_path, signum, code, line
     proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "optimize", str(EXAMPLES / "gripper-finger.yaml"),
                              "-o", str(tmp_path / "out")], cwd=tmp_path, stdout=subprocess.DEVNULL,
                             stderr=subprocess.PIPE, text=True)
-    _wait_for_handlers(proc)
+    wait_for_handlers(proc)
     time.sleep(delay)
     if proc.poll() is not None:
         pytest.skip("the run finished before the signal")
@@ -35,18 +36,6 @@ def test_a_signal_stops_optimize_and_leaves_nothing(tmp_path, signum, code, line
     lines = [x for x in err.splitlines() if "CasADi" not in x]   # IPOPT's own note of the stop
     assert lines == [line]
     assert sorted(p.name for p in tmp_path.iterdir()) == []      # no output folder, no hidden scratch
-
-
-def _wait_for_handlers(proc, timeout=30.0):
-    """Until the command has put its SIGTERM handler in place (Linux: the caught-signal mask of
-    /proc/PID/status); before that, the interpreter is still starting and Python's defaults act."""
-    status = Path(f"/proc/{proc.pid}/status")
-    start = time.monotonic()
-    while status.exists() and time.monotonic() - start < timeout and proc.poll() is None:
-        caught = next((line.split()[1] for line in status.read_text().splitlines() if line.startswith("SigCgt:")), "0")
-        if int(caught, 16) & (1 << (signal.SIGTERM - 1)):
-            return
-        time.sleep(0.02)
 
 
 def test_a_device_is_written_not_replaced(tmp_path, capsys):

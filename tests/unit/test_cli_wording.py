@@ -1,0 +1,129 @@
+"""What the command line prints: feature names, gauge names, the candidate ranking, the
+catalogue at 80 columns, notes, and a closed pipe."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from designer.cli import PIPE_CLOSED, main
+from designer.outputs import report
+from designer.spec.reader import parse_spec
+
+ROOT = Path(__file__).resolve().parents[2]
+LOAD = {"load": {"force": ["1 N", "20 N"], "position": ["100 mm", "300 mm"]},
+        "electronics": {"excitation": "5 V", "gain": 500, "noise": "1 mV"}}
+
+
+def test_flats_on_a_round_bar_are_called_flats_with_their_chord():
+    """docs/spec.md §6: flats on round bars and tubes; the drawing says flat. The width at the
+    surface of a flat p deep on a bar of diameter D is the chord 2 sqrt(p (D - p)): 6 mm for
+    D = 10 mm, p = 1 mm."""
+    feature = {"kind": "pocket", "depth": 0.001, "length": 0.0089, "width": 0.0055}
+    for section in ({"kind": "round", "diameter": 0.010}, {"kind": "tube", "diameter": 0.010, "wall": 0.002}):
+        text = report.feature_text(feature, section)
+        assert text.startswith("flat 8.90 mm long, 1.00 mm deep") and "(6.00 mm wide at the surface)" in text
+        assert "pocket" not in text
+    assert report.feature_text(feature, {"kind": "rectangle", "width": 0.01, "height": 0.005}).startswith(
+        "pocket 8.90 × 5.50 mm")
+
+
+def test_an_overridden_gauge_is_named_as_modified_and_reads_back():
+    spec = parse_spec(dict(LOAD, gauge={"name": "BF120-3AA", "max_strain": "2500 ue"}))
+    assert spec.gauge.name == "BF120-3AA (modified max_strain)"
+    assert spec.gauge.max_strain == pytest.approx(2.5e-3)
+    # the same values as the catalogue: still the catalogue's gauge
+    assert parse_spec(dict(LOAD, gauge={"name": "BF120-3AA", "max_strain": "1500 ue"})).gauge.name == "BF120-3AA"
+    # design.json carries the gauge as a dictionary; read back, it is the same gauge
+    again = parse_spec(dict(LOAD, gauge=spec.gauge.as_dict()))
+    assert again.gauge.as_dict() == spec.gauge.as_dict()
+
+
+def _infeasible_record():
+    record = json.loads((ROOT / "tests" / "data" / "plot_prototype_b.json").read_text())
+    record["status"] = "infeasible"
+    record["candidates"] = [
+        {"material": "7075-T6", "section": "rectangle + pocket", "status": "infeasible", "objective": 3.0,
+         "worst_violation": 0.05},
+        {"material": "6061-T6", "section": "round + pocket", "status": "infeasible", "objective": 1.0,
+         "worst_violation": 0.4},
+    ]
+    return record
+
+
+def test_the_candidate_table_says_how_it_is_ranked_and_shows_the_ranking_key(capsys):
+    from rich.console import Console
+
+    record = _infeasible_record()
+    report.print_summary(record, Console(width=200))
+    out = capsys.readouterr().out
+    assert "worst violation" in out and "least infeasible" in out
+    assert out.index("0.05") < out.index("0.4")
+    md = report.markdown(record)
+    assert report.candidate_order(record) in md and "| worst violation |" in md
+    record["status"] = "optimal"
+    assert "ranked by the objective (error" in report.candidate_order(record)
+
+
+def test_materials_reads_at_80_columns(capsys, monkeypatch):
+    from designer.spec import catalogue
+
+    monkeypatch.setenv("COLUMNS", "80")
+    assert main(["materials"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert max(len(line) for line in lines) <= 80
+    for name in list(catalogue.materials()) + list(catalogue.gauges()):
+        row = next(line for line in lines if line.lstrip().startswith(name + " "))
+        assert "…" not in row   # no figure cut short
+    assert any(line.startswith("[1] ") for line in lines)
+
+
+def test_bench_says_when_it_finds_no_example_specs(tmp_path, capsys, monkeypatch):
+    from designer import bench
+    from designer.errors import InputError
+
+    def stop(*args, **kwargs):
+        raise InputError("stopped before running")
+
+    monkeypatch.setattr(bench, "run_bench", stop)
+    monkeypatch.setattr(bench, "default_examples_folder", lambda: None)   # an installed package
+    assert main(["bench", "--count", "1", "--quiet", "-o", str(tmp_path / "b")]) == 2
+    err = capsys.readouterr().err
+    assert "no examples folder beside the package" in err and "running the 1 generated specs only" in err
+    empty = tmp_path / "specs"
+    empty.mkdir()
+    assert main(["bench", "--specs", str(empty), "--count", "1", "--quiet", "-o", str(tmp_path / "b")]) == 2
+    assert f"no optimiser specs in {empty}" in capsys.readouterr().err
+
+
+def test_ipopt_options_keep_casadis_nan_warnings_off_standard_error(capfd):
+    """A trial point where the model is NaN (sqrt of a negative) is IPOPT's to handle; casadi
+    would print 'NaN detected' for it."""
+    import casadi as ca
+
+    from designer.search.problem import IPOPT_OPTIONS
+
+    x = ca.SX.sym("x")
+    solver = ca.nlpsol("nan_probe", "ipopt", {"x": x, "f": (x - 1) ** 2, "g": ca.sqrt(x)}, IPOPT_OPTIONS)
+    solver(x0=-1, lbg=-10, ubg=10)
+    assert "NaN detected" not in capfd.readouterr().err
+    loud = ca.nlpsol("nan_probe2", "ipopt", {"x": x, "f": (x - 1) ** 2, "g": ca.sqrt(x)},
+                     dict(IPOPT_OPTIONS, show_eval_warnings=True))
+    loud(x0=-1, lbg=-10, ubg=10)
+    assert "NaN detected" in capfd.readouterr().err   # the probe does reach a NaN
+
+
+@pytest.mark.parametrize("argv", [["materials"], ["materials", "--json"]])
+def test_a_closed_pipe_is_a_quiet_exit(argv):
+    """`fpdesign materials | head`: the reader closes the pipe; no traceback, no message, exit 141."""
+    env = {"PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT)}
+    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", *argv], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, env=env, cwd=ROOT)
+    proc.stdout.close()
+    err = proc.stderr.read().decode()
+    proc.wait(timeout=60)
+    assert proc.returncode == PIPE_CLOSED == 128 + 13 and err == ""
