@@ -68,3 +68,28 @@ def test_a_reused_output_folder_holds_one_runs_outputs(tmp_path):
     assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(out), "--no-cad", "--no-plots", "--quiet"]) == 0
     # the previous run's plots are gone; the user's own file stays
     assert sorted(p.name for p in out.iterdir()) == ["design.json", "my-notes.txt", "report.md"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("delay", [0.5, 4.0])
+def test_a_signal_stops_verify_and_leaves_no_scratch(tmp_path, delay):
+    # 0.5 s: building the CAD solid in its child process; 4 s: meshing or solving (this machine)
+    record = tmp_path / "in" / "design.json"
+    assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(record.parent), "--no-cad", "--no-plots",
+                 "--quiet"]) == 0
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = {**os.environ, "TMPDIR": str(scratch)}
+    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "verify", str(record), "-o", str(tmp_path / "v"),
+                             "--mesh", "coarse"], cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                            text=True, env=env)
+    wait_for_handlers(proc)
+    time.sleep(delay)
+    if proc.poll() is not None:
+        pytest.skip("the check finished before the signal")
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143, err
+    assert [x for x in err.splitlines() if "CasADi" not in x] == ["fpdesign: terminated"]
+    assert not (tmp_path / "v").exists()
+    assert list(scratch.iterdir()) == []      # no fpdesign-verify-* folder left
