@@ -254,9 +254,14 @@ class FamilyProblem:
                                            nlp, opts)
         return self._ipopt[stage]
 
-    def solve_ipopt(self, params, x0, stage: str = "primary", margin: float = 0.0) -> Solve:
-        """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``."""
+    def solve_ipopt(self, params, x0, stage: str = "primary", margin: float = 0.0, fixed=None) -> Solve:
+        """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``; ``fixed`` maps
+        variable indices to values (NLP units) they are held at."""
         lo, hi = self.bounds()
+        if fixed:
+            x0 = np.array(x0, dtype=float)
+            for i, v in fixed.items():
+                lo[i] = hi[i] = x0[i] = v
         solver = self.ipopt(stage)
         # casadi writes its warnings through Python's standard error; a signal inside IPOPT makes
         # it warn "KeyboardInterruptException" before the run stops with its own one line: held

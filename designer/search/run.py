@@ -130,10 +130,17 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
 
 def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, solves: list, fallbacks: list,
               where: str):
-    """Rounding broke a limit: re-solve from the answer with the constraints tightened by each of
-    ROUNDING_MARGINS in turn, from the first as large as the violation rounding caused; the first
-    answer whose rounded design breaks no limit of the NLP replaces it (under the error objective
-    it may still miss the targets: that is a verdict)."""
+    """Rounding broke a limit. First the section sizes are held at each of their neighbouring
+    0.01 mm values in turn and the rest (stations, depth) solved again, each answer rounded and
+    checked: the best that checks out is the answer on the grid (``_on_the_grid``). Only if none
+    does are the constraints tightened, by each of ROUNDING_MARGINS in turn from the first as
+    large as the violation rounding caused; the first answer whose rounded design breaks no limit
+    of the NLP replaces it (under the error objective it may still miss the targets: a verdict)."""
+    on_grid = _on_the_grid(problem, params, material, s, solves)
+    if on_grid is not None:
+        fallbacks.append(f"{where}: rounding broke a limit; the section held at its neighbouring 0.01 mm sizes "
+                         "and the rest solved again")
+        return on_grid
     broken = max(float(v.normalised) for v in ev.violations if not (problem.epigraph and v.name in model.TARGET_LIMITS))
     # a margin smaller than the violation rounding caused seldom survives the next rounding
     margins = [m for m in ROUNDING_MARGINS if m >= broken] or ROUNDING_MARGINS[-1:]
@@ -147,6 +154,36 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
                                                            "misses only the accuracy targets"))
             return s2, ev2
     return s, ev
+
+
+# The variables that rounding holds at their grid values while the others are solved again.
+SECTION_VARIABLES = ("width", "height", "side", "diameter", "wall")
+
+
+def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list):
+    """``(Solve, Evaluation)``: the best checked design with the section sizes on the 0.01 mm grid
+    next to the answer (each combination of rounding down and up) and the other variables solved
+    again with them held; None when no combination gives a design that meets every limit (or,
+    under the error objective, misses only the targets)."""
+    import itertools
+
+    from designer.search.rounding import _floor_ceil
+
+    index = [i for i, name in enumerate(problem.names) if name in SECTION_VARIABLES]
+    choices = [[v / MM for v in _floor_ceil(float(s.x[i]) * MM)] for i in index]
+    found = []
+    for combo in itertools.product(*choices):
+        s2 = problem.solve_ipopt(params, s.x, fixed=dict(zip(index, combo)))
+        solves.append(s2)
+        if not s2.success:
+            continue
+        ev2 = round_and_check(problem.design(s2.x, material), problem.spec)
+        if ev2 is not None and (ev2.feasible or (problem.epigraph and _only_targets(ev2))):
+            found.append((s2, ev2))
+    if not found:
+        return None
+    best = pick([ev for _, ev in found])
+    return next((s2, ev2) for s2, ev2 in found if ev2 is best)
 
 
 def _only_targets(ev: Evaluation) -> bool:

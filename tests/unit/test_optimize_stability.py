@@ -93,13 +93,15 @@ def test_optimum_on_several_limits_at_once_is_found_and_meets_all_of_them():
     active = {c["name"] for c in constraints if c["active"]}
     # within 0.5 % of the limit (model.ACTIVE_TOLERANCE): the geometric limits bind exactly ...
     assert {"load_clearance", "width_min"} <= active
-    # ... and stress (fatigue at the hole) and accuracy within the 1 % by which the rounding retry tightened every
-    # limit (search.run.ROUNDING_MARGINS): five limits meet at this optimum
+    # ... and stress (fatigue at the hole) and accuracy as well: five limits meet at this optimum.
+    # Rounding to 0.01 mm broke one; the section held at its neighbouring grid sizes and the rest
+    # solved again leaves each within what one 0.01 mm step of a 3-4 mm section moves it (under
+    # 1 %), where tightening every limit at once (the old retry) left them 1-2 % off
     margins = {c["name"]: c["margin"] for c in constraints}
-    assert all(0 <= margins[n] <= 0.02 for n in ("stress_root", "fatigue_feature", "force_error"))
+    assert all(0 <= margins[n] <= 0.01 for n in ("stress_root", "fatigue_feature", "force_error"))
     assert _recheck(outcome, SEVERAL_LIMITS).feasible
     # the retry is on record: the first answer broke a limit once rounded
-    assert any("re-solved with every limit tightened" in f for f in outcome.solver["fallbacks"])
+    assert any("the section held at its neighbouring 0.01 mm sizes" in f for f in outcome.solver["fallbacks"])
     ref = reference.reference_best(SEVERAL_LIMITS, levels=5)
     assert ref.feasible
     assert outcome.best.objective <= ref.objective * (1 + REFERENCE_GAP)
