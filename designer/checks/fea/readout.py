@@ -240,20 +240,40 @@ def _element_size_at(mesh, vertex: int) -> float:
     return float(np.mean(np.linalg.norm(mesh.p[:, others] - mesh.p[:, [vertex]], axis=0)))
 
 
-def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float]:
-    """The peak von Mises stress away from the clamp and cut faces, and the largest within the
-    feature zones (the whole kept beam when no vertex lies in one)."""
-    vm = vertex_von_mises(sol, pb)
+def _kept(sol: Solution, pb: Problem, refinement: float) -> np.ndarray:
+    """The vertices whose stress counts: STRESS_EXCLUSION away from the clamp and cut faces, and
+    also nearer the clamp inside a feature's span (its floor radius at the clamp-side end carries
+    the largest moment of the features, and a pocket may start closer to the clamp than half a
+    depth) except in the elements that touch the clamp face, over which its singular peak spreads."""
     x = sol.mesh.p[0]
     margin = max(STRESS_EXCLUSION * pb.depth, STRESS_EXCLUSION_ELEMENTS * pb.global_size / refinement)
-    keep = (x >= margin) & (x <= pb.cut - margin)
+    tol = PLANE_TOLERANCE * pb.size
+    touching = np.any(x[sol.mesh.t] <= tol, axis=0)
+    at_clamp = np.zeros(x.shape, dtype=bool)
+    at_clamp[np.unique(sol.mesh.t[:, touching])] = True
+    in_span = np.any([(x >= a - tol) & (x <= b + tol) for a, b in pb.spans], axis=0)
+    return ((x >= margin) | (in_span & ~at_clamp)) & (x <= pb.cut - margin)
+
+
+def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float, tuple]:
+    """The peak von Mises stress away from the clamp and cut faces (``_kept``), the largest within
+    the feature zones (the whole kept beam when no vertex lies in one) and the largest within each
+    station's zone (its reduced span widened by half a section depth; 0 where none is kept)."""
+    vm = vertex_von_mises(sol, pb)
+    x = sol.mesh.p[0]
+    keep = _kept(sol, pb, refinement)
     i_peak = np.flatnonzero(keep)[np.argmax(vm[keep])]
     location = tuple(float(v) for v in sol.mesh.p[:, i_peak])
     peak = StressPeak(float(vm[i_peak]), location, _where(sol.mesh.p[:, i_peak], pb),
                       _element_size_at(sol.mesh, i_peak))
     zone = keep & _stress_zone(x, pb)
     feature_peak = float(vm[zone].max()) if zone.any() else float(vm[keep].max())
-    return peak, feature_peak
+    margin = pb.depth / 2
+    stations = []
+    for a, b in pb.spans:
+        here = keep & (x >= a - margin) & (x <= b + margin)
+        stations.append(float(vm[here].max()) if here.any() else 0.0)
+    return peak, feature_peak, tuple(stations)
 
 
 def stress_near(sol: Solution, pb: Problem, refinement: float, point) -> float:
