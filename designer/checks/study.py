@@ -116,14 +116,19 @@ class Case:
 # gauges with the spec's pocket margin); ``notch`` is sqrt(p / r), Peterson's variable.
 POCKET_BOXES = {
     "rectangle-pocket": {"depth_ratio": (0.08, 0.32), "length_ratio": (1.0, 5.0),
-                         "pocket_width_ratio": (0.45, 0.88), "notch_ratio": (1.6, 7.0), "lp_grid": (2.4, 4.0)},
-    "round-pocket": {"depth_ratio": (0.1, 0.35), "length_ratio": (0.4, 2.6), "notch_ratio": (1.6, 7.0),
+                         "pocket_width_ratio": (0.45, 0.88), "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
+    "round-pocket": {"depth_ratio": (0.1, 0.35), "length_ratio": (0.4, 2.6), "notch_ratio": (1.55, 7.0),
                      "lp_grid": (2.4, 4.0)},
-    "tube-pocket": {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.2, 0.42), "length_ratio": (0.3, 1.8),
-                    "notch_ratio": (1.6, 7.0), "lp_grid": (2.4, 4.0)},
+    "tube-pocket": {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.2, 0.42), "length_ratio": (0.25, 1.8),
+                    "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
 }
 POCKET_CASES = {"rectangle-pocket": 32, "round-pocket": 32, "tube-pocket": 40}
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
+# Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
+# deep enough: gmsh's mesh of a radius much finer than the pocket's own detail takes minutes. A
+# sharp radius (a large notch_ratio) is thus studied on deep pockets, as designs have it (the
+# spec's default is R0.2, or 0.4 of a pocket shallower than 0.5 mm).
+MIN_CORNER_RADIUS = 0.1e-3
 
 
 def halton(n: int, dims: int) -> list[tuple]:
@@ -145,24 +150,26 @@ def halton(n: int, dims: int) -> list[tuple]:
 def pocket_case(family: str, u: dict) -> Case | None:
     """The case of one point of a pocket family's box (parameter -> value), or None where the
     flat would be narrower than the gauge's grid or the floor radii would leave a floor shorter
-    than the gauge's backing (the CAD refuses both)."""
+    than the gauge's backing (the CAD refuses both). ``notch_ratio``'s coordinate (0-1) spans the
+    box's range up to where the floor radius reaches MIN_CORNER_RADIUS."""
     l_p = u["lp_grid"] * GRID_LENGTH
     size = l_p / u["length_ratio"]
     clearance = max(CLAMP_CLEARANCE, POCKET_CLEARANCE * size)
+    wall = u["wall_ratio"] * size if family == "tube-pocket" else 0.0
+    depth = u["depth_ratio"] * (wall if family == "tube-pocket" else size)
+    lo, hi = POCKET_BOXES[family]["notch_ratio"]
+    hi = max(lo, min(hi, math.sqrt(depth / MIN_CORNER_RADIUS)))
+    corner = depth / (lo + u["notch_ratio"] * (hi - lo)) ** 2
     if family == "rectangle-pocket":
-        depth = u["depth_ratio"] * size
         case = Case(family, width=POCKET_WIDTH / u["pocket_width_ratio"], height=size, depth=depth,
-                    clamp_clearance=clearance, pocket_length=l_p, corner_radius=depth / u["notch_ratio"] ** 2)
+                    clamp_clearance=clearance, pocket_length=l_p, corner_radius=corner)
     else:
-        wall = u["wall_ratio"] * size if family == "tube-pocket" else 0.0
-        depth = u["depth_ratio"] * (wall if family == "tube-pocket" else size)
         radius = size / 2
         chord = 2 * math.sqrt(radius ** 2 - (radius - depth) ** 2)
         if chord < MIN_FLAT_WIDTH:
             return None
         case = Case(family, diameter=size, wall=wall, depth=depth, clamp_clearance=clearance, pocket_length=l_p,
-                    pocket_width=min(POCKET_WIDTH, round(0.9 * chord, 6)),
-                    corner_radius=depth / u["notch_ratio"] ** 2)
+                    pocket_width=min(POCKET_WIDTH, round(0.9 * chord, 6)), corner_radius=corner)
     return case if l_p - 2 * case.corner_radius >= GAUGE_LENGTH else None
 
 
@@ -173,7 +180,8 @@ def cases(families=None) -> list[Case]:
     for fam, box in POCKET_BOXES.items():
         names = list(box)
         for point in halton(POCKET_CASES[fam], len(names)):
-            u = {k: lo + t * (hi - lo) for k, t, (lo, hi) in zip(names, point, box.values())}
+            u = {k: t if k == "notch_ratio" else lo + t * (hi - lo)
+                 for k, t, (lo, hi) in zip(names, point, box.values())}
             case = pocket_case(fam, u)
             if case is not None:
                 out.append(case)
