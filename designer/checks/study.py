@@ -122,7 +122,7 @@ POCKET_BOXES = {
     "tube-pocket": {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.2, 0.42), "length_ratio": (0.25, 1.8),
                     "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
 }
-POCKET_CASES = {"rectangle-pocket": 32, "round-pocket": 32, "tube-pocket": 40}
+POCKET_CASES = {"rectangle-pocket": 14, "round-pocket": 15, "tube-pocket": 19}
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
 # deep enough: gmsh's mesh of a radius much finer than the pocket's own detail takes minutes. A
@@ -335,22 +335,25 @@ def fit_polynomial(rows: list[dict], variables: tuple, target, degree: int = 2, 
                float(np.sqrt(np.mean(resid ** 2))), float(np.max(np.abs(loo))))
 
 
-# What each family's fits depend on (the other parameters are fixed by the spec's pocket rule
-# or do not vary in the study): the gauge strain on the pocket's depth, its length and the
-# gauge grid's (how far the grid's ends are from the pocket's ends), and for a slot the share of
-# the width it takes; the extra compliance on the depth and the length (and the slot's share);
-# K_t, as Peterson's shoulder fillets, on the depth and sqrt(t/r) (and the slot's share).
+# What each family's fits may depend on, as candidate sets tried from the fewest terms up (the
+# other parameters are fixed by the spec's pocket rule or do not vary in the study): the gauge
+# strain on the pocket's depth, its length and the gauge grid's (how far the grid's ends are from
+# the pocket's ends), and for a slot the share of the width it takes; the extra compliance on
+# the depth and the length (a tube's wall, a slot's share); K_t, as Peterson's shoulder fillets,
+# on sqrt(t/r) and the depth (a tube's wall, a slot's share).
 FIT_VARIABLES = {
-    "rectangle-hole": {"strain": ("hole_ratio", "grid_ratio")},
-    "rectangle-pocket": {"strain": ("depth_ratio", "length_ratio", "grid_ratio", "pocket_width_ratio"),
-                         "extra_length": ("depth_ratio", "length_ratio", "pocket_width_ratio"),
-                         "stress": ("depth_ratio", "notch_ratio", "pocket_width_ratio")},
-    "round-pocket": {"strain": ("depth_ratio", "length_ratio", "grid_ratio"),
-                     "extra_length": ("depth_ratio", "length_ratio"),
-                     "stress": ("depth_ratio", "notch_ratio")},
-    "tube-pocket": {"strain": ("depth_ratio", "wall_ratio", "length_ratio", "grid_ratio"),
-                    "extra_length": ("depth_ratio", "wall_ratio", "length_ratio"),
-                    "stress": ("depth_ratio", "wall_ratio", "notch_ratio")},
+    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio")]},
+    "rectangle-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
+                                    ("depth_ratio", "length_ratio", "pocket_width_ratio")],
+                         "extra_length": [("depth_ratio", "length_ratio"),
+                                          ("depth_ratio", "length_ratio", "pocket_width_ratio")],
+                         "stress": [("notch_ratio", "depth_ratio"), ("notch_ratio", "depth_ratio", "pocket_width_ratio")]},
+    "round-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio")],
+                     "extra_length": [("depth_ratio", "length_ratio")],
+                     "stress": [("notch_ratio", "depth_ratio")]},
+    "tube-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
+                    "extra_length": [("depth_ratio", "length_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
+                    "stress": [("notch_ratio", "depth_ratio"), ("notch_ratio", "depth_ratio", "wall_ratio")]},
 }
 # Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
 # kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
@@ -397,30 +400,29 @@ def _in_domain(row: dict, box: dict) -> bool:
 
 def fit_table(rows: list[dict], source: str = ""):
     """The corrections of every family from the study's rows: for each feature family and
-    quantity, the lowest-degree polynomial whose leave-one-out error meets ``FIT_ACCEPT``
-    (with at least two points per term), fitted over FIT_DOMAINS where one is given; quantities
-    no fit meets stay uncorrected."""
+    quantity, the polynomial of fewest terms (over FIT_VARIABLES' candidate sets and FIT_DEGREES)
+    whose leave-one-out error meets ``FIT_ACCEPT`` with at least two points per term, fitted over
+    FIT_DOMAINS where one is given; quantities no fit meets stay uncorrected."""
     from designer.model.corrections import Corrections
 
     fits, report = {}, []
     for fam, quantities in FIT_VARIABLES.items():
-        for quantity, variables in quantities.items():
+        for quantity, candidates in quantities.items():
             column = TARGETS[quantity]
             box = FIT_DOMAINS.get(fam, {}).get(quantity, {})
-            data = [r for r in rows if r["family"] == fam and math.isfinite(r.get(column, math.nan))
-                    and all(v in r for v in variables) and _in_domain(r, box)]
-            chosen = None
-            for degree in FIT_DEGREES:
+            tries = sorted(((len(monomials(len(v), d)), i, v, d) for i, v in enumerate(candidates)
+                            for d in FIT_DEGREES), key=lambda t: t[:2])
+            for _, _, variables, degree in tries:
+                data = [r for r in rows if r["family"] == fam and math.isfinite(r.get(column, math.nan))
+                        and all(v in r for v in variables) and _in_domain(r, box)]
                 if 2 * len(monomials(len(variables), degree)) > len(data):
-                    break
+                    continue
                 fit = fit_polynomial(data, variables, lambda r: r[column], degree,
                                      weight=lambda r, q=quantity: error_weight(q, r))
                 report.append((fam, quantity, degree, fit))
                 if fit.loo_max <= FIT_ACCEPT[quantity]:
-                    chosen = fit
+                    fits.setdefault(fam, {})[quantity] = fit
                     break
-            if chosen is not None:
-                fits.setdefault(fam, {})[quantity] = chosen
     if any(r["family"] == "rectangle-none" for r in rows):
         from designer.checks import clamp_study
 
@@ -453,7 +455,7 @@ def main(argv=None) -> int:
         for fam, quantity, degree, f in report:
             shipped = table.fit(fam, quantity) is f
             print(f"{fam:17s} {quantity:13s} {'degree ' if isinstance(degree, int) else ''}{degree}: rms {f.rms:.4f}, "
-                  f"leave-one-out max {f.loo_max:.4f}"
+                  f"leave-one-out max {f.loo_max:.4f}{'' if fam == 'plain' else ' over ' + ', '.join(f.variables)}"
                   f"{'  shipped' if shipped else ''}")
         return 0
     rows = []

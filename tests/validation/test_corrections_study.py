@@ -144,16 +144,19 @@ def test_peterson_reference_behaves_as_a_shoulder():
 
 def test_slot_kt_is_below_the_full_width_shoulders():
     # A slot's end is a shoulder across only part of the width: its side walls carry load past
-    # the end, so K_t at the floor radius (over the beam model's nominal stress at the reduced
-    # section, which counts the side walls) stays below Peterson's full-width step with the
-    # same depth and radius. Checked over the study's slots (3-D figures, not the fit).
+    # the end, so the peak at its floor radius, over the beam model's stress at the floor level
+    # of the reduced section (the study's K_t is over the stress at the side walls' top, h/2),
+    # stays below Peterson's full-width step of the same depth and radius. The study's 3-D
+    # figures, not the fit.
     rows = [r for r in _rows() if r["family"] == "rectangle-pocket" and math.isfinite(r.get("stress_ratio", math.nan))]
-    assert rows
+    checked = 0
     for r in rows:
         t_over_r = r["notch_ratio"] ** 2
-        if not 2 <= t_over_r <= 20:
-            continue
-        assert r["stress_ratio"] < peterson_bending_shoulder(t_over_r, 2 * r["depth_ratio"]), r
+        if 2 <= t_over_r <= 20:
+            at_floor = r["stress_ratio"] * 0.5 / (0.5 - r["depth_ratio"])
+            assert at_floor < peterson_bending_shoulder(t_over_r, 2 * r["depth_ratio"]), r
+            checked += 1
+    assert checked >= 10
 
 
 def _row_of(case, rows):
