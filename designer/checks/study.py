@@ -351,7 +351,8 @@ FIT_VARIABLES = {
     "round-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio")],
                      "extra_length": [("depth_ratio", "length_ratio")],
                      "stress": [("notch_ratio", "depth_ratio")]},
-    "tube-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
+    "tube-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
+                               ("depth_ratio", "wall_ratio", "length_ratio")],
                     "extra_length": [("depth_ratio", "length_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
                     "stress": [("notch_ratio", "depth_ratio"), ("notch_ratio", "depth_ratio", "wall_ratio")]},
 }
@@ -361,8 +362,8 @@ FIT_DOMAINS: dict = {}
 FIT_DEGREES = (1, 2, 3)
 # A fit is shipped only if its largest leave-one-out error is within this: a correction the study
 # cannot predict to better than the 3-D check's own acceptance would only move the model's error
-# elsewhere. The gauge-strain factor and K_t are judged relative to themselves (2 %, as the
-# check's strain verdict; 5 %, half the peak-stress verdict's 10 %). The extra length is judged
+# elsewhere. The gauge-strain factor is judged on itself (0.02: 2 % of the plain model's strain,
+# the check's strain verdict), K_t relative to itself (5 %, half the peak-stress verdict's 10 %). The extra length is judged
 # by what the design sees, the free-end deflection it implies: 1.5 % (half the check's 3 %). A
 # fixed share of the section size (the rule before) asks far too much of a long thin slot, whose
 # deflection barely depends on Δ, and too little of a deep flat near the clamp.
@@ -385,12 +386,15 @@ def error_weight(quantity: str, row: dict) -> float:
     """What a unit error in the fitted quantity costs at ``row``, in FIT_ACCEPT's terms."""
     if quantity == "extra_length":
         return abs(deflection_per_extra(row))
-    return 1 / abs(row[TARGETS[quantity]])
+    if quantity == "stress":
+        return 1 / abs(row[TARGETS[quantity]])
+    return 1.0
 
 
 def judged_error(quantity: str, row: dict, predicted: float) -> float:
-    """The error of a prediction of ``quantity`` at ``row`` as FIT_ACCEPT judges it: relative for
-    the strain factor and K_t, the implied free-end deflection's for the extra length."""
+    """The error of a prediction of ``quantity`` at ``row`` as FIT_ACCEPT judges it: on the strain
+    factor itself (a share of the plain model's strain), relative for K_t, the implied free-end
+    deflection's for the extra length."""
     return (predicted - row[TARGETS[quantity]]) * error_weight(quantity, row)
 
 

@@ -82,10 +82,12 @@ def _up_facets(mesh):
     return tri[:, :, up], cell[up]
 
 
-def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
+def _surface_points(mesh, xy: np.ndarray, below: float | None = None, required: bool = True):
     """The top surface of the mesh above each ``(x, y)``: points (3, n) and their cells.
 
     ``below``: only surface at or below this Z (skips walls' tops over a pocket floor).
+    ``required=False``: points with no up-facing surface above them (the steep part of a floor
+    radius, where the surface faces along X) are left out instead of raising SolverError.
     """
     from scipy.spatial import cKDTree
 
@@ -106,6 +108,9 @@ def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
         if k == tri.shape[2]:
             break
         k = min(4 * k, tri.shape[2])
+    if todo.size and not required:
+        keep = np.setdiff1d(np.arange(n), todo)
+        return np.vstack([xy[:, keep], z_best[keep]]), cell_best[keep]
     if todo.size:
         missing = xy[:, todo[0]]
         raise SolverError(f"no beam surface found above X = {missing[0] * 1e3:.2f} mm, "
@@ -156,12 +161,13 @@ def gauge_strains(sol: Solution, pb: Problem) -> list[float]:
 
 def surface_profile(sol: Solution, pb: Problem, refinement: float):
     """eps_xx at the surface along the top centre line (the element's own value at each point),
-    from PROFILE_START of an element off either end."""
+    from PROFILE_START of an element off either end; points over the steep part of a floor radius,
+    which no up-facing surface covers, are left out."""
     start = PROFILE_START * pb.global_size / refinement
     x = np.linspace(start, pb.cut - start, PROFILE_POINTS)
     xy = np.array([x, np.full_like(x, PLANE_TOLERANCE * 1e3 * pb.size)])
-    points, cells = _surface_points(sol.mesh, xy)
-    return x, points[2], _probe_matrix(sol.basis, points, cells, derivative=0) @ sol.u[0]
+    points, cells = _surface_points(sol.mesh, xy, required=False)
+    return points[0], points[2], _probe_matrix(sol.basis, points, cells, derivative=0) @ sol.u[0]
 
 
 def _cut_face_motion(sol: Solution, pb: Problem) -> tuple[float, float]:
