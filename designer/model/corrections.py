@@ -45,6 +45,13 @@ def parameters(g: Geometry) -> dict:
     if g.feature == "pocket":
         out["depth_ratio"] = g.depth / (g.wall if g.section == "tube" else size)
         out["radius_ratio"] = g.floor_radius / g.depth    # r/t of Peterson's shoulder-fillet charts
+        if g.floor_radius > 0:
+            # sqrt(t/r): Peterson's shoulder-fillet K_t is a polynomial in it (Pilkey & Pilkey,
+            # Peterson's Stress Concentration Factors, 3rd ed., ch. 3 curve fits), as K_t - 1
+            # grows like sqrt(t/r) for a sharp fillet (Neuber)
+            out["notch_ratio"] = (g.depth / g.floor_radius) ** 0.5
+        if g.section == "rectangle":
+            out["pocket_width_ratio"] = g.pocket_width / g.width
     if g.feature == "hole":
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":

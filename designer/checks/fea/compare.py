@@ -26,14 +26,15 @@ from designer.errors import InputError, describe_allowed
 
 @dataclass(frozen=True)
 class Figures:
-    """What one mesh gives: the gauge strains, the free-end deflection, the stress peaks, the
-    stress at another run's peak (``at_peak``), the surface strain profile ``(x, z, eps_xx)``
-    and the run's size and time."""
+    """What one mesh gives: the gauge strains, the free-end deflection, the stress peaks (overall,
+    at the features, at each station's feature), the stress at another run's peak (``at_peak``),
+    the surface strain profile ``(x, z, eps_xx)`` and the run's size and time."""
 
     gauges: tuple
     deflection: float
     peak: StressPeak
     feature_peak: float
+    station_peaks: tuple
     at_peak: float | None
     profile: tuple
     run: MeshRun
@@ -48,14 +49,14 @@ def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=No
     sol = solve(points, tets, pb)
     gauges = tuple(gauge_strains(sol, pb))
     deflection = free_end_deflection(sol, pb)
-    peak, feature_peak = stress_peaks(sol, pb, refinement)
+    peak, feature_peak, station_peaks = stress_peaks(sol, pb, refinement)
     at_peak = None if peak_at is None else stress_near(sol, pb, refinement, peak_at)
     profile = surface_profile(sol, pb, refinement)
     run = MeshRun(level=level, refinement=refinement, global_size=pb.global_size / refinement,
                   detail_size=pb.detail_size / refinement, elements=int(tets.shape[1]),
                   vertices=int(points.shape[1]), dofs=int(3 * sol.basis.N), cg_iterations=sol.iterations,
                   seconds=time.perf_counter() - start)
-    return Figures(gauges, deflection, peak, feature_peak, at_peak, profile, run)
+    return Figures(gauges, deflection, peak, feature_peak, station_peaks, at_peak, profile, run)
 
 
 def model_profile(x: np.ndarray, z: np.ndarray, pb: Problem, segments) -> np.ndarray:
@@ -115,7 +116,8 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         name=beam.name, mesh=mesh, force=pb.force, position=pb.position, free_length=pb.free_length, cut=pb.cut,
         gauges=gauges, deflection_fea=main.deflection, deflection_model=float(a.deflection),
         deflection_coarse=partner.deflection, stress_peak=main.peak, stress_peak_coarse=partner.at_peak,
-        stress_feature_fea=main.feature_peak, stress_model=float(max(a.stress_root, a.stress_peak)),
+        stress_feature_fea=main.feature_peak, stress_stations_fea=main.station_peaks,
+        stress_model=float(max(a.stress_root, a.stress_peak)),
         stress_feature_model=float(a.stress_peak), stress_concentration_model=float(a.stress_concentration),
         stress_feature_nominal=float(a.stress_feature),
         stress_root_model=float(a.stress_root), stress_allowable=allowable, limits=limits,

@@ -82,10 +82,12 @@ def _up_facets(mesh):
     return tri[:, :, up], cell[up]
 
 
-def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
+def _surface_points(mesh, xy: np.ndarray, below: float | None = None, required: bool = True):
     """The top surface of the mesh above each ``(x, y)``: points (3, n) and their cells.
 
     ``below``: only surface at or below this Z (skips walls' tops over a pocket floor).
+    ``required=False``: points with no up-facing surface above them (the steep part of a floor
+    radius, where the surface faces along X) are left out instead of raising SolverError.
     """
     from scipy.spatial import cKDTree
 
@@ -106,6 +108,9 @@ def _surface_points(mesh, xy: np.ndarray, below: float | None = None):
         if k == tri.shape[2]:
             break
         k = min(4 * k, tri.shape[2])
+    if todo.size and not required:
+        keep = np.setdiff1d(np.arange(n), todo)
+        return np.vstack([xy[:, keep], z_best[keep]]), cell_best[keep]
     if todo.size:
         missing = xy[:, todo[0]]
         raise SolverError(f"no beam surface found above X = {missing[0] * 1e3:.2f} mm, "
@@ -156,12 +161,13 @@ def gauge_strains(sol: Solution, pb: Problem) -> list[float]:
 
 def surface_profile(sol: Solution, pb: Problem, refinement: float):
     """eps_xx at the surface along the top centre line (the element's own value at each point),
-    from PROFILE_START of an element off either end."""
+    from PROFILE_START of an element off either end; points over the steep part of a floor radius,
+    which no up-facing surface covers, are left out."""
     start = PROFILE_START * pb.global_size / refinement
     x = np.linspace(start, pb.cut - start, PROFILE_POINTS)
     xy = np.array([x, np.full_like(x, PLANE_TOLERANCE * 1e3 * pb.size)])
-    points, cells = _surface_points(sol.mesh, xy)
-    return x, points[2], _probe_matrix(sol.basis, points, cells, derivative=0) @ sol.u[0]
+    points, cells = _surface_points(sol.mesh, xy, required=False)
+    return points[0], points[2], _probe_matrix(sol.basis, points, cells, derivative=0) @ sol.u[0]
 
 
 def _cut_face_motion(sol: Solution, pb: Problem) -> tuple[float, float]:
@@ -240,20 +246,40 @@ def _element_size_at(mesh, vertex: int) -> float:
     return float(np.mean(np.linalg.norm(mesh.p[:, others] - mesh.p[:, [vertex]], axis=0)))
 
 
-def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float]:
-    """The peak von Mises stress away from the clamp and cut faces, and the largest within the
-    feature zones (the whole kept beam when no vertex lies in one)."""
-    vm = vertex_von_mises(sol, pb)
+def _kept(sol: Solution, pb: Problem, refinement: float) -> np.ndarray:
+    """The vertices whose stress counts: STRESS_EXCLUSION away from the clamp and cut faces, and
+    also nearer the clamp inside a feature's span (its floor radius at the clamp-side end carries
+    the largest moment of the features, and a pocket may start closer to the clamp than half a
+    depth) except in the elements that touch the clamp face, over which its singular peak spreads."""
     x = sol.mesh.p[0]
     margin = max(STRESS_EXCLUSION * pb.depth, STRESS_EXCLUSION_ELEMENTS * pb.global_size / refinement)
-    keep = (x >= margin) & (x <= pb.cut - margin)
+    tol = PLANE_TOLERANCE * pb.size
+    touching = np.any(x[sol.mesh.t] <= tol, axis=0)
+    at_clamp = np.zeros(x.shape, dtype=bool)
+    at_clamp[np.unique(sol.mesh.t[:, touching])] = True
+    in_span = np.any([(x >= a - tol) & (x <= b + tol) for a, b in pb.spans], axis=0)
+    return ((x >= margin) | (in_span & ~at_clamp)) & (x <= pb.cut - margin)
+
+
+def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float, tuple]:
+    """The peak von Mises stress away from the clamp and cut faces (``_kept``), the largest within
+    the feature zones (the whole kept beam when no vertex lies in one) and the largest within each
+    station's zone (its reduced span widened by half a section depth; 0 where none is kept)."""
+    vm = vertex_von_mises(sol, pb)
+    x = sol.mesh.p[0]
+    keep = _kept(sol, pb, refinement)
     i_peak = np.flatnonzero(keep)[np.argmax(vm[keep])]
     location = tuple(float(v) for v in sol.mesh.p[:, i_peak])
     peak = StressPeak(float(vm[i_peak]), location, _where(sol.mesh.p[:, i_peak], pb),
                       _element_size_at(sol.mesh, i_peak))
     zone = keep & _stress_zone(x, pb)
     feature_peak = float(vm[zone].max()) if zone.any() else float(vm[keep].max())
-    return peak, feature_peak
+    margin = pb.depth / 2
+    stations = []
+    for a, b in pb.spans:
+        here = keep & (x >= a - margin) & (x <= b + margin)
+        stations.append(float(vm[here].max()) if here.any() else 0.0)
+    return peak, feature_peak, tuple(stations)
 
 
 def stress_near(sol: Solution, pb: Problem, refinement: float, point) -> float:

@@ -135,6 +135,7 @@ class VerifyResult:
     stress_feature_model: float = 0.0      # the beam model's peak at the feature: K_t x nominal
     stress_concentration_model: float = 1.0  # the model's K_t
     stress_feature_nominal: float = 0.0    # the beam model's nominal stress at the feature's clamp-side edge
+    stress_stations_fea: tuple = ()  # FEA peak within each station's feature zone
 
     @property
     def ratios(self) -> tuple:
@@ -184,6 +185,7 @@ class VerifyResult:
                            "coarse": self.deflection_coarse, "mesh_change": self.deflection_change},
             "stress": {"fea_peak": self.stress_peak.value, "location": list(self.stress_peak.location),
                        "where": self.stress_peak.where, "fea_feature": self.stress_feature_fea,
+                       "fea_stations": list(self.stress_stations_fea),
                        "coarse_peak": self.stress_peak_coarse, "mesh_change": self.stress_change,
                        "converged": self.stress_converged, "converged_within": CONVERGED_STRESS,
                        "element_size": self.stress_peak.element_size, "resolved": self.stress_resolved,
