@@ -170,3 +170,51 @@ def test_a_material_name_read_as_a_number_says_to_quote_it(tmp_path, capsys):
     assert main(["optimize", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 2
     assert 'search.materials[0]: 304 was read as a number; quote a name that looks like one ("304")' in \
         capsys.readouterr().err
+
+
+HEAVY = {
+    "alias bomb": ("spec", "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"{chr(98 + i)}: &{chr(98 + i)} [{', '.join(['*' + chr(97 + i)] * 9)}]\n" for i in range(8))),
+    "a 2 MB spec": ("spec", "load: {force: [1 N, 20 N], position: [100 mm, 300 mm]}\nname: " + "x" * 2_000_000 + "\n"),
+    "a far position": ("spec", "load: {force: [1 N, 20 N], position: [40 mm, 1e6 km]}\n"
+                               "electronics: {excitation: 5 V, gain: 500, noise: 1 mV}\n"),
+    "a power tower": ("spec", "load: {force: [1 N, '10**10**10 N'], position: [100 mm, 300 mm]}\n"
+                              "electronics: {excitation: 5 V, gain: 500, noise: 1 mV}\n"),
+}
+
+
+@pytest.mark.parametrize("name", list(HEAVY))
+def test_inputs_built_to_exhaust_time_or_memory_stop_at_once(tmp_path, name):
+    # in a process of its own, whose own peak memory the kernel reports (wait4): under 1 GB
+    # (the interpreter and the spec reader take about 60 MB) and 10 s
+    import os
+    import subprocess
+    import sys
+    import time
+
+    _, text = HEAVY[name]
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(text)
+    t0 = time.perf_counter()
+    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "optimize", str(spec), "-o", str(tmp_path / "out"),
+                             "--no-cad", "--no-plots"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    _, status, usage = os.wait4(proc.pid, 0)
+    seconds = time.perf_counter() - t0
+    err = proc.stderr.read().decode()
+    proc.stderr.close()
+    assert os.waitstatus_to_exitcode(status) == 2, err
+    assert err.startswith("fpdesign: error: ") and len(err.strip().splitlines()) == 1
+    assert seconds < 10 and usage.ru_maxrss / 1024 < 1024
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("args", [["--draws", "2000000000"], ["--grid", "3000", "3000"]])
+def test_simulate_sizes_built_to_exhaust_memory_stop_at_once(probe_record, tmp_path, args):
+    import os
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "simulate", str(probe_record), *args],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(proc.pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 2 and usage.ru_maxrss / 1024 < 1024
