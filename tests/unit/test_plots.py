@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import copy
 import json
+from dataclasses import replace
 import math
 import subprocess
 import sys
@@ -329,3 +330,11 @@ def test_plotting_imports_matplotlib_lazily_and_leaves_global_state_alone():
     root = Path(__file__).resolve().parents[2]
     result = subprocess.run([sys.executable, "-c", code], cwd=root, capture_output=True, text=True)
     assert result.returncode == 0, result.stderr
+
+
+def test_a_pocket_on_a_round_section_is_called_a_flat_in_the_titles():
+    from designer.outputs.plots.sensor import SensorData
+
+    s = SensorData.from_design(json.loads((DATA / "plot_prototype_b.json").read_text()))
+    assert replace(s, section="tube", feature="pocket").label.endswith("tube, flats")
+    assert replace(s, section="rectangle", feature="pocket").label.endswith("rectangle, pockets")

@@ -113,7 +113,9 @@ class SensorData:
 
     @property
     def label(self) -> str:
-        feature = "" if self.feature == "none" else f", {self.feature}s"
+        # a pocket on a round bar or a tube is a flat, as the drawing and the summary call it
+        name = "flat" if self.feature == "pocket" and self.section != "rectangle" else self.feature
+        feature = "" if self.feature == "none" else f", {name}s"
         return f"{self.material} {self.section}{feature}"
 
 # --------------------------------------------------------------------------- reading helpers
