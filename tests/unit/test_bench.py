@@ -78,10 +78,18 @@ def test_specs_built_infeasible_are_reported_infeasible(kind, seed):
 
 @pytest.mark.slow
 def test_nearly_infeasible_spec_is_feasible_with_little_to_spare():
+    # The noise is raised until the reference search's best design meets the targets with 1-5 %
+    # to spare (bench.suite): the optimiser must find a feasible design at least as good. (With
+    # the fitted domains of the feature corrections the reference's coarse grid can miss a
+    # section family the optimiser finds, so its design may have more to spare than that.)
+    from designer.search import reference
+
     (item,) = bench.generate_suite(1, seed=0, kinds=["nearly-infeasible"])
     outcome = search.optimize(item.spec)
-    assert outcome.success
-    assert 0.9 < outcome.best.objective <= 1.0
+    assert outcome.success and outcome.best.objective <= 1.0
+    ref = reference.reference_best(item.spec, levels=bench.suite.CALIBRATION_LEVELS)
+    assert 0.95 <= ref.objective <= 0.99 + 1e-9
+    assert outcome.best.objective <= ref.objective * (1 + 1e-3)
 
 
 @pytest.mark.slow

@@ -549,7 +549,7 @@ def test_the_table_covers_every_command_with_150_cases_or_more():
 SIGNAL_COMMANDS = (
     ("optimize", str(Path(__file__).resolve().parents[2] / "examples" / "probe.yaml"), "-o", "{out}", "--quiet"),
     ("simulate", "{design}", "--draws", "10000000", "--readings", "{out}.csv"),
-    ("bench", "--count", "3", "--quiet", "-o", "{out}"),
+    ("bench", "--count", "3", "--quiet", "-o", "{out}", "--specs", str(Path(__file__).resolve().parents[2] / "examples")),
 )
 SIGNAL_DELAY = 1.0   # s: every one of these runs for longer than this
 
