@@ -183,38 +183,47 @@ HEAVY = {
 }
 
 
-@pytest.mark.parametrize("name", list(HEAVY))
-def test_inputs_built_to_exhaust_time_or_memory_stop_at_once(tmp_path, name):
-    # in a process of its own, whose own peak memory the kernel reports (wait4): under 1 GB
-    # (the interpreter and the spec reader take about 60 MB) and 10 s
-    import os
+# Runs a command in a grandchild and prints its exit code, its peak memory (kB, from wait4) and
+# its standard error. A child forked from the test runner would carry the runner's memory in its
+# peak (Linux keeps the high-water mark across fork and exec); this small launcher does not.
+LAUNCHER = """
+import json, os, subprocess, sys
+proc = subprocess.Popen(sys.argv[1:], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+err = proc.stderr.read().decode()
+_, status, usage = os.wait4(proc.pid, 0)
+print(json.dumps([os.waitstatus_to_exitcode(status), usage.ru_maxrss, err]))
+"""
+
+
+def _measured(argv):
+    """``(exit code, peak memory MB, stderr, seconds)`` of ``fpdesign argv`` in a process of its own."""
+    import json
     import subprocess
     import sys
     import time
 
+    t0 = time.perf_counter()
+    out = subprocess.run([sys.executable, "-c", LAUNCHER, sys.executable, "-m", "designer.cli", *argv],
+                         check=True, capture_output=True, text=True).stdout
+    code, peak_kb, err = json.loads(out)
+    return code, peak_kb / 1024, err, time.perf_counter() - t0
+
+
+@pytest.mark.parametrize("name", list(HEAVY))
+def test_inputs_built_to_exhaust_time_or_memory_stop_at_once(tmp_path, name):
+    # under 1 GB (the interpreter and the spec reader take about 60 MB) and 10 s
     _, text = HEAVY[name]
     spec = tmp_path / "spec.yaml"
     spec.write_text(text)
-    t0 = time.perf_counter()
-    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "optimize", str(spec), "-o", str(tmp_path / "out"),
-                             "--no-cad", "--no-plots"], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(proc.pid, 0)
-    seconds = time.perf_counter() - t0
-    err = proc.stderr.read().decode()
-    proc.stderr.close()
-    assert os.waitstatus_to_exitcode(status) == 2, err
+    code, peak_mb, err, seconds = _measured(["optimize", str(spec), "-o", str(tmp_path / "out"), "--no-cad",
+                                             "--no-plots"])
+    assert code == 2, err
     assert err.startswith("fpdesign: error: ") and len(err.strip().splitlines()) == 1
-    assert seconds < 10 and usage.ru_maxrss / 1024 < 1024
+    assert seconds < 10 and peak_mb < 1024
     assert not (tmp_path / "out").exists()
 
 
 @pytest.mark.parametrize("args", [["--draws", "2000000000"], ["--grid", "3000", "3000"]])
 def test_simulate_sizes_built_to_exhaust_memory_stop_at_once(probe_record, tmp_path, args):
-    import os
-    import subprocess
-    import sys
-
-    proc = subprocess.Popen([sys.executable, "-m", "designer.cli", "simulate", str(probe_record), *args],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    assert os.waitstatus_to_exitcode(status) == 2 and usage.ru_maxrss / 1024 < 1024
+    code, peak_mb, err, seconds = _measured(["simulate", str(probe_record), *args])
+    assert code == 2 and peak_mb < 1024 and seconds < 10, err
