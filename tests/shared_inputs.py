@@ -301,3 +301,47 @@ def wait_for_handlers(proc, timeout=30.0):
         if int(caught, 16) & (1 << (signal.SIGTERM - 1)):
             return
         time.sleep(0.02)
+
+
+# ----------------------------------------------------------------- the optimiser's derivatives
+# unit/test_corrections.py, unit/test_adjust.py
+
+def assert_exact_jacobian(problem, x, params, h=1e-6):
+    """OpenMDAO-style check: the casadi Jacobian of ``problem``'s constraints at ``x`` against
+    central finite differences of the same function. Returns the constraints at ``x``."""
+    import numpy as np
+    import pytest
+
+    _, _, g, jac = problem.functions(x, params)
+    jac = np.asarray(jac)
+    for i in range(len(x)):
+        step = np.zeros(len(x))
+        step[i] = h
+        up = np.asarray(problem.functions(x + step, params)[2]).ravel()
+        down = np.asarray(problem.functions(x - step, params)[2]).ravel()
+        assert jac[:, i] == pytest.approx((up - down) / (2 * h), rel=1e-5, abs=1e-7)
+    return g
+
+
+# ----------------------------------------------------------------- calibration fixtures
+# unit/test_calibration_fit.py, unit/test_readings.py, e2e/test_cli_calibration.py,
+# validation/test_calibration_closed_forms.py, validation/test_calibration_montecarlo.py
+
+def calibration_record(key: str) -> dict:
+    """``tests/data/cal_prototype_{key}.json``: the paper's Prototype A, B or C as design.json."""
+    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
+
+
+def calibration_constants(key: str):
+    """What calibration knows of that design (``calibration.design_constants``)."""
+    from designer.calibration import design_constants
+
+    return design_constants(calibration_record(key))
+
+
+def clean_prototype_b(seed=2, scheme="9"):
+    """Prototype B's record, constants and noisy readings at a calibration scheme's loads."""
+    from designer.calibration import readings
+
+    return (calibration_record("b"), calibration_constants("b"),
+            readings.simulated_scheme_readings(calibration_record("b"), scheme, seed=seed))

@@ -5,10 +5,9 @@ Thin: parse arguments, call ``designer.calibration`` and ``designer.calibration.
 
 from __future__ import annotations
 
-import argparse
 import math
 
-from designer.cli.paths import guard_inputs, seed
+from designer.cli.paths import guard_inputs, seed, whole_number
 
 MM = 1e3   # m -> mm for display
 MV = 1e3   # V -> mV for display
@@ -16,16 +15,7 @@ MV = 1e3   # V -> mV for display
 
 # Readings per load: more than this would only fill memory (each reading is a row).
 MAX_REPEATS = 10_000
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from exc
-    if not 1 <= value <= MAX_REPEATS:
-        raise argparse.ArgumentTypeError(f"{text!r} must be from 1 to {MAX_REPEATS}")
-    return value
+_repeats = whole_number(1, MAX_REPEATS)
 
 
 def register(subparsers) -> None:
@@ -38,7 +28,7 @@ def register(subparsers) -> None:
                     "position error with and without the calibration's own uncertainty.")
     p.add_argument("design", help="design.json")
     p.add_argument("-o", "--output", help="write the loads to this CSV (grams, millimetres)")
-    p.add_argument("--repeats", type=_positive_int, default=1, help="readings per load (default 1)")
+    p.add_argument("--repeats", type=_repeats, default=1, help="readings per load (default 1)")
     p.set_defaults(func=run_plan)
 
     p = subparsers.add_parser(
@@ -72,7 +62,7 @@ def register(subparsers) -> None:
     p.add_argument("-o", "--output", required=True, help="readings.csv to write")
     p.add_argument("--scheme", choices=SCHEMES, default="paper")
     p.add_argument("--seed", type=seed, default=0, help="names the simulated sensor, 0 or more [0]")
-    p.add_argument("--repeats", type=_positive_int, default=1, help="readings per load (default 1)")
+    p.add_argument("--repeats", type=_repeats, default=1, help="readings per load (default 1)")
     p.set_defaults(func=run_simulate_readings)
 
 

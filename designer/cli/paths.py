@@ -39,19 +39,23 @@ def output_folder(path, flag: str = "-o", what: str = "the outputs"):
     return folder
 
 
+def whole_number(low: int, high: int):
+    """An argparse type: a whole number from ``low`` to ``high``."""
+    def parse(text: str) -> int:
+        import argparse
+
+        try:
+            value = int(text)
+        except ValueError as exc:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from exc
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"{text!r} must be from {low} to {high}")
+        return value
+    return parse
+
+
 #: The largest seed numpy's generators take from a command line (any 63-bit number works; the
 #: bound keeps a typing slip such as 10**100 from reading as a seed).
 MAX_SEED = 2**63 - 1
-
-
-def seed(text: str) -> int:
-    """argparse type of ``--seed``: a whole number from 0 to MAX_SEED (numpy refuses negative seeds)."""
-    import argparse
-
-    try:
-        value = int(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from exc
-    if not 0 <= value <= MAX_SEED:
-        raise argparse.ArgumentTypeError(f"{text!r} must be from 0 to {MAX_SEED}")
-    return value
+#: argparse type of ``--seed``: numpy refuses negative seeds
+seed = whole_number(0, MAX_SEED)

@@ -16,19 +16,9 @@ from designer.cli import main
 
 pytestmark = pytest.mark.slow
 
+from shared_inputs import calibration_record as record, clean_prototype_b as _clean_b
+
 DATA = Path(__file__).resolve().parents[1] / "data"
-
-
-def record(key: str) -> dict:
-    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
-
-
-def constants(key: str) -> cal.DesignConstants:
-    return cal.design_constants(record(key))
-
-
-def _clean_b(seed=2, scheme="9"):
-    return record("b"), constants("b"), rd.simulated_scheme_readings(record("b"), scheme, seed=seed)
 
 
 def test_plan_command_writes_grams_and_millimetres(tmp_path, capsys):

@@ -14,7 +14,7 @@ from designer.result.designfile import parse_design
 from designer.result.evaluation import evaluate, fixed_design
 from designer.result.record import build_record
 from designer.spec.reader import parse_spec_text
-from shared_inputs import STIFF_FINGER, STIFF_FINGER_DESIGN
+from shared_inputs import STIFF_FINGER, STIFF_FINGER_DESIGN, assert_exact_jacobian
 
 FACTORS = Adjustment((0.9, 0.8), deflection=1.2, stress_concentration=1.5)
 
@@ -102,15 +102,7 @@ def test_the_adjusted_nlp_has_exact_derivatives_and_the_factors_as_constants():
     plain, adjusted = FamilyProblem(spec, family), FamilyProblem(spec, family, FACTORS)
     params = material_params(catalogue.material("7075-T6"), spec)
     x = adjusted.starts()[0]
-    _, _, g, jac = adjusted.functions(x, params)
-    jac = np.asarray(jac)
-    h = 1e-6
-    for i in range(len(x)):
-        step = np.zeros(len(x))
-        step[i] = h
-        up = np.asarray(adjusted.functions(x + step, params)[2]).ravel()
-        down = np.asarray(adjusted.functions(x - step, params)[2]).ravel()
-        assert jac[:, i] == pytest.approx((up - down) / (2 * h), rel=1e-5, abs=1e-7)
+    g = assert_exact_jacobian(adjusted, x, params)
     # the deflection limit g = w/w_max - 1: the adjusted w is 1.2 times the plain one
     at = adjusted.limit_names.index("deflection")
     g_plain = float(np.asarray(plain.functions(x, params)[2]).ravel()[at])

@@ -10,9 +10,7 @@ bridges), 1000 (B, half bridges at all three stations) and 1000 (C, half bridges
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,16 +20,9 @@ from designer.model import estimator
 from designer.calibration import readings as rd
 from designer.errors import CsvError, InputError
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+from shared_inputs import calibration_record as record, calibration_constants as constants, clean_prototype_b as _clean_b
+
 PROTOTYPES = ("a", "b", "c")
-
-
-def record(key: str) -> dict:
-    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
-
-
-def constants(key: str) -> cal.DesignConstants:
-    return cal.design_constants(record(key))
 
 
 def test_non_prototype_paper_scheme_is_a_grid_over_the_region():
@@ -55,10 +46,6 @@ def test_regression_recovers_constants_exactly_without_noise():
     assert [b.d for b in result.bridges] == pytest.approx(d, rel=1e-9)
     assert [b.c for b in result.bridges] == pytest.approx(c, abs=1e-12)
     assert [b.r2 for b in result.bridges] == pytest.approx([1.0] * 3, abs=1e-12)
-
-
-def _clean_b(seed=2, scheme="9"):
-    return record("b"), constants("b"), rd.simulated_scheme_readings(record("b"), scheme, seed=seed)
 
 
 def _with_voltages(r: cal.Readings, v) -> cal.Readings:

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import json
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,20 +9,9 @@ import pytest
 from designer import calibration as cal
 from designer.calibration import readings as rd
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+from shared_inputs import calibration_record as record, calibration_constants as constants, clean_prototype_b as _clean_b
+
 G_N = 9.80665  # standard gravity, m/s^2 (ISO 80000-3)
-
-
-def record(key: str) -> dict:
-    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
-
-
-def constants(key: str) -> cal.DesignConstants:
-    return cal.design_constants(record(key))
-
-
-def _clean_b(seed=2, scheme="9"):
-    return record("b"), constants("b"), rd.simulated_scheme_readings(record("b"), scheme, seed=seed)
 
 
 def test_simulated_readings_are_reproducible_and_share_the_sensor_offsets(tmp_path):

@@ -10,7 +10,6 @@ bridges), 1000 (B, half bridges at all three stations) and 1000 (C, half bridges
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -20,6 +19,8 @@ import pytest
 from designer import calibration as cal
 from designer.model import estimator
 
+from shared_inputs import calibration_record as record, calibration_constants as constants
+
 DATA = Path(__file__).resolve().parents[1] / "data"
 PROTOTYPES = ("a", "b", "c")
 G_N = 9.80665  # standard gravity, m/s^2 (ISO 80000-3)
@@ -27,14 +28,6 @@ G_N = 9.80665  # standard gravity, m/s^2 (ISO 80000-3)
 # no feature: I = b h^3/12, y = h/2; full bridges n = 4) with the electronics assumed above
 # (5 V, gain 100, G = 2.0) and the catalogue's E for 6061-T6, 68.9 GPa.
 K_A = 5 * 2.0 * 100 * 4 * (3.18e-3 / 2) / (4 * 68.9e9 * 0.050 * (3.18e-3) ** 3 / 12)
-
-
-def record(key: str) -> dict:
-    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
-
-
-def constants(key: str) -> cal.DesignConstants:
-    return cal.design_constants(record(key))
 
 
 # --------------------------------------------------------------------- fixtures and closed forms

@@ -13,9 +13,7 @@ the statistic (stated at each test), so that they fail when the model is wrong, 
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -24,20 +22,13 @@ from designer import calibration as cal
 from designer.model import estimator
 from designer.calibration import readings as rd
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+from shared_inputs import calibration_record as record, calibration_constants as constants
+
 PROTOTYPES = ("a", "b", "c")
 
 
 #: Median of |e| for e ~ N(0, sigma^2) is 0.6745 sigma (the 75th percentile of the normal).
 HALF_NORMAL_MEDIAN = 0.6744897501960817
-
-
-def record(key: str) -> dict:
-    return json.loads((DATA / f"cal_prototype_{key}.json").read_text())
-
-
-def constants(key: str) -> cal.DesignConstants:
-    return cal.design_constants(record(key))
 
 
 def _tile(a, draws):
