@@ -40,7 +40,7 @@ def parameters(g: Geometry) -> dict:
     """The dimensionless parameters of a geometry's feature (numbers or casadi expressions)."""
     size = g.size
     out = {"length_ratio": g.feature_length / size,
-           "width_ratio": (g.width if g.section == "rectangle" else g.diameter) / size,
+           "width_ratio": g.breadth / size,
            "grid_ratio": g.grid_length / size}
     if g.feature == "pocket":
         out["depth_ratio"] = g.depth / (g.wall if g.section == "tube" else size)
@@ -67,8 +67,12 @@ def clamp_ratios(g: Geometry) -> tuple:
 def station_width_ratios(g: Geometry) -> tuple:
     """Each station's distance from the clamp face over the section's width (b, or D): the clamp
     fit's variable. The clamp's restraint spreads about one width along the beam."""
-    width = g.width if g.section == "rectangle" else g.diameter
-    return tuple(d / width for d in g.stations)
+    return tuple(d / g.breadth for d in g.stations)
+
+
+def station_bound_name(i: int) -> str:
+    """The domain bound of station ``i``'s (0-based) distance from the clamp over the width."""
+    return f"station_width_ratio_{i + 1}"
 
 
 CLAMP_COEFFICIENTS = ("a", "w0", "k", "u0")
@@ -252,7 +256,7 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     if clamp is not None:
         for name, (lo, hi) in clamp.domain.items():
             if name == "station_width_ratio":
-                out += [(f"station_width_ratio_{i + 1}", u, lo, hi) for i, u in enumerate(station_width_ratios(g))]
+                out += [(station_bound_name(i), u, lo, hi) for i, u in enumerate(station_width_ratios(g))]
             elif all(name != o[0] for o in out):
                 out.append((name, values[name], lo, hi))
     return out

@@ -91,15 +91,15 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
     from designer.model import corrections
 
     table = corrections.load() if table is None else table
+    stations = {corrections.station_bound_name(i): d for i, d in enumerate(g.stations)}
     out = []
     for name, value, lo, hi in corrections.domain_bounds(g, table):
-        if name.startswith("station_width_ratio_") and math.isfinite(lo) and not math.isfinite(hi):
+        if name in stations and math.isfinite(lo) and not math.isfinite(hi):
             if spec is not None and _clamp_room(g, spec) >= lo * _widest(g, spec):
                 continue
             # d_i >= lo b, linear in the sizes
-            width = g.width if g.section == "rectangle" else g.diameter
-            station = g.stations[int(name.rsplit("_", 1)[1]) - 1]
-            out.append(Limit(f"domain_{name}_min", station, lo * width, upper=False, scale=1e-3, unit="m"))
+            out.append(Limit(f"domain_{name}_min", stations[name], lo * g.breadth, upper=False, scale=1e-3,
+                             unit="m"))
             continue
         if math.isfinite(lo):
             out.append(Limit(f"domain_{name}_min", value, lo, upper=False, scale=max(abs(lo), 0.1)))

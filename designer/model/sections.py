@@ -52,6 +52,11 @@ class Geometry:
         """Section size in the load direction (h or D)."""
         return self.height if self.section == "rectangle" else self.diameter
 
+    @property
+    def breadth(self):
+        """Section size across the load direction (b or D)."""
+        return self.width if self.section == "rectangle" else self.diameter
+
 
 @dataclass(frozen=True)
 class SectionProperties:
