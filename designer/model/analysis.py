@@ -107,13 +107,15 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     # always had (4 * gain is exactly V_s G g n): IPOPT's path depends on it at rounding level
     k = 4 * gain * sp.y_g / (4 * m.E * sp.I_s)
     table = corrections.load() if table is None else table
-    factors = corrections.strain_factors(g, table, ops)
-    ks = [k * c for c in factors] if factors else [k] * len(g.stations)
+    # per-station factors on the gauge strain (and so on k_i): the feature and clamp corrections,
+    # then the design's 3-D/model ratios
+    station_factors = [corrections.strain_factors(g, table, ops)]
     if adjust is not None:
         if len(adjust.gauge_strain) != len(g.stations):
             raise ValueError(f"adjustment.gauge_strain: {len(adjust.gauge_strain)} factors for "
                              f"{len(g.stations)} stations")
-        ks = [ki * c for ki, c in zip(ks, adjust.gauge_strain)]
+        station_factors.append(adjust.gauge_strain)
+    ks = _scaled([k] * len(g.stations), station_factors)
     sigma_v = spec.sigma_v
     d = list(g.stations)
     f_min, f_max, x_min, x_max = load.force_min, load.force_max, load.position_min, load.position_max
@@ -123,11 +125,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     l_f = g.feature_length
     stress_root = f_max * x_max * sp.y_root / sp.I
     stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
-    strains = tuple(f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d)
-    if factors:
-        strains = tuple(s * c for s, c in zip(strains, factors))
-    if adjust is not None:
-        strains = tuple(s * c for s, c in zip(strains, adjust.gauge_strain))
+    strains = _scaled([f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d], station_factors)
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
     widened = corrections.widened(g, table)
@@ -141,8 +139,16 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     if adjust is not None:
         kt = kt * adjust.stress_concentration
     q = notch_sensitivity(notch_radius(g), m.notch_length)
-    return Analysis(sp, k, tuple(ks), sigma_v, force_error, position_error, stress_root, stress_feature, kt, q,
+    return Analysis(sp, k, ks, sigma_v, force_error, position_error, stress_root, stress_feature, kt, q,
                     strains, snr, deflection, frequency, mass, noise_strain)
+
+
+def _scaled(values: list, factor_lists: list) -> tuple:
+    """``values`` times each list of per-station factors in turn (an empty list: none)."""
+    for factors in factor_lists:
+        if factors:
+            values = [v * c for v, c in zip(values, factors)]
+    return tuple(values)
 
 
 def notch_radius(g: Geometry):
