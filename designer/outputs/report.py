@@ -35,8 +35,10 @@ def feature_text(feature: dict, section: dict | None = None) -> str:
     bar or tube (cut across the bar; their width at the surface is the chord the depth leaves)."""
     mm = 1e3
     if feature["kind"] == "pocket" and section is not None and section["kind"] in ("round", "tube"):
-        depth, diameter = feature["depth"], section["diameter"]
-        chord = 2 * math.sqrt(max(depth * (diameter - depth), 0.0))
+        from designer.outputs.part import flat_half_chord
+
+        depth = feature["depth"]
+        chord = 2 * flat_half_chord(section["diameter"] / 2, depth)
         return (f"flat {feature['length'] * mm:.2f} mm long, {depth * mm:.2f} mm deep "
                 f"({chord * mm:.2f} mm wide at the surface)")
     if feature["kind"] == "pocket":
