@@ -125,7 +125,8 @@ def staged_directory(target: str | os.PathLike, stale=()):
 
 def previous_outputs(folder: Path) -> set:
     """The files an earlier run listed in ``folder/design.json`` (``files``), with design.json and
-    report.md; empty when the folder holds no readable design.json."""
+    report.md; empty when the folder holds no readable design.json. A name that leads out of the
+    folder is never removed: ``staged_directory`` removes only files directly in it."""
     import json
 
     try:
@@ -136,6 +137,6 @@ def previous_outputs(folder: Path) -> set:
     if isinstance(files, dict):
         for value in files.values():
             for name in (value if isinstance(value, list) else [value]):
-                if isinstance(name, str) and name and "/" not in name and "\\" not in name and name not in (".", ".."):
+                if isinstance(name, str) and name:
                     names.add(name)
     return names
