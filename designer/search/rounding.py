@@ -32,8 +32,8 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
         fields_.remove("height")  # a biaxial rectangle is square
     fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
     stations = [float(s) for s in g.stations]
-    choices = [_floor_ceil(float(getattr(g, f))) for f in fields_]
-    station_choices = [_floor_ceil(s) for s in stations]
+    choices = [floor_ceil(float(getattr(g, f))) for f in fields_]
+    station_choices = [floor_ceil(s) for s in stations]
     for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
         station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
     combos = np.array(list(itertools.product(*choices, *station_choices)))
@@ -85,7 +85,8 @@ def buildable(ev: Evaluation) -> bool:
     return model.unbuildable(ev.design.geometry) is None
 
 
-def _floor_ceil(v: float) -> tuple:
+def floor_ceil(v: float) -> tuple:
+    """The 0.01 mm grid values just below and above ``v`` (m); one when ``v`` is on the grid."""
     lo = math.floor(v / ROUNDING + 1e-9) * ROUNDING
     hi = math.ceil(v / ROUNDING - 1e-9) * ROUNDING
     return (round(lo, 8),) if abs(hi - lo) < 1e-12 else (round(lo, 8), round(hi, 8))

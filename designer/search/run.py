@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import dataclass, replace
@@ -15,7 +16,7 @@ from designer.result.evaluation import Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
 from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
-from designer.search.rounding import buildable, pick, round_and_check
+from designer.search.rounding import buildable, floor_ceil, pick, round_and_check
 from designer.spec import catalogue
 
 # When rounding to 0.01 mm breaks a limit that IPOPT's answer met (several limits active at
@@ -165,12 +166,8 @@ def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: lis
     next to the answer (each combination of rounding down and up) and the other variables solved
     again with them held; None when no combination gives a design that meets every limit (or,
     under the error objective, misses only the targets)."""
-    import itertools
-
-    from designer.search.rounding import _floor_ceil
-
     index = [i for i, name in enumerate(problem.names) if name in SECTION_VARIABLES]
-    choices = [[v / MM for v in _floor_ceil(float(s.x[i]) * MM)] for i in index]
+    choices = [[v / MM for v in floor_ceil(float(s.x[i]) * MM)] for i in index]
     found = []
     for combo in itertools.product(*choices):
         s2 = problem.solve_ipopt(params, s.x, fixed=dict(zip(index, combo)))
