@@ -86,8 +86,8 @@ class Analysis:
 
     @property
     def fatigue_factor(self):
-        """K_f = 1 + q (K_t - 1): the fatigue notch factor at the feature (docs/model.md §4)."""
-        return 1 + self.notch_sensitivity * (self.stress_concentration - 1)
+        """K_f at the feature (docs/model.md §4)."""
+        return fatigue_factor(self.notch_sensitivity, self.stress_concentration)
 
     @property
     def stress_fatigue(self):
@@ -149,6 +149,11 @@ def _scaled(values: list, factor_lists: list) -> tuple:
         if factors:
             values = [v * c for v, c in zip(values, factors)]
     return tuple(values)
+
+
+def fatigue_factor(notch_sensitivity, stress_concentration):
+    """``K_f = 1 + q (K_t - 1)``: the fatigue notch factor of a notch of sensitivity ``q``."""
+    return 1 + notch_sensitivity * (stress_concentration - 1)
 
 
 def notch_radius(g: Geometry):

@@ -118,7 +118,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         deflection_coarse=partner.deflection, stress_peak=main.peak, stress_peak_coarse=partner.at_peak,
         stress_feature_fea=main.feature_peak, stress_stations_fea=main.station_peaks,
         stress_model=float(max(a.stress_root, a.stress_peak)),
-        stress_feature_model=float(a.stress_peak), stress_concentration_model=float(a.stress_concentration),
+        stress_concentration_model=float(a.stress_concentration),
         stress_feature_nominal=float(a.stress_feature),
         stress_root_model=float(a.stress_root), stress_allowable=allowable, limits=limits,
         runs=(main.run, partner.run), profile_x=tuple(float(v) for v in x),
@@ -134,6 +134,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
 
 def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
     """Every limit of the beam model again, with the 3-D figures where the check gives them."""
+    from designer.model.analysis import fatigue_factor
     from designer.model.estimator import sigmas
 
     k = [float(ki) * g.ratio for ki, g in zip(a.sensitivities, gauges)]
@@ -144,7 +145,7 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
     kt_fea = main.feature_peak / nominal
     fea = {
         "stress_feature": (nominal, "beam model: static yield is checked on the nominal stress"),
-        "fatigue_feature": ((1 + float(a.notch_sensitivity) * (kt_fea - 1)) * nominal,
+        "fatigue_feature": (fatigue_factor(float(a.notch_sensitivity), kt_fea) * nominal,
                             f"K_f from the 3-D K_t = {kt_fea:.2f} (peak at the features / nominal)"),
         "gauge_strain": (gauges[0].fea_strain, "3-D gauge strain, station 1"),
         "min_signal_snr": (float(a.min_signal_snr) * gauges[-1].ratio, "model x 3-D strain ratio of the last gauge"),

@@ -132,10 +132,14 @@ class VerifyResult:
     messages: tuple
     seconds: float
     floor_radius: float = 0.0       # the pockets' floor radius (cad.corner_radius), m; 0 without pockets
-    stress_feature_model: float = 0.0      # the beam model's peak at the feature: K_t x nominal
     stress_concentration_model: float = 1.0  # the model's K_t
     stress_feature_nominal: float = 0.0    # the beam model's nominal stress at the feature's clamp-side edge
     stress_stations_fea: tuple = ()  # FEA peak within each station's feature zone
+
+    @property
+    def stress_feature_model(self) -> float:
+        """The beam model's peak at the feature: K_t x nominal."""
+        return self.stress_concentration_model * self.stress_feature_nominal
 
     @property
     def ratios(self) -> tuple:
