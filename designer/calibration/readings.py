@@ -22,6 +22,7 @@ from designer.calibration.design import design_constants
 from designer.calibration.measurement import Measurement
 from designer.calibration.schemes import SCHEMES, scheme_loads
 from designer.calibration.record import Calibration
+from designer.spec.units import RANGES
 from designer.errors import CalibrationFileError, CsvError, InputError, read_text
 from designer.model import estimator
 from designer.result.designfile import load_design, read_json
@@ -156,8 +157,10 @@ def _cell(cell: str, source: str, line_no: int, name: str) -> float:
 
 
 # The largest size of a reading, per column (as the CSV holds it): loads, positions, angles and
-# voltages (every V column) beyond these are typing errors, and would overflow the fit.
-LARGEST = {"force_N": 1e6, "mass_g": 1e8, "position_mm": 1e5, "angle_deg": 360.0, "V": 1e3}
+# voltages (every V column) beyond these are typing errors, and would overflow the fit. The
+# spec's ranges (spec.units.RANGES), in the CSV's units.
+LARGEST = {"force_N": RANGES["force"][1], "mass_g": RANGES["mass"][1] * 1e3, "position_mm": RANGES["length"][1] * 1e3,
+           "angle_deg": 360.0, "V": RANGES["voltage"][1]}
 
 
 def read_readings(path, need_loads: bool = False) -> Readings:

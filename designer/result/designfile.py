@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from designer import model
+from designer.spec.units import RANGES
 from designer.result.record import VERSION
 from designer.errors import DesignFileError, SpecError, describe_allowed, read_text
 
@@ -104,10 +105,10 @@ def _positive(obj, key: str, where: str, largest: float = math.inf) -> float:
 
 
 # Material properties a design.json may carry beyond E, yield and density, with their bounds (SI).
-OPTIONAL_PROPERTIES = {"poisson": (-0.99, 0.4999), "ultimate": (1.0, 1e13), "fatigue": (1.0, 1e13),
+OPTIONAL_PROPERTIES = {"poisson": (-0.99, 0.4999), "ultimate": RANGES["pressure"], "fatigue": RANGES["pressure"],
                        "fatigue_cycles": (1.0, 1e12), "notch_length": (0.0, 0.1)}
 # A section or feature size beyond this is not a sensor beam (and overflows the model).
-LARGEST_SIZE = 100.0   # m
+LARGEST_SIZE = RANGES["length"][1]   # m
 
 
 def validate(record, source: str = "design.json") -> None:
