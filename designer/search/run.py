@@ -189,6 +189,12 @@ def on_stock(problems: dict, candidates: list) -> list:
     out, cap = list(candidates), math.inf
     for i in order:
         cand = candidates[i]
+        if math.isfinite(cap) and (cand.evaluation is None or not cand.evaluation.feasible):
+            # no design of continuous sizes met every limit, so no stock size (a subset) can
+            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation,
+                             stock_note=f"{cand.material} {cand.family.label}: no design of continuous sizes meets "
+                                        "every limit, so no stock size was tried")
+            continue
         problem = problems[cand.family]
         material = catalogue.material(cand.material, "search.materials")
         x0 = _start_from(problem, cand.evaluation) if cand.evaluation is not None else problem.starts()[0]

@@ -124,8 +124,8 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
                         break
             if ev is not None:
                 found.append(ev)
-            if s.success and ev is not None and ev.feasible:
-                break
+            if s.success:
+                break  # a converged answer, checked: other starts are for a solve that failed
         ev = pick(found)
         if ev is not None:
             checked.append(ev)

@@ -18,7 +18,7 @@ FILE = "stock.yaml"
 #: search.stock: none keeps the sizes continuous; the others choose rows from these systems.
 STOCK_CHOICES = ("none", "metric", "imperial", "any")
 SYSTEMS = ("metric", "imperial")
-UNITS = {"mm": 1e-3, "in": 0.0254}   # m per unit; the inch is 25.4 mm exactly
+UNITS = {"mm": Fraction(1, 1000), "in": Fraction(254, 10000)}   # m per unit; the inch is 25.4 mm exactly
 #: Each shape's sizes, in the order a row gives them.
 SHAPES = {"round bar": ("diameter",), "square bar": ("side",), "flat bar": ("width", "thickness"),
           "round tube": ("diameter", "wall")}
@@ -43,8 +43,7 @@ class StockItem:
     @property
     def designation(self) -> str:
         """The size as a supplier writes it: ``Ø10 mm``, ``25 × 6 mm``, ``Ø3/8 × 0.049 in``."""
-        scale = UNITS[self.unit]
-        shown = [_number(s / scale, self.unit) for s in self.sizes]
+        shown = [_number(float(Fraction(s) / UNITS[self.unit]), self.unit) for s in self.sizes]
         prefix = "Ø" if self.shape in ("round bar", "round tube") else ""
         return f"{prefix}{' × '.join(shown)} {self.unit}"
 
@@ -183,23 +182,28 @@ def _table(entry, i: int, families: dict, where: str) -> StockTable:
             raise CatalogueError(f"{key}.{k}: {values[k]!r} is not allowed; must be {describe_allowed(choices)}")
     shape, unit = values["shape"], values["unit"]
     rows = _rows(values["sizes"], shape, f"{key}.sizes")
-    scale = UNITS[unit]
     seen, items = set(), []
     for where_row, sizes in rows:
         if sizes in seen:
             raise CatalogueError(f"{key}.{where_row}: the size {list(sizes)} is listed twice")
         seen.add(sizes)
         for s in sizes:
-            if s * scale > LARGEST_SIZE:
+            if _si(s, unit) > LARGEST_SIZE:
                 raise CatalogueError(f"{key}.{where_row}: {s:g} {unit} is larger than a sensor beam is cut from "
                                      f"(at most {LARGEST_SIZE:g} m)")
         if shape == "round tube" and not sizes[1] < sizes[0] / 2:
             raise CatalogueError(f"{key}.{where_row}: the wall {sizes[1]:g} {unit} is not less than the radius "
                                  f"{sizes[0] / 2:g} {unit}")
-        items.append(StockItem(shape, tuple(s * scale for s in sizes), name, values["system"], unit,
+        items.append(StockItem(shape, tuple(_si(s, unit) for s in sizes), name, values["system"], unit,
                                values["standard"]))
     return StockTable(name, values["family"], shape, values["system"], unit, values["standard"], values["source"],
                       tuple(items))
+
+
+def _si(size: float, unit: str) -> float:
+    """A size as written (decimal) in metres: the double nearest the exact product, so that
+    3/8 in is 0.009525 m, not 0.375 x 0.0254 rounded twice."""
+    return float(Fraction(repr(size)) * UNITS[unit])
 
 
 def _rows(raw, shape: str, key: str) -> list[tuple]:
