@@ -33,6 +33,11 @@ class CalibrationFileError(InputError):
     """A calibration.json that is missing keys or holds impossible values."""
 
 
+class CatalogueError(InputError):
+    """A catalogue file (``materials/``, such as stock.yaml) that is missing keys or holds
+    impossible values: the message names the file, the entry and the key."""
+
+
 class SolverError(FpdError, RuntimeError):
     """A numerical method failed in a way the caller must hear about."""
 

@@ -72,12 +72,36 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("mass (free length)", f"{p['mass'] * 1e3:.4g} g"),
         ("first natural frequency", f"{p['natural_frequency']:.4g} Hz"),
     ]
+    if d.get("stock"):
+        rows.insert(3, ("stock", d["stock"]["label"]))
+    if record.get("stock"):
+        rows.insert(4 if d.get("stock") else 3, ("continuous optimum", continuous_text(record["stock"])))
     if d.get("adjustment"):
         rows.append(("model factors (3-D / model)", factors_text(d["adjustment"])))
     rounds = record.get("verify_rounds")
     if rounds:
         rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def objective_text(value: float, objective: str) -> str:
+    """An objective's value in its own terms."""
+    if objective == "deflection":
+        return f"deflection {value * 1e3:.4g} mm"
+    if objective == "mass":
+        return f"mass {value * 1e3:.4g} g"
+    return f"error ratio {value:.4g}"
+
+
+def continuous_text(stock: dict) -> str:
+    """The best design of continuous sizes beside the stock one, and what stock costs."""
+    c = stock.get("continuous")
+    if c is None:
+        return "none of continuous sizes meets every limit"
+    text = f"{objective_text(c['objective'], stock['objective'])}, {c['material']} {section_text(c['section'])}"
+    if stock.get("cost") is not None:
+        text += f": stock costs {stock['cost']:.1%} in {stock['objective']}"
+    return text
 
 
 def verify_verdict(record: dict) -> str:
@@ -163,7 +187,7 @@ def markdown(record: dict) -> str:
                   "| rank | material | section | status | objective | worst violation | deflection | mass |",
                   "|---|---|---|---|---|---|---|---|"]
         for i, c in enumerate(record["candidates"], 1):
-            obj = "–" if c.get("objective") is None else f"{c['objective']:.4g}"
+            obj = _objective_cell(c)
             defl = "–" if c.get("deflection") is None else f"{c['deflection'] * 1e3:.3g} mm"
             mass = "–" if c.get("mass") is None else f"{c['mass'] * 1e3:.3g} g"
             status = c["status"] + (" (corrected in 3-D)" if c.get("adjustment") else "")
@@ -196,9 +220,21 @@ def candidate_order(record: dict) -> str:
         return ("No candidate meets every limit. Ranked by the worst violation, the largest "
                 "value/limit − 1 over the limits (designs that are not a beam last, failed solves at "
                 "the end); the first, the least infeasible, is the reported design.")
-    return (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "
+    text = (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "
             "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
             "the first is the reported design.")
+    if any(c.get("status") == "outranked" for c in record.get("candidates", [])):
+        text += (" Outranked: no stock size was solved, as the family's continuous optimum (≥, a bound on "
+                 "every stock size) already ranks below the chosen stock design.")
+    return text
+
+
+def _objective_cell(c: dict) -> str:
+    """A candidate's objective; for one outranked on stock, the bound its continuous optimum sets."""
+    value = c.get("objective")
+    if value is None and c.get("status") == "outranked" and c.get("continuous_objective") is not None:
+        return f"≥ {c['continuous_objective']:.4g}"
+    return "–" if value is None or not math.isfinite(value) else f"{value:.4g}"
 
 
 def _violation(c: dict) -> str:
@@ -232,7 +268,7 @@ def print_summary(record: dict, console=None) -> None:
         for col in ("material", "section", "status", "objective", "worst violation", ""):
             cand.add_column(col)
         for i, c in enumerate(record["candidates"][:6]):
-            obj = "–" if c.get("objective") is None or not math.isfinite(c["objective"]) else f"{c['objective']:.4g}"
+            obj = _objective_cell(c)
             cand.add_row(c["material"], c["section"], c["status"], obj, _violation(c), "chosen" if i == 0 else "")
         console.print(cand)
     for msg in record.get("messages", []):

@@ -13,6 +13,7 @@ import numpy as np
 
 from designer import model
 from designer.spec.catalogue import Material
+from designer.spec.stock import StockItem
 from designer.errors import InputError, SpecError
 from designer.model import Adjustment, Analysis, Geometry, Limit, MaterialParams
 
@@ -27,21 +28,27 @@ class Design:
     material: Material
     geometry: Geometry
     adjustment: Adjustment | None = None
+    stock: StockItem | None = None   # the stock bar or tube the section is, when the search chose one
 
     def material_params(self, spec) -> MaterialParams:
         return MaterialParams.of(self.material, spec.limits)
 
     def rounded(self) -> "Design":
-        """Every length rounded to 0.01 mm; what is reported is what is checked."""
+        """Every length rounded to 0.01 mm; what is reported is what is checked. A stock section
+        keeps its sizes as the table gives them (3/8 in is 9.525 mm)."""
         g = self.geometry
 
         def r(v):
             return None if v is None else round(float(v) / ROUNDING) * ROUNDING
 
+        def section(v):
+            return v if self.stock is not None else r(v)
+
         return Design(self.material, replace(
-            g, width=r(g.width), height=r(g.height), diameter=r(g.diameter), wall=r(g.wall),
-            depth=r(g.depth) if g.feature == "pocket" else 0.0, hole=r(g.hole) if g.feature == "hole" else 0.0,
-            stations=tuple(r(s) for s in g.stations), length=r(g.length)), self.adjustment)
+            g, width=section(g.width), height=section(g.height), diameter=section(g.diameter),
+            wall=section(g.wall), depth=r(g.depth) if g.feature == "pocket" else 0.0,
+            hole=r(g.hole) if g.feature == "hole" else 0.0,
+            stations=tuple(r(s) for s in g.stations), length=r(g.length)), self.adjustment, self.stock)
 
     def section_dict(self) -> dict:
         g = self.geometry
@@ -70,6 +77,8 @@ class Design:
         out = {**self.shape_dict(), "bridge": spec.bridge, "gauge": spec.gauge.as_dict()}
         if self.adjustment is not None:
             out["adjustment"] = self.adjustment.as_dict()
+        if self.stock is not None:
+            out["stock"] = self.stock.as_dict()
         return out
 
     def label(self) -> str:

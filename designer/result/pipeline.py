@@ -16,7 +16,7 @@ from designer import model
 from designer.errors import InputError
 from designer.result import correct
 from designer.result.evaluation import Evaluation, evaluate, fixed_design
-from designer.result.record import build_record, search_record
+from designer.result.record import build_record, search_record, stock_summary
 
 
 @dataclass(frozen=True)
@@ -77,11 +77,14 @@ def design(spec, options: DesignOptions = DesignOptions()) -> DesignResult:
 
 def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
     """The trade-off fronts around an optimised design (``search.tradeoff``), or None where they do
-    not apply: no optimum, an objective other than the error, or a design the 3-D check corrected
-    (the fronts are the plain model's, and such a design is not on them)."""
+    not apply: no optimum, an objective other than the error, a design the 3-D check corrected
+    (the fronts are the plain model's, and such a design is not on them) or a stock design (the
+    fronts are of continuous sizes)."""
     found, correction = result.search, result.correction
     if found is None or not found.success or spec.objective != "error" or (correction and correction.corrected):
         return None
+    if found.best.design.stock is not None:
+        return None  # the fronts are of continuous sizes; a stock design is not on them
     from designer.search.tradeoff import fronts
 
     return fronts(spec, found, progress=None if progress is None else
@@ -120,7 +123,10 @@ def _verified(spec, found, record: dict, correction) -> dict:
             for r in correction.rounds if (c := r.candidate) is not None for f in c.fallbacks]
         chosen = {**final.candidate.record(), "adjustment": final.adjustment.as_dict()}
         candidates = [chosen] + [c.record() for c in found.candidates[1:]]
+        stock = record.get("stock")
         record = _with_large_deflection(build_record("optimal", spec, final.evaluation, candidates, solver))
+        if stock is not None:
+            record["stock"] = stock_summary(spec, final.evaluation, found.get("continuous"))
     verdict = final.verification
     summary = verdict.as_dict()
     summary.pop("profile", None)  # the strain profile goes to verify.json only

@@ -31,8 +31,26 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
 def search_record(spec, found) -> dict:
     """The design.json record of a search result (``search.SearchResult``), before the checks
     the pipeline adds (large deflection, 3-D)."""
-    return build_record(found.status, spec, found.best, [c.record() for c in found.candidates], found.solver,
-                        found.messages)
+    record = build_record(found.status, spec, found.best, [c.record() for c in found.candidates], found.solver,
+                          found.messages)
+    if spec.search.stock != "none":
+        record["stock"] = stock_summary(spec, found.best, found.get("continuous"))
+    return record
+
+
+def stock_summary(spec, best: Evaluation, continuous: Evaluation | None) -> dict:
+    """design.json's ``stock``: the stock item chosen, the best design of continuous sizes the
+    search began from, and what stock costs in the objective's terms (``cost``: stock objective
+    over the continuous one, minus one)."""
+    item = best.design.stock
+    out = {"system": spec.search.stock, "objective": spec.objective,
+           "item": None if item is None else item.as_dict(), "continuous": None, "cost": None}
+    if continuous is not None:
+        out["continuous"] = {"material": continuous.design.material.name,
+                             "section": continuous.design.section_dict(), "objective": continuous.objective}
+        if best.feasible and continuous.objective > 0:
+            out["cost"] = best.objective / continuous.objective - 1
+    return out
 
 
 def large_deflection_message(evaluation: Evaluation) -> str:

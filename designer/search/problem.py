@@ -254,14 +254,17 @@ class FamilyProblem:
                                            nlp, opts)
         return self._ipopt[stage]
 
-    def solve_ipopt(self, params, x0, stage: str = "primary", margin: float = 0.0, fixed=None) -> Solve:
+    def solve_ipopt(self, params, x0, stage: str = "primary", margin: float = 0.0, fixed=None, box=None) -> Solve:
         """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``; ``fixed`` maps
-        variable indices to values (NLP units) they are held at."""
+        variable indices to values (NLP units) they are held at, ``box`` to ``(low, high)`` bounds
+        that replace the variable's own."""
         lo, hi = self.bounds()
-        if fixed:
-            x0 = np.array(x0, dtype=float)
-            for i, v in fixed.items():
-                lo[i] = hi[i] = x0[i] = v
+        x0 = np.array(x0, dtype=float)
+        for i, (a, b) in (box or {}).items():
+            lo[i], hi[i] = a, b
+            x0[i] = min(max(x0[i], a), b)
+        for i, v in (fixed or {}).items():
+            lo[i] = hi[i] = x0[i] = v
         solver = self.ipopt(stage)
         # casadi writes its warnings through Python's standard error; a signal inside IPOPT makes
         # it warn "KeyboardInterruptException" before the run stops with its own one line: held

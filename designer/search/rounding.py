@@ -19,7 +19,8 @@ from designer.result.evaluation import ROUNDING, Design, Evaluation, evaluate
 
 
 def round_and_check(design: Design, spec) -> Evaluation | None:
-    """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points.
+    """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points. A stock
+    section (``design.stock``) is not rounded: only its feature and stations are.
 
     Every length is rounded down or up (inner stations to the nearest); all combinations are
     checked at once with the numeric model over numpy arrays, the best is chosen as ``pick``
@@ -30,6 +31,8 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
     fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
     if g.axes == 2 and g.section == "rectangle":
         fields_.remove("height")  # a biaxial rectangle is square
+    if design.stock is not None:
+        fields_ = []  # a stock section is what the table says it is
     fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
     stations = [float(s) for s in g.stations]
     choices = [floor_ceil(float(getattr(g, f))) for f in fields_]
@@ -38,7 +41,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
         station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
     combos = np.array(list(itertools.product(*choices, *station_choices)))
     named = {f: combos[:, i] for i, f in enumerate(fields_)}
-    if g.axes == 2 and g.section == "rectangle":
+    if g.axes == 2 and g.section == "rectangle" and "width" in named:
         named["height"] = named["width"]
     st = combos[:, len(fields_):]
     trial = replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
@@ -65,7 +68,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
     chosen = replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
                      **{f: float(v[best]) for f, v in named.items()})
     try:
-        return evaluate(Design(design.material, chosen, design.adjustment), spec)
+        return evaluate(Design(design.material, chosen, design.adjustment, design.stock), spec)
     except InputError:
         return None
 

@@ -17,6 +17,7 @@ from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
 from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
 from designer.search.rounding import buildable, floor_ceil, pick, round_and_check
+from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
 
 # When rounding to 0.01 mm breaks a limit that IPOPT's answer met (several limits active at
@@ -34,12 +35,19 @@ class Candidate:
     evaluation: Evaluation | None
     solves: tuple = ()
     fallbacks: tuple = ()
+    continuous: Evaluation | None = None   # with search.stock: the continuous answer the stock search began from
+    stock_note: str = ""                   # with search.stock: why no stock row meets every limit
+    outranked: bool = False                # with search.stock: every row bounded below the chosen design
 
     @property
     def status(self) -> str:
-        """optimal | infeasible | failed (no answer could be evaluated)."""
+        """optimal | infeasible | failed (no answer could be evaluated); on stock also
+        outranked (no row solved: the continuous optimum, a bound on every row, ranks below the
+        chosen stock design), and infeasible when there is no row to try."""
+        if self.outranked:
+            return "outranked"
         if self.evaluation is None:
-            return "failed"
+            return "infeasible" if self.stock_note else "failed"
         return "optimal" if self.evaluation.feasible else "infeasible"
 
     def record(self) -> dict:
@@ -55,6 +63,14 @@ class Candidate:
                        violated=[lim.name for lim in ev.violations])
         if self.fallbacks:
             out["fallbacks"] = list(self.fallbacks)
+        if self.continuous is not None or self.stock_note:
+            stock = None if ev is None else ev.design.stock
+            out.update(stock=None if stock is None else stock.label,
+                       continuous_objective=None if self.continuous is None else self.continuous.objective,
+                       continuous_status=None if self.continuous is None else
+                       ("optimal" if self.continuous.feasible else "infeasible"))
+            if self.stock_note:
+                out["stock_note"] = self.stock_note
         return out
 
 
@@ -72,7 +88,9 @@ class SearchResult(OptimizeResult):
     Keys: ``success`` (a design meets every limit), ``status`` (optimal | infeasible),
     ``message``, ``x`` (the chosen Design), ``best`` (its Evaluation), ``candidates`` (every
     material x family, ranked), ``solver`` (method, time, evaluations, solves, fallbacks),
-    ``messages`` (the diagnosis of an infeasible spec), ``seconds``, ``nfev``.
+    ``messages`` (the diagnosis of an infeasible spec), ``seconds``, ``nfev``; ``continuous``:
+    with ``search.stock``, the best design of continuous sizes the stock search began from (None
+    without stock, or when none met every limit).
     """
 
     @property
@@ -157,8 +175,43 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
     return s, ev
 
 
-# The variables that rounding holds at their grid values while the others are solved again.
+# The variables that rounding holds at their grid values (and a stock row holds at its sizes)
+# while the others are solved again.
 SECTION_VARIABLES = ("width", "height", "side", "diameter", "wall")
+
+
+def on_stock(problems: dict, candidates: list) -> list:
+    """Every candidate with its section a row of the stock catalogue (``search.stock``), searched
+    from its continuous answer (``search.stock.search_stock``). The candidates go best continuous
+    answer first, and the best stock design so far caps the others' search: a family whose rows are
+    all bounded above it is ``outranked`` without a row solved."""
+    order = sorted(range(len(candidates)), key=lambda i: _continuous_key(candidates[i]))
+    out, cap = list(candidates), math.inf
+    for i in order:
+        cand = candidates[i]
+        if math.isfinite(cap) and (cand.evaluation is None or not cand.evaluation.feasible):
+            # no design of continuous sizes met every limit, so no stock size (a subset) can
+            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation,
+                             stock_note=f"{cand.material} {cand.family.label}: no design of continuous sizes meets "
+                                        "every limit, so no stock size was tried")
+            continue
+        problem = problems[cand.family]
+        material = catalogue.material(cand.material, "search.materials")
+        x0 = _start_from(problem, cand.evaluation) if cand.evaluation is not None else problem.starts()[0]
+        found = search_stock(problem, material, x0, cap=cap)
+        ev = found.evaluation
+        out[i] = replace(cand, evaluation=ev, solves=cand.solves + found.solves, continuous=cand.evaluation,
+                         stock_note=found.note if ev is None or not ev.feasible else "", outranked=found.outranked)
+        if ev is not None and ev.feasible:
+            cap = min(cap, ev.objective)
+    return out
+
+
+def _continuous_key(cand: Candidate):
+    ev = cand.evaluation
+    if ev is None:
+        return (2, math.inf)
+    return (0, ev.objective) if ev.feasible else (1, ev.worst_violation)
 
 
 def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list):
@@ -207,6 +260,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
             candidates.append(solve_candidate(problem, mat, method))
             if progress is not None:
                 progress(len(candidates), total)
+    if spec.search.stock != "none":
+        candidates = on_stock(problems, candidates)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
     seconds = time.perf_counter() - t0
@@ -215,6 +270,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     order = {id(ev): i for i, ev in enumerate(feasible)}
 
     def cand_key(c):
+        if c.outranked:  # after the feasible ones, by the continuous optimum that bounds their rows
+            return (0, True, c.continuous.objective, 0)
         if c.evaluation is None:
             return (2, True, math.inf, 0)
         if c.evaluation.feasible:
@@ -226,6 +283,10 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
               "solves": sum(len(c.solves) for c in candidates),
               "fallbacks": [f"{c.material} {c.family.label}: {f}" for c in candidates for f in c.fallbacks]}
     if not any(c.evaluation is not None for c in candidates):
+        if spec.search.stock != "none":
+            raise SpecError(f"search.stock: {spec.search.stock!r} leaves no stock size to try: "
+                            + "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))
+                            + "; try stock: any, other materials or sections, or wider limits")
         raise SolverError("no solver returned a design that could be evaluated; try another method")
     best = candidates[0].evaluation
     if best.feasible:
@@ -234,8 +295,13 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     else:
         status, messages = "infeasible", diagnose(spec, best, candidates)
         message = messages[0]
+    if best.design.stock is not None:
+        message = f"{best.design.label()} ({best.design.stock.label}) " + ("meets every limit" if best.feasible
+                                                                         else "is the least infeasible stock design")
+    continuous = [c.continuous for c in candidates if c.continuous is not None and c.continuous.feasible]
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
-                        candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations)
+                        candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations,
+                        continuous=model.rank(continuous)[0] if continuous else None)
 
 
 def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str = "ipopt",
@@ -286,8 +352,13 @@ def break_ties(candidates: list, problems: dict) -> list:
             x0[-1] = min(x0[-1], cap)
         # the NLP's primary objective is in mm (deflection) or g (mass), Evaluation.objective in SI
         nlp_cap = in_nlp_units(cap, problem.spec.objective)
-        s = problem.solve_ipopt(material_params(material, problem.spec, nlp_cap), x0, stage="secondary")
-        ev = round_and_check(problem.design(s.x, material), problem.spec)
+        stock = cand.evaluation.design.stock  # a stock section stays the row it is
+        fixed = None if stock is None else {i: x0[i] for i, n in enumerate(problem.names) if n in SECTION_VARIABLES}
+        s = problem.solve_ipopt(material_params(material, problem.spec, nlp_cap), x0, stage="secondary", fixed=fixed)
+        design = problem.design(s.x, material)
+        if stock is not None:
+            design = same_section(design, cand.evaluation.design)
+        ev = round_and_check(design, problem.spec)
         better = ev is not None and ev.feasible and ev.objective <= lead * (1 + model.TIE_TOLERANCE) and \
             model.ranks_before(ev, cand.evaluation)
         out.append(replace(cand, evaluation=ev if better else cand.evaluation, solves=cand.solves + (s,)))

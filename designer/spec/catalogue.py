@@ -11,7 +11,7 @@ from pathlib import Path
 import yaml
 
 from designer.spec import units
-from designer.errors import FpdError, SpecError, describe_allowed
+from designer.errors import CatalogueError, FpdError, SpecError, describe_allowed
 
 
 @dataclass(frozen=True)
@@ -107,6 +107,19 @@ def gauges() -> dict[str, Gauge]:
         out[entry["name"]] = Gauge(name=entry["name"], description=entry.get("description", ""),
                                    source=entry.get("source", ""), **values)
     return out
+
+
+@functools.lru_cache(maxsize=1)
+def stock():
+    """The stock catalogue (``materials/stock.yaml``, ``spec.stock``), read and checked once."""
+    from designer.spec import stock as stock_file, strict_yaml
+
+    path = data_folder() / stock_file.FILE
+    try:
+        raw = strict_yaml.load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
+        raise CatalogueError(f"{stock_file.FILE}: cannot be read ({path}): {exc}") from exc
+    return stock_file.parse(raw, tuple(materials()))
 
 
 def material(name: str, key: str = "material") -> Material:

@@ -15,6 +15,7 @@ import yaml
 from designer.spec import catalogue
 from designer.spec import strict_yaml, units
 from designer.spec.catalogue import Gauge
+from designer.spec.stock import STOCK_CHOICES
 from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
 
@@ -83,6 +84,7 @@ class Search:
     materials: tuple[str, ...]
     sections: tuple[str, ...] = SECTION_KINDS
     feature: str = "pocket"
+    stock: str = "none"    # none: continuous sizes; metric | imperial | any: rows of materials/stock.yaml
 
 
 @dataclass(frozen=True)
@@ -200,7 +202,7 @@ class Spec:
             "limits": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self.limits).items()},
             "targets": asdict(self.targets),
             "search": {"materials": list(self.search.materials), "sections": list(self.search.sections),
-                       "feature": self.search.feature},
+                       "feature": self.search.feature, "stock": self.search.stock},
             "objective": self.objective,
             "cad": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self.cad).items()},
         }
@@ -428,7 +430,7 @@ def _parse_targets(raw, x_max: float) -> Targets:
 
 
 def _parse_search(raw) -> Search:
-    raw = _mapping(raw, "search", ("materials", "sections", "feature"))
+    raw = _mapping(raw, "search", ("materials", "sections", "feature", "stock"))
     names = tuple(catalogue.materials())
     chosen = raw.get("materials", "all")
     if chosen == "all":
@@ -447,8 +449,11 @@ def _parse_search(raw) -> Search:
     for i, s in enumerate(sections):
         _choice(s, SECTION_KINDS, f"search.sections[{i}]")
     feature = _choice(raw.get("feature", "pocket"), FEATURE_KINDS, "search.feature")
+    stock = _choice(raw.get("stock", "none"), STOCK_CHOICES, "search.stock")
+    if stock != "none":
+        catalogue.stock()  # a bad stock.yaml is refused before any work
     return Search(materials=tuple(dict.fromkeys(chosen)), sections=tuple(dict.fromkeys(sections)),
-                  feature=feature)
+                  feature=feature, stock=stock)
 
 
 def default_corner_radius(shallowest: float) -> float:

@@ -163,6 +163,8 @@ SPEC_VALUES = [
     ("search.materials", {"a": 1}, ()), ("search.materials", [7075], ("7075", "quote")),
     ("search.sections", "triangle", ()), ("search.sections", [], ()), ("search.sections", ["round", 3], ("3",)),
     ("search.feature", "slot", ()), ("search.feature", 1, ()), ("search.method", "grid", ("unknown key",)),
+    ("search.stock", "cheap", ("none, metric, imperial, any",)), ("search.stock", ["metric"], ()),
+    ("search.stock", 1, ()),
     ("objective", "speed", ()), ("objective", 1, ()), ("objective", ["error"], ()),
     ("cad", "yes", ()), ("cad.clamp_length", "abc", ()), ("cad.clamp_length", "-1 mm", ()),
     ("cad.bolt_diameter", "M5", ()), ("cad.end_mill_diameter", "3 N", ("wrong units",)),

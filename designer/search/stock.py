@@ -1,0 +1,186 @@
+"""The discrete section search: the best design whose section is a row of the stock catalogue.
+
+A family's section sizes (``SECTION_VARIABLES``) are taken from the rows of the material's
+stock tables (``spec.stock``); stations and pocket depth stay continuous. The rows are searched by
+branch and bound over boxes of rows: the NLP with the section sizes bounded to the box around a set
+of rows is a relaxation of every row in the set, so its optimum bounds their objectives from below.
+Sets are taken best bound first and split until a set is one row, which is solved with its section
+held fixed, rounded and checked (``round_and_check``); a set whose bound is above the best checked
+row's objective by more than the tie band is not opened. Each bound is a local IPOPT optimum, not
+a certificate: the tests compare the search with every row solved (docs/model.md §5).
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from designer import model
+from designer.search.problem import MM, FamilyProblem, in_nlp_units, material_params
+from designer.search.rounding import pick, round_and_check
+from designer.spec import catalogue
+
+# A row whose rounded design breaks a limit its solve met is solved again with every constraint
+# tightened by these normalised margins in turn (as run.ROUNDING_MARGINS).
+ROW_MARGINS = (1e-4, 1e-3, 1e-2)
+SIZE_TOLERANCE = 1e-9   # mm: a row on a variable bound is inside it
+
+
+@dataclass(frozen=True)
+class StockOutcome:
+    """What the stock search found for one material x family."""
+
+    evaluation: object          # Evaluation of the best row (checked), or None when no row could be solved
+    solves: tuple
+    rows: int                   # rows of the family's tables that fit the variable bounds
+    solved: int                 # rows solved on their own (the leaves opened)
+    note: str = ""              # why there is no stock design, when there is none
+    outranked: bool = False     # every row is bounded above ``cap``: none was solved
+
+
+def stock_rows(problem: FamilyProblem, material) -> tuple[list, str]:
+    """``([(StockItem, sizes in mm by variable index, sizes in m by name)], note)``: the rows of ``material``'s
+    stock tables for this family inside the NLP's variable bounds; the note says why there are
+    none."""
+    spec, fam = problem.spec, problem.family
+    table = catalogue.stock()
+    family = table.family_of(material.name)
+    rows = table.rows(material.name, fam.section, spec.search.stock, spec.axes)
+    systems = "metric and imperial" if spec.search.stock == "any" else spec.search.stock
+    shapes = {"round": "round bar", "tube": "round tube", "rectangle": "flat or square bar"}[fam.section]
+    if not rows:
+        return [], (f"no {systems} stock {shapes} of {material.name} ({family}) in stock.yaml: this family "
+                    "is infeasible on stock")
+    index = {name: i for i, name in enumerate(problem.names)}
+    fitting = []
+    for item, values in rows:
+        mm = {index[k]: v / MM for k, v in values.items()}
+        if all(problem.lower[i] - SIZE_TOLERANCE <= v <= problem.upper[i] + SIZE_TOLERANCE for i, v in mm.items()):
+            fitting.append((item, mm, values))
+    if not fitting:
+        return [], (f"none of the {len(rows)} {systems} stock {shapes} sizes of {material.name} fits "
+                    "limits.width, limits.height and limits.min_wall: this family is infeasible on stock")
+    return fitting, ""
+
+
+def on_stock(design, item, values_si: dict):
+    """``design`` with its section set exactly to a stock row's sizes (m) and the row attached."""
+    named = dict(values_si)
+    if "side" in named:
+        named["width"] = named["height"] = named.pop("side")
+    return replace(design, geometry=replace(design.geometry, **named), stock=item)
+
+
+def same_section(design, like):
+    """``design`` with the section and the stock row of ``like`` (a design on stock), exactly."""
+    g = like.geometry
+    return replace(design, geometry=replace(design.geometry, width=g.width, height=g.height, diameter=g.diameter,
+                                            wall=g.wall), stock=like.stock)
+
+
+def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = math.inf) -> StockOutcome:
+    """The best stock row for one material x family, from ``x0`` (the continuous answer, NLP
+    units); ``rows`` (as ``stock_rows`` gives them) limits the search to those rows. ``cap``
+    (objective, SI): a design another family has on stock; rows bounded above it by more than the
+    tie band are not solved, and when that is all of them the outcome is ``outranked``."""
+    rows, note = stock_rows(problem, material) if rows is None else (rows, "")
+    if not rows:
+        return StockOutcome(None, (), 0, 0, note)
+    spec = problem.spec
+    params = material_params(material, spec)
+    index = sorted(rows[0][1])
+    points = np.array([[mm[i] for i in index] for _, mm, _ in rows])
+    solves, checked = [], []
+    best_nlp = in_nlp_units(cap, spec.objective)  # the best checked row's objective (or the cap), NLP units
+
+    def objective(s) -> float:
+        return float(problem.functions(s.x, params)[0])
+
+    def relax(members, start):
+        box = {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
+        s = problem.solve_ipopt(params, start, box=box)
+        solves.append(s)
+        return s
+
+    def leaf(member, start):
+        nonlocal best_nlp
+        item, fixed, exact = rows[member]
+        found = []
+        for x in [start] + problem.starts():
+            s = problem.solve_ipopt(params, x, fixed=fixed)
+            solves.append(s)
+            ev = round_and_check(on_stock(problem.design(s.x, material), item, exact), spec)
+            if ev is not None and s.success and not ev.feasible and not _only_targets(problem, ev):
+                for margin in ROW_MARGINS:  # rounding the stations or depth broke a limit
+                    s2 = problem.solve_ipopt(params, s.x, fixed=fixed, margin=margin)
+                    solves.append(s2)
+                    ev2 = round_and_check(on_stock(problem.design(s2.x, material), item, exact), spec) \
+                        if s2.success else None
+                    if ev2 is not None and (ev2.feasible or _only_targets(problem, ev2)):
+                        ev = ev2
+                        break
+            if ev is not None:
+                found.append(ev)
+            if s.success:
+                break  # a converged answer, checked: other starts are for a solve that failed
+        ev = pick(found)
+        if ev is not None:
+            checked.append(ev)
+            if ev.feasible:
+                best_nlp = min(best_nlp, in_nlp_units(ev.objective, spec.objective))
+
+    everything = list(range(len(rows)))
+    root = relax(everything, x0)
+    heap = [(objective(root) if root.success else -math.inf, 0, everything, root.x)]
+    counter, leaves = 1, 0
+    while heap:
+        bound, _, members, start = heapq.heappop(heap)
+        if bound > best_nlp * (1 + model.TIE_TOLERANCE):
+            break   # best bound first: every set left is bounded above the incumbent's tie band
+        if len(members) == 1:
+            leaf(members[0], start)
+            leaves += 1
+            continue
+        for part in _split(points, members, start, index):
+            s = relax(part, start)
+            child_bound = objective(s) if s.success else bound  # a failed relaxation bounds nothing new
+            heapq.heappush(heap, (max(child_bound, bound), counter, part, s.x if s.success else start))
+            counter += 1
+    evaluation = pick(checked)
+    if evaluation is None and leaves == 0:
+        return StockOutcome(None, tuple(solves), len(rows), 0, "", outranked=True)
+    if evaluation is None:
+        note = f"no stock row of {material.name} {problem.family.label} could be solved"
+    elif not evaluation.feasible:
+        note = f"no stock row of {material.name} {problem.family.label} meets every limit"
+    return StockOutcome(evaluation, tuple(solves), len(rows), leaves, note)
+
+
+def _split(points: np.ndarray, members: list, x, index: list) -> list:
+    """Two sets of rows: split along the size that spreads most (on a log scale), at the
+    relaxation's value of it, or at the median when that leaves one side empty."""
+    sub = points[members]
+    spread = np.log(sub.max(axis=0)) - np.log(sub.min(axis=0))
+    k = int(np.argmax(spread))
+    cut = float(x[index[k]])
+    left = [m for m in members if points[m, k] <= cut]
+    right = [m for m in members if points[m, k] > cut]
+    if not left or not right:
+        order = sorted(members, key=lambda m: points[m, k])
+        half = len(order) // 2
+        left, right = order[:half], order[half:]
+    return [left, right]
+
+
+def _only_targets(problem: FamilyProblem, ev) -> bool:
+    return problem.epigraph and all(v.name in model.TARGET_LIMITS for v in ev.violations)
+
+
+def brute_force(problem: FamilyProblem, material, x0) -> list:
+    """Every row solved on its own with its section held, rounded and checked (the reference of
+    the tests): ``[(StockItem, Evaluation or None)]``."""
+    rows, _ = stock_rows(problem, material)
+    return [(row[0], search_stock(problem, material, x0, rows=[row]).evaluation) for row in rows]

@@ -1,0 +1,284 @@
+"""Designs a shop can buy (issue 15): the stock catalogue (materials/stock.yaml), the spec key
+``search.stock`` and the discrete section search (designer/search/stock.py).
+
+References: the search against brute force (every row of a reduced table solved with its
+section held, rounded and checked); the catalogue's sizes against the YAML file read on its own
+and the inch's definition (25.4 mm exactly); ``stock: none`` against the exhaustive reference
+search recorded in README.md.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from dataclasses import replace
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+import yaml
+
+from designer import model
+from designer.cli import main
+from designer.search.problem import Family, FamilyProblem
+from designer.search.run import _start_from, optimize, solve_candidate
+from designer.search.stock import brute_force, search_stock, stock_rows
+from designer.spec import catalogue
+from designer.spec import stock as stock_file
+from designer.spec.reader import load_spec
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+STOCK_YAML = ROOT / "materials" / "stock.yaml"
+INCH = Fraction(254, 10000)   # m, exactly (the international inch, 1959)
+MILLIMETRE = Fraction(1, 1000)
+
+
+def _metres(value, unit: str) -> float:
+    """A size written in decimal in a table's unit, in metres: the double nearest the exact value."""
+    return float(Fraction(str(value)) * {"mm": MILLIMETRE, "in": INCH}[unit])
+
+
+def _raw():
+    return yaml.safe_load(STOCK_YAML.read_text(encoding="utf-8"))
+
+
+def _spec_text(name="gripper-finger", **search) -> str:
+    """An example's spec.yaml with ``search`` keys added."""
+    raw = yaml.safe_load((EXAMPLES / f"{name}.yaml").read_text())
+    raw.setdefault("search", {}).update(search)
+    return yaml.safe_dump(raw, allow_unicode=True)
+
+
+def _spec(name="gripper-finger", **search):
+    spec = load_spec(EXAMPLES / f"{name}.yaml")
+    return replace(spec, search=replace(spec.search, **search))
+
+
+# ----------------------------------------------------------------------------- the catalogue
+
+def test_every_material_belongs_to_one_family_with_stock():
+    table = catalogue.stock()
+    for name in catalogue.materials():
+        family = table.family_of(name)
+        assert family is not None, name
+        assert any(t.family == family and t.items for t in table.tables), name
+
+
+def test_sizes_are_the_files_numbers_in_metres_and_inches_convert_exactly():
+    """Each table's rows against the YAML file read on its own: mm x 1e-3, inches x 25.4 mm."""
+    by_name = {t.name: t for t in catalogue.stock().tables}
+    for entry in _raw()["tables"]:
+        u, sizes = entry["unit"], entry["sizes"]
+        expected = ({(_metres(v, u),) for v in sizes} if isinstance(sizes, list) else
+                    {(_metres(a, u), _metres(b, u)) for a, bs in sizes.items() for b in bs})
+        got = {item.sizes for item in by_name[entry["name"]].items}
+        assert got == expected, entry["name"]
+    three_eighths = next(i for i in by_name["al-round-imperial"].items if i.designation == "Ø3/8 in")
+    assert three_eighths.sizes == (0.009525,)   # 3/8 x 25.4 mm
+
+
+@pytest.mark.parametrize("inches, text", [(0.375, "3/8"), (1.25, "1 1/4"), (0.049, "0.049"), (2.0, "2")])
+def test_imperial_sizes_read_as_a_supplier_writes_them(inches, text):
+    assert stock_file._number(inches, "in") == text
+
+
+def test_a_flat_bar_gives_both_orientations_and_a_biaxial_rectangle_needs_a_square_bar():
+    flat = stock_file.StockItem("flat bar", (0.025, 0.006), "t", "metric", "mm", "EN 754-5")
+    assert flat.sections("rectangle", 1) == [{"width": 0.025, "height": 0.006}, {"width": 0.006, "height": 0.025}]
+    assert flat.sections("rectangle", 2) == [] and flat.sections("round", 1) == []
+    square = stock_file.StockItem("square bar", (0.012,), "t", "metric", "mm", "EN 754-4")
+    assert square.sections("rectangle", 2) == [{"side": 0.012}]
+    assert flat.label == "flat bar 25 × 6 mm (EN 754-5)"
+
+
+# ----------------------------------------------------------------------------- bad stock files
+
+def _bad(raw, path: str, value):
+    """``raw`` with the value at ``path`` ("tables[0].unit") replaced (removed when None)."""
+    node = raw
+    parts = path.replace("]", "").replace("[", ".").split(".")
+    for p in parts[:-1]:
+        node = node[int(p)] if p.isdigit() else node[p]
+    last = int(parts[-1]) if parts[-1].isdigit() else parts[-1]
+    if value is None:
+        del node[last]
+    else:
+        node[last] = value
+    return raw
+
+
+def _tube_wall_too_thick(raw):
+    raw["tables"][3]["sizes"][10] = [1, 5]   # al-tube-metric: a 10 mm tube with a 5 mm wall
+    return raw
+
+
+def _duplicate(raw):
+    raw["tables"][1]["name"] = raw["tables"][0]["name"]
+    return raw
+
+
+BAD_FILES = [
+    # what is changed, the words the one error line must hold (file, entry, key, value)
+    ("missing source", lambda r: _bad(r, "tables[0].source", None), ("stock.yaml", "al-round-metric.source", "missing")),
+    ("wrong unit", lambda r: _bad(r, "tables[0].unit", "N"), ("stock.yaml", "al-round-metric.unit", "'N'", "mm, in")),
+    ("duplicate name", _duplicate, ("stock.yaml", "tables[1].name", "al-round-metric", "twice")),
+    ("non-positive size", lambda r: _bad(r, "tables[0].sizes[2]", -5), ("stock.yaml", "al-round-metric.sizes[2]", "-5",
+                                                                        "positive")),
+    ("size with a unit", lambda r: _bad(r, "tables[0].sizes[0]", "3 mm"), ("stock.yaml", "al-round-metric.sizes[0]",
+                                                                           "'3 mm'", "number")),
+    ("wall not below the radius", _tube_wall_too_thick, ("stock.yaml", "al-tube-metric.sizes.10[1]", "wall 5 mm",
+                                                         "radius 5 mm")),
+    ("unknown shape", lambda r: _bad(r, "tables[0].shape", "hexagon bar"), ("stock.yaml", "al-round-metric.shape",
+                                                                            "hexagon bar")),
+    ("material in no family", lambda r: _bad(r, "families.titanium.materials", ["7075-T6"]),
+     ("stock.yaml", "families.titanium.materials", "7075-T6", "already")),
+]
+
+
+@pytest.mark.parametrize("what, change, words", BAD_FILES, ids=[b[0] for b in BAD_FILES])
+def test_a_bad_stock_file_exits_2_naming_the_file_entry_and_key(what, change, words, tmp_path, monkeypatch, capsys):
+    data = tmp_path / "materials"
+    shutil.copytree(ROOT / "materials", data)
+    (data / "stock.yaml").write_text(yaml.safe_dump(change(_raw()), allow_unicode=True), encoding="utf-8")
+    monkeypatch.setattr(catalogue, "data_folder", lambda: data)
+    catalogue.stock.cache_clear()
+    catalogue.materials.cache_clear()
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(_spec_text(stock="metric"))
+    out = tmp_path / "out"
+    try:
+        code = main(["optimize", str(spec), "-o", str(out), "--no-cad", "--no-plots", "--quiet"])
+    finally:
+        catalogue.stock.cache_clear()
+        catalogue.materials.cache_clear()
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    for word in words:
+        assert word in err, (word, err)
+    assert not out.exists()
+
+
+# ----------------------------------------------------------------------------- the search
+
+def _reduced(monkeypatch, tables):
+    """The catalogue with only ``tables`` (name -> sizes) of aluminium, read by the same parser."""
+    raw = _raw()
+    raw["tables"] = [dict(t, sizes=tables[t["name"]]) for t in raw["tables"] if t["name"] in tables]
+    raw["families"] = {"aluminium": raw["families"]["aluminium"],
+                       "rest": {"description": "x", "materials": [m for m in catalogue.materials()
+                                                                  if m not in raw["families"]["aluminium"]["materials"]]}}
+    raw["tables"].append(dict(raw["tables"][0], name="rest-round", family="rest", shape="round bar", sizes=[10]))
+    table = stock_file.parse(raw, tuple(catalogue.materials()))
+    monkeypatch.setattr(catalogue, "stock", lambda: table)
+    return table
+
+
+REDUCED = {
+    "al-round-metric": [5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16],
+    "al-flat-metric": {10: [3, 4, 5, 6, 8], 12: [4, 5, 6, 8, 10], 15: [5, 6, 8], 16: [4, 6, 8]},
+    "al-tube-metric": {8: [1, 1.5, 2], 10: [1, 1.5, 2, 2.5, 3], 12: [1, 2, 3], 14: [2, 3], 16: [1.5, 2, 3, 4]},
+}
+
+
+@pytest.mark.parametrize("section", ["rectangle", "round", "tube"])
+def test_stock_search_equals_brute_force_on_reduced_tables(section, monkeypatch):
+    """Reference: every row of the reduced table solved with its section held, rounded and
+    checked; the best that meets every limit. The branch and bound must match it within the
+    0.1 % tie band, on a row of the table."""
+    _reduced(monkeypatch, REDUCED)
+    spec = _spec(stock="metric")
+    problem = FamilyProblem(spec, Family(section, "pocket"))
+    material = catalogue.material("7075-T6")
+    continuous = solve_candidate(problem, material, "ipopt").evaluation
+    x0 = _start_from(problem, continuous)
+    found = search_stock(problem, material, x0)
+    every = [ev for _, ev in brute_force(problem, material, x0) if ev is not None and ev.feasible]
+    assert every and found.evaluation is not None and found.evaluation.feasible
+    best = min(ev.objective for ev in every)
+    assert found.evaluation.objective == pytest.approx(best, rel=model.TIE_TOLERANCE)
+    rows, _ = stock_rows(problem, material)
+    assert found.evaluation.design.stock in {item for item, _, _ in rows}
+    assert found.solved < len(rows)   # the bound spared some rows
+    # the continuous optimum bounds every row from below (up to the 0.01 mm rounding of the rest)
+    assert continuous.objective <= best * (1 + model.TIE_TOLERANCE)
+
+
+def test_every_reported_section_is_a_row_of_the_table():
+    """The optimiser's chosen design and every candidate on stock: sizes exactly a row of
+    stock.yaml (read here on its own), in metres."""
+    spec = _spec(stock="any", materials=("7075-T6", "Ti-6Al-4V", "301-full-hard"))
+    found = optimize(spec)
+    rows = set()
+    for entry in _raw()["tables"]:
+        u, sizes = entry["unit"], entry["sizes"]
+        rows |= ({(_metres(v, u),) for v in sizes} if isinstance(sizes, list) else
+                 {(_metres(a, u), _metres(b, u)) for a, bs in sizes.items() for b in bs})
+    on_stock = [c.evaluation for c in found.candidates if c.evaluation is not None]
+    assert found.x.stock is not None and on_stock
+    for ev in on_stock:
+        g = ev.design.geometry
+        sizes = {"round": (g.diameter,), "tube": (g.diameter, g.wall)}.get(g.section)
+        if sizes is None:
+            sizes = (g.width,) if g.width == g.height else (max(g.width, g.height), min(g.width, g.height))
+        assert sizes in rows, (ev.design.label(), sizes)
+        assert sizes == ev.design.stock.sizes or sizes == ev.design.stock.sizes[::-1] or g.width == g.height
+    # no stock of titanium tube, nor of round or tube spring strip: those families say so
+    notes = {(c.material, c.family.section): c for c in found.candidates}
+    assert notes[("Ti-6Al-4V", "tube")].status == "infeasible"
+    assert "no metric and imperial stock round tube of Ti-6Al-4V" in notes[("Ti-6Al-4V", "tube")].stock_note
+    assert notes[("301-full-hard", "round")].evaluation is None
+
+
+def test_stock_none_is_the_continuous_search_and_never_reads_the_catalogue(monkeypatch):
+    """``stock: none`` (the default) is the search as it was: the stock catalogue is not read,
+    no design carries a stock item, and the gripper finger's objective is within the 0.1 % tie
+    band of the exhaustive reference search recorded in README.md (0.254206)."""
+    def refuse():
+        raise AssertionError("search.stock: none read the stock catalogue")
+
+    monkeypatch.setattr(catalogue, "stock", refuse)
+    spec = _spec()
+    assert spec.search.stock == "none"
+    found = optimize(spec)
+    assert found.x.stock is None and found.get("continuous") is None
+    assert found.best.objective == pytest.approx(0.254206, rel=model.TIE_TOLERANCE)
+    assert all("stock" not in c.record() for c in found.candidates)
+    explicit = optimize(_spec(stock="none"))
+    assert explicit.best.objective == found.best.objective and explicit.x == found.x
+
+
+def test_an_infeasible_stock_choice_is_bad_input(tmp_path, capsys):
+    """A spec whose limits leave no stock size at all: exit 2, one line naming search.stock."""
+    path = tmp_path / "spec.yaml"
+    path.write_text(_spec_text(stock="imperial", materials=["Ti-6Al-4V"], sections=["tube"]))
+    code = main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1
+    assert "search.stock: 'imperial'" in err and "Ti-6Al-4V" in err and not (tmp_path / "out").exists()
+
+
+def test_optimize_on_stock_names_the_item_and_the_continuous_optimum(tmp_path, capsys):
+    """End to end: examples/weigh-bar.yaml with ``search: {stock: metric}``: the terminal summary,
+    report.md and design.json name the stock item and its standard, and give the continuous
+    optimum and what stock costs; design.json reads back (``simulate``)."""
+    path = tmp_path / "weigh-bar.yaml"
+    path.write_text(_spec_text("weigh-bar", stock="metric"))
+    out = tmp_path / "out"
+    code = main(["optimize", str(path), "-o", str(out), "--no-cad", "--no-plots"])
+    text = capsys.readouterr().out
+    assert code == 0
+    record = json.loads((out / "design.json").read_text())
+    item = record["design"]["stock"]
+    assert item["system"] == "metric" and item["label"].split(" (")[0] in " ".join(text.split())
+    assert item["standard"] in (out / "report.md").read_text()
+    assert "stock costs" in (out / "report.md").read_text() and "continuous optimum" in text
+    stock = record["stock"]
+    # the continuous optimum bounds the stock design from below (the tie band covers rounding)
+    assert stock["cost"] >= -model.TIE_TOLERANCE
+    assert record["predicted"]["objective"] == pytest.approx(stock["continuous"]["objective"] * (1 + stock["cost"]))
+    section = record["design"]["section"]
+    mm = [round(v * 1e3, 9) for k, v in section.items() if k != "kind"]
+    assert sorted(mm) == sorted(round(v * 1e3, 9) for v in item["sizes"])
+    assert main(["simulate", str(out / "design.json"), "--draws", "200"]) == 0
