@@ -41,13 +41,21 @@ def material(E=E_AL):
     return MaterialParams(E=E, allowable=100e6, density=RHO_AL)
 
 
+# A pocket's floor radius: the spec's default end-mill corner radius (cad.corner_radius, R0.2).
+FLOOR_RADIUS = 0.2 * MM
+
+
 def rectangle(b, h, feature="none", stations=(0.02, 0.08), length=0.4, **kw):
+    if feature == "pocket":
+        kw.setdefault("floor_radius", FLOOR_RADIUS)
     return Geometry(section="rectangle", feature=feature, stations=stations, length=length,
                     width=b, height=h, gauge_length=6.9 * MM, pocket_length=8.9 * MM,
                     pocket_width=kw.pop("pocket_width", 5.5 * MM), **kw)
 
 
 def circular(kind, D, feature="none", wall=None, stations=(0.02, 0.08), length=0.4, **kw):
+    if feature == "pocket":
+        kw.setdefault("floor_radius", FLOOR_RADIUS)
     return Geometry(section=kind, feature=feature, stations=stations, length=length, diameter=D, wall=wall,
                     gauge_length=6.9 * MM, pocket_length=8.9 * MM, pocket_width=5.5 * MM, **kw)
 
@@ -168,7 +176,7 @@ MINIATURE_GAUGE = "gauge: {name: miniature, factor: 2.0, length: 1 mm, width: 0.
 
 
 def _text(force, position, noise_rti, limits, gauge=MINIATURE_GAUGE, material="Ti-6Al-4V", section="rectangle",
-          objective="error"):
+          objective="error", feature="pocket"):
     return f"""\
 name: stability
 load:
@@ -188,6 +196,7 @@ targets:
 search:
   materials: [{material}]
   sections: [{section}]
+  feature: {feature}
 objective: {objective}
 """
 
@@ -196,18 +205,20 @@ STABILITY_SCALES = {
     # a 14 mm finger read at millinewtons
     "millinewtons on a millimetre beam": _text("[2 mN, 100 mN]", "[8 mm, 14 mm]", "760 nV", SMALL_CLEARANCES
                                                + "\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]"),
-    # a metre-long whisker read at millinewtons
+    # a metre-long whisker read at millinewtons, gauges on its surface (a miniature gauge's
+    # pocket is short for its section: outside the slots' fitted domain, docs/model.md §7)
     "millinewtons on a metre beam": _text("[5 mN, 200 mN]", "[0.4 m, 1 m]", "300 nV",
                                           SMALL_CLEARANCES + "\n  width: [0.5 mm, 20 mm]\n  height: [0.5 mm, 20 mm]"
-                                          "\n  max_deflection: 20 mm"),
-    # a short stiff lug at kilonewtons
+                                          "\n  max_deflection: 20 mm", feature="none"),
+    # a short stiff lug at kilonewtons, and a metre-long weigh beam: gauges on the plain bar's
+    # surface, as a gauge-sized pocket is short for sections this large (outside the slots'
+    # fitted domain, docs/model.md §7)
     "kilonewtons on a millimetre beam": _text("[50 N, 2 kN]", "[30 mm, 60 mm]", "500 nV",
                                               "  width: [5 mm, 40 mm]\n  height: [5 mm, 40 mm]",
-                                              gauge="gauge: BF350-3AA", material="17-4PH-H900"),
-    # a metre-long weigh beam at kilonewtons
+                                              gauge="gauge: BF350-3AA", material="17-4PH-H900", feature="none"),
     "kilonewtons on a metre beam": _text("[100 N, 5 kN]", "[0.3 m, 1 m]", "500 nV",
                                          "  width: [10 mm, 150 mm]\n  height: [10 mm, 150 mm]\n  max_deflection: 10 mm",
-                                         gauge="gauge: CEA-06-125UW-120", material="17-4PH-H900"),
+                                         gauge="gauge: CEA-06-125UW-120", material="17-4PH-H900", feature="none"),
 }
 
 

@@ -113,7 +113,9 @@ class Case:
 # Halton sequence (so that every parameter varies on its own, unlike a product grid whose pocket
 # length is fixed), wide enough to hold the designs the optimiser chooses for the examples and
 # the bench suite. ``lp_grid`` is l_p over the gauge's grid length (2.4-4 across the catalogue's
-# gauges with the spec's pocket margin); ``notch`` is sqrt(p / r), Peterson's variable.
+# gauges with the spec's pocket margin); ``notch`` is sqrt(p / r), Peterson's variable. Each
+# group is (family, box, number of Halton points); a family may have several boxes (slots in
+# narrow bars, and in wide ones, whose bars are costlier to mesh).
 POCKET_BOXES = {
     "rectangle-pocket": {"depth_ratio": (0.08, 0.32), "length_ratio": (1.0, 5.0),
                          "pocket_width_ratio": (0.45, 0.88), "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
@@ -122,7 +124,21 @@ POCKET_BOXES = {
     "tube-pocket": {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.2, 0.42), "length_ratio": (0.25, 1.8),
                     "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
 }
-POCKET_CASES = {"rectangle-pocket": 14, "round-pocket": 15, "tube-pocket": 19}
+WIDE_SLOTS = {**POCKET_BOXES["rectangle-pocket"], "pocket_width_ratio": (0.2, 0.47)}
+# Large sections carry a gauge-sized pocket that is short for them (weigh bars, kilonewton lugs).
+SHORT_SLOTS = {"depth_ratio": (0.05, 0.32), "length_ratio": (0.3, 1.05), "pocket_width_ratio": (0.2, 0.88),
+               "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
+SHORT_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.2, 0.45), "notch_ratio": (1.55, 7.0),
+                     "lp_grid": (2.4, 4.0)}
+SHORT_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.15, 0.5),
+                    "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
+POCKET_GROUPS = (("rectangle-pocket", POCKET_BOXES["rectangle-pocket"], 40),
+                 ("round-pocket", POCKET_BOXES["round-pocket"], 44),
+                 ("tube-pocket", POCKET_BOXES["tube-pocket"], 48),
+                 ("rectangle-pocket", WIDE_SLOTS, 24),
+                 ("rectangle-pocket", SHORT_SLOTS, 16),
+                 ("round-pocket", SHORT_ROUND_FLATS, 16),
+                 ("tube-pocket", SHORT_TUBE_FLATS, 20))
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
 # deep enough: gmsh's mesh of a radius much finer than the pocket's own detail takes minutes. A
@@ -147,7 +163,7 @@ def halton(n: int, dims: int) -> list[tuple]:
     return [tuple(radical(i, b) for b in primes) for i in range(1, n + 1)]
 
 
-def pocket_case(family: str, u: dict) -> Case | None:
+def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
     """The case of one point of a pocket family's box (parameter -> value), or None where the
     flat would be narrower than the gauge's grid or the floor radii would leave a floor shorter
     than the gauge's backing (the CAD refuses both). ``notch_ratio``'s coordinate (0-1) spans the
@@ -157,7 +173,7 @@ def pocket_case(family: str, u: dict) -> Case | None:
     clearance = max(CLAMP_CLEARANCE, POCKET_CLEARANCE * size)
     wall = u["wall_ratio"] * size if family == "tube-pocket" else 0.0
     depth = u["depth_ratio"] * (wall if family == "tube-pocket" else size)
-    lo, hi = POCKET_BOXES[family]["notch_ratio"]
+    lo, hi = (box or POCKET_BOXES[family])["notch_ratio"]
     hi = max(lo, min(hi, math.sqrt(depth / MIN_CORNER_RADIUS)))
     corner = depth / (lo + u["notch_ratio"] * (hi - lo)) ** 2
     if family == "rectangle-pocket":
@@ -177,12 +193,12 @@ def cases(families=None) -> list[Case]:
     """The study's grid, family by family."""
     mm = 1e-3
     out = []
-    for fam, box in POCKET_BOXES.items():
+    for fam, box, count in POCKET_GROUPS:
         names = list(box)
-        for point in halton(POCKET_CASES[fam], len(names)):
+        for point in halton(count, len(names)):
             u = {k: t if k == "notch_ratio" else lo + t * (hi - lo)
                  for k, t, (lo, hi) in zip(names, point, box.values())}
-            case = pocket_case(fam, u)
+            case = pocket_case(fam, u, box)
             if case is not None:
                 out.append(case)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
@@ -305,138 +321,6 @@ def read_csv(path: Path) -> list[dict]:
                 for row in csv.DictReader(fh)]
 
 
-def monomials(n: int, degree: int) -> list[tuple]:
-    """Exponent tuples of every monomial of ``n`` variables up to total ``degree``, constant first."""
-    out = [()]
-    for _ in range(n):
-        out = [e + (k,) for e in out for k in range(degree + 1)]
-    return sorted((e for e in out if sum(e) <= degree), key=lambda e: (sum(e), [-k for k in e]))
-
-
-def fit_polynomial(rows: list[dict], variables: tuple, target, degree: int = 2, weight=None):
-    """Least-squares polynomial of ``target(row)`` over ``variables``, the residuals weighted by
-    ``weight(row)`` (what a unit error in the target costs; 1 by default), with its RMS weighted
-    residual and largest weighted leave-one-out residual (from the hat matrix: r_i / (1 - h_ii))."""
-    import numpy as np
-
-    from designer.model.corrections import Fit
-
-    exps = monomials(len(variables), degree)
-    X = np.array([[np.prod([r[v] ** e for v, e in zip(variables, ex)]) for ex in exps] for r in rows])
-    y = np.array([target(r) for r in rows])
-    w = np.array([1.0 if weight is None else weight(r) for r in rows])
-    Xw, yw = X * w[:, None], y * w
-    coef, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
-    resid = yw - Xw @ coef
-    hat = np.einsum("ij,ji->i", Xw, np.linalg.pinv(Xw))
-    loo = resid / np.clip(1 - hat, 1e-9, None)
-    domain = {v: (min(r[v] for r in rows), max(r[v] for r in rows)) for v in variables}
-    return Fit(tuple(variables), tuple(exps), tuple(float(c) for c in coef), domain,
-               float(np.sqrt(np.mean(resid ** 2))), float(np.max(np.abs(loo))))
-
-
-# What each family's fits may depend on, as candidate sets tried from the fewest terms up (the
-# other parameters are fixed by the spec's pocket rule or do not vary in the study): the gauge
-# strain on the pocket's depth, its length and the gauge grid's (how far the grid's ends are from
-# the pocket's ends), and for a slot the share of the width it takes; the extra compliance on
-# the depth and the length (a tube's wall, a slot's share); K_t, as Peterson's shoulder fillets,
-# on sqrt(t/r) and the depth (a tube's wall, a slot's share).
-FIT_VARIABLES = {
-    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio")]},
-    "rectangle-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
-                                    ("depth_ratio", "length_ratio", "pocket_width_ratio")],
-                         "extra_length": [("depth_ratio", "length_ratio"),
-                                          ("depth_ratio", "length_ratio", "pocket_width_ratio")],
-                         "stress": [("notch_ratio", "depth_ratio"), ("notch_ratio", "depth_ratio", "pocket_width_ratio")]},
-    "round-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio")],
-                     "extra_length": [("depth_ratio", "length_ratio")],
-                     "stress": [("notch_ratio", "depth_ratio")]},
-    "tube-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
-                               ("depth_ratio", "wall_ratio", "length_ratio")],
-                    "extra_length": [("depth_ratio", "length_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
-                    "stress": [("notch_ratio", "depth_ratio"), ("notch_ratio", "depth_ratio", "wall_ratio")]},
-}
-# Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
-# kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
-FIT_DOMAINS: dict = {}
-FIT_DEGREES = (1, 2, 3)
-# A fit is shipped only if its largest leave-one-out error is within this: a correction the study
-# cannot predict to better than the 3-D check's own acceptance would only move the model's error
-# elsewhere. The gauge-strain factor is judged on itself (0.02: 2 % of the plain model's strain,
-# the check's strain verdict), K_t relative to itself (5 %, half the peak-stress verdict's 10 %). The extra length is judged
-# by what the design sees, the free-end deflection it implies: 1.5 % (half the check's 3 %). A
-# fixed share of the section size (the rule before) asks far too much of a long thin slot, whose
-# deflection barely depends on Δ, and too little of a deep flat near the clamp.
-FIT_ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05}
-TARGETS = {"strain": "strain_far", "extra_length": "extra_length", "stress": "stress_ratio"}
-
-
-def deflection_per_extra(row: dict) -> float:
-    """The relative change of the beam model's free-end deflection per unit of ``extra_length``
-    (Δ / size) at this row, from its two ends: Δ = 0 gives the plain model (ratio
-    ``deflection_ratio`` to the 3-D) and Δ = ``extra_length`` the 3-D deflection; the deflection is
-    linear in Δ to within the curvature of the moment over Δ/2 (under 1 % of the slope here)."""
-    extra = row["extra_length"]
-    if abs(extra) < 1e-6:
-        return 0.0
-    return (1 - 1 / row["deflection_ratio"]) / extra
-
-
-def error_weight(quantity: str, row: dict) -> float:
-    """What a unit error in the fitted quantity costs at ``row``, in FIT_ACCEPT's terms."""
-    if quantity == "extra_length":
-        return abs(deflection_per_extra(row))
-    if quantity == "stress":
-        return 1 / abs(row[TARGETS[quantity]])
-    return 1.0
-
-
-def judged_error(quantity: str, row: dict, predicted: float) -> float:
-    """The error of a prediction of ``quantity`` at ``row`` as FIT_ACCEPT judges it: on the strain
-    factor itself (a share of the plain model's strain), relative for K_t, the implied free-end
-    deflection's for the extra length."""
-    return (predicted - row[TARGETS[quantity]]) * error_weight(quantity, row)
-
-
-def _in_domain(row: dict, box: dict) -> bool:
-    return all(lo <= row.get(k, math.nan) <= hi for k, (lo, hi) in box.items())
-
-
-def fit_table(rows: list[dict], source: str = ""):
-    """The corrections of every family from the study's rows: for each feature family and
-    quantity, the polynomial of fewest terms (over FIT_VARIABLES' candidate sets and FIT_DEGREES)
-    whose leave-one-out error meets ``FIT_ACCEPT`` with at least two points per term, fitted over
-    FIT_DOMAINS where one is given; quantities no fit meets stay uncorrected."""
-    from designer.model.corrections import Corrections
-
-    fits, report = {}, []
-    for fam, quantities in FIT_VARIABLES.items():
-        for quantity, candidates in quantities.items():
-            column = TARGETS[quantity]
-            box = FIT_DOMAINS.get(fam, {}).get(quantity, {})
-            tries = sorted(((len(monomials(len(v), d)), i, v, d) for i, v in enumerate(candidates)
-                            for d in FIT_DEGREES), key=lambda t: t[:2])
-            for _, _, variables, degree in tries:
-                data = [r for r in rows if r["family"] == fam and math.isfinite(r.get(column, math.nan))
-                        and all(v in r for v in variables) and _in_domain(r, box)]
-                if 2 * len(monomials(len(variables), degree)) > len(data):
-                    continue
-                fit = fit_polynomial(data, variables, lambda r: r[column], degree,
-                                     weight=lambda r, q=quantity: error_weight(q, r))
-                report.append((fam, quantity, degree, fit))
-                if fit.loo_max <= FIT_ACCEPT[quantity]:
-                    fits.setdefault(fam, {})[quantity] = fit
-                    break
-    if any(r["family"] == "rectangle-none" for r in rows):
-        from designer.checks import clamp_study
-
-        clamp = clamp_study.fit(rows)
-        if clamp.loo_max <= FIT_ACCEPT["strain"]:
-            fits["plain"] = {"clamp": clamp}
-        report.append(("plain", "clamp", "sech", clamp))
-    return Corrections(fits, source), report
-
-
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description="Regenerate the 3-D study table of the feature corrections, or fit it.")
     p.add_argument("-o", "--output", type=Path, required=True, help="CSV to write (with --fit: the YAML table)")
@@ -453,13 +337,16 @@ def main(argv=None) -> int:
         meshes = sorted({(r["family"], r.get("mesh", "?")) for r in rows})
         source = (f"fpdesign's 3-D check over the parametric study {args.fit.name} (python -m designer.checks.study; "
                   + ", ".join(f"{fam}: {mesh} mesh" for fam, mesh in meshes) + ")")
-        table, report = fit_table(rows, source=source)
+        from designer.checks import fits
+
+        table, report = fits.fit_table(rows, source=source)
         args.output.write_text(yaml.safe_dump(to_dict(table), sort_keys=False, width=110, default_flow_style=None),
                                encoding="utf-8")
-        for fam, quantity, degree, f in report:
+        for fam, quantity, degree, f in report:  # degree: the number of terms
             shipped = table.fit(fam, quantity) is f
-            print(f"{fam:17s} {quantity:13s} {'degree ' if isinstance(degree, int) else ''}{degree}: rms {f.rms:.4f}, "
+            print(f"{fam:17s} {quantity:13s} {degree}{' terms' if isinstance(degree, int) else ''}: rms {f.rms:.4f}, "
                   f"leave-one-out max {f.loo_max:.4f}{'' if fam == 'plain' else ' over ' + ', '.join(f.variables)}"
+                  f"{f', shifted {f.margin:.4f} to the safe side' if getattr(f, 'margin', 0) else ''}"
                   f"{'  shipped' if shipped else ''}")
         return 0
     rows = []

@@ -122,6 +122,10 @@ class Fit:
     domain: dict            # variable -> (low, high) of the study
     rms: float = 0.0        # fit residual, and the largest leave-one-out residual
     loo_max: float = 0.0
+    # the shift to the safe side the coefficients include, for a fit that does not meet its rule
+    # (``checks.study.SAFE_SIDE``): K_t times (1 + margin), the extra length + margin sizes; 0
+    # for a fit that meets it
+    margin: float = 0.0
 
     def __call__(self, values: dict):
         total = 0.0
@@ -177,7 +181,7 @@ def _fit_from_dict(f: dict):
                         float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
     return Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
                tuple(float(c) for c in f["coefficients"]), domain, float(f.get("rms", 0.0)),
-               float(f.get("loo_max", 0.0)))
+               float(f.get("loo_max", 0.0)), float(f.get("margin", 0.0)))
 
 
 def _fit_to_dict(f) -> dict:
@@ -186,7 +190,7 @@ def _fit_to_dict(f) -> dict:
                 "domain": {k: list(v) for k, v in f.domain.items()}, "rms": f.rms, "loo_max": f.loo_max}
     return {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
             "coefficients": list(f.coefficients), "domain": {k: list(v) for k, v in f.domain.items()},
-            "rms": f.rms, "loo_max": f.loo_max}
+            "rms": f.rms, "loo_max": f.loo_max, **({"margin": f.margin} if f.margin else {})}
 
 
 def to_dict(c: Corrections) -> dict:
@@ -211,6 +215,14 @@ def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
     if clamp is None:
         return tuple(base for _ in g.stations)
     return tuple(base * clamp(values["width_ratio"], u, ops) for u in station_width_ratios(g))
+
+
+def strain_allowance(g: Geometry, table: Corrections) -> float:
+    """How far above the corrected model the 3-D gauge strain may lie: the largest left-out error
+    of the fits that set it (the feature's ``strain`` fit and the clamp's). The gauge-strain limit
+    keeps this much room, so that a design at that limit meets it in 3-D too."""
+    fits = [table.fit(family(g), "strain"), clamp_fit(table)]
+    return max((f.loo_max for f in fits if f is not None), default=0.0)
 
 
 def stress_concentration(g: Geometry, table: Corrections):
@@ -246,12 +258,13 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     stay inside the box the study covered (infinite bounds are open). Clamp ratios per station."""
     fam = family(g)
     values = parameters(g)
-    out = []
+    box = {}    # where fits share a parameter, the design stays inside all of their ranges
     for quantity in ("strain", "extra_length", "stress"):
         fit = table.fit(fam, quantity)
         for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
-            if all(name != o[0] for o in out):
-                out.append((name, values[name], lo, hi))
+            old_lo, old_hi = box.get(name, (lo, hi))
+            box[name] = (max(lo, old_lo), min(hi, old_hi))
+    out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
     clamp = clamp_fit(table)
     if clamp is not None:
         for name, (lo, hi) in clamp.domain.items():

@@ -54,14 +54,19 @@ class Limit:
 def limits(g: Geometry, a, m, spec, include_targets: bool = True,
            ops: Ops = NUMERIC, table=None) -> list[Limit]:
     """Every limit of docs/model.md §4 and the geometry rules of §1."""
+    from designer.model import corrections
+
     lim, load = spec.limits, spec.load
     mm = 1e-3  # scale for geometric rules whose limit may be zero
     d = list(g.stations)
     l_f = g.feature_length
+    table = corrections.load() if table is None else table
     out = [
         Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
         Limit("stress_feature", a.stress_feature, m.static_allowable, unit="Pa"),
-        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain, unit="strain"),
+        # the gauge's limit less the corrections' own uncertainty (docs/model.md §7)
+        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain / (1 + corrections.strain_allowance(g, table)),
+              unit="strain"),
         Limit("min_signal_snr", a.min_signal_snr, lim.min_snr, upper=False),
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),

@@ -136,7 +136,9 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             evaluation = pick(checked)
             if s.success and ev.feasible and not all_starts:
                 break  # a verified answer: the other starts are kept for failures
-        if evaluation is not None and evaluation.feasible:
+        # a feasible design from a solver that failed on every start is only its start point:
+        # the fallback method still runs
+        if evaluation is not None and evaluation.feasible and any(x.success for x in solves):
             break
         if m != method or method == "grid":
             break
@@ -260,6 +262,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
             candidates.append(solve_candidate(problem, mat, method))
             if progress is not None:
                 progress(len(candidates), total)
+    if method == "ipopt":
+        candidates = every_start_for_contenders(candidates, problems)
     if spec.search.stock != "none":
         candidates = on_stock(problems, candidates)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
@@ -313,6 +317,36 @@ def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str 
     problem = FamilyProblem(spec, family, adjustment)
     starts = [_start_from(problem, previous)] + problem.starts()
     return solve_candidate(problem, previous.design.material, method, starts=starts, margin=margin)
+
+
+# Candidates whose verified objective is within this of the best are solved from every start, not
+# only up to the first verified answer: the feature corrections (docs/model.md §7) leave the NLP
+# more than one local optimum, and the first start's may lose to a runner-up's by a few per cent.
+CONTENDER_BAND = 0.05
+
+
+def every_start_for_contenders(candidates: list, problems: dict) -> list:
+    """``candidates`` with each contender (feasible, within CONTENDER_BAND of the best objective)
+    solved again from every start, keeping the better verified design."""
+    feasible = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible]
+    if not feasible:
+        return candidates
+    lead = min(feasible)
+    out = []
+    for c in candidates:
+        problem = problems[c.family]
+        ev = c.evaluation
+        if (ev is None or not ev.feasible or ev.objective > lead * (1 + CONTENDER_BAND)
+                or len(c.solves) >= len(problem.starts())):
+            out.append(c)
+            continue
+        # the first start gave this candidate's answer; the others have not been solved
+        again = solve_candidate(problem, catalogue.material(c.material), "ipopt", all_starts=True,
+                                starts=problem.starts()[1:])
+        better = again.evaluation is not None and again.evaluation.feasible and again.evaluation.objective < ev.objective
+        out.append(replace(again, solves=c.solves + again.solves, fallbacks=c.fallbacks + again.fallbacks)
+                   if better else c)
+    return out
 
 
 def _start_from(problem: FamilyProblem, ev: Evaluation):

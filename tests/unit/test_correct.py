@@ -90,10 +90,11 @@ def test_a_design_that_fails_in_3d_is_corrected_and_passes(monkeypatch):
     assert factors["gauge_strain"] == pytest.approx(STRAIN_RATIO, rel=1e-12)
     assert result.status == "optimal" and result.record["design"]["adjustment"] == factors
     # the reported design is the one the stand-in passed: solved the loop's margin under the
-    # limit, then rounded to 0.01 mm (which moves the deflection by a few 0.1 %)
+    # limit, then rounded to 0.01 mm (a 0.01 mm step of a ~1 mm deep flat, whose extra
+    # compliance (§7) carries much of the deflection, moves it by up to 1 %)
     kept = spec.limits.max_deflection * (1 - correct.CORRECTION_MARGIN)
     assert result.verification.passed and result.verification.deflection_fea <= spec.limits.max_deflection
-    assert result.verification.deflection_fea == pytest.approx(kept, rel=5e-3)
+    assert result.verification.deflection_fea == pytest.approx(kept, rel=1e-2)
     assert result.record["predicted"]["deflection"] == pytest.approx(result.verification.deflection_fea, rel=1e-12)
     assert [mesh for _, mesh in calls] == ["coarse", "coarse"]
     assert "corrected by the 3-D check" in " ".join(result.record["messages"])

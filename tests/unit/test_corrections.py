@@ -98,6 +98,17 @@ def test_the_fitted_domain_is_a_limit_on_the_design():
     assert float(names2["domain_hole_ratio_max"].normalised) == pytest.approx(10.5 / 12.7 / 0.8 - 1, rel=1e-9)
 
 
+def test_where_fits_share_a_parameter_the_design_stays_inside_every_range():
+    # the strain fit of a hole knows hole_ratio over 0.3-0.8, a stress fit over 0.4-0.9: a
+    # design is kept to 0.4-0.8, the ranges' intersection
+    spec, design, a = _analysis()
+    strain = TABLE.fit("rectangle-hole", "strain")
+    stress = Fit(("hole_ratio",), ((0,),), (1.3,), {"hole_ratio": (0.4, 0.9)})
+    table = Corrections({"rectangle-hole": {"strain": strain, "stress": stress}})
+    bounds = {name: (lo, hi) for name, _, lo, hi in corrections.domain_bounds(design.geometry, table)}
+    assert bounds["hole_ratio"] == (0.4, 0.8)
+
+
 def test_shipped_table_gives_exact_derivatives_to_the_optimiser():
     # OpenMDAO-style check: the casadi gradient of the NLP (with the shipped hole correction)
     # against central finite differences of the same function.
@@ -111,3 +122,29 @@ def test_shipped_table_gives_exact_derivatives_to_the_optimiser():
     g = assert_exact_jacobian(problem, x, params)
     assert any(name.startswith("domain_") for name in problem.limit_names)
     assert math.isfinite(float(np.asarray(g).ravel()[0]))
+
+
+def test_a_fit_is_shifted_to_its_safe_side_until_no_left_out_point_misses_by_more_than_its_rule():
+    # K_t (a scale): left-out predictions 2.0 and 3.0 against 3-D values 2.2 and 2.9; the rule
+    # allows a 5 % miss, so the worst point (2.2 over 2.0) sets 1 + m = 2.2 * 0.95 / 2.0
+    from designer.checks import fits
+    from designer.model.corrections import Fit
+
+    kt = Fit(("notch_ratio",), ((0,), (1,)), (1.0, 0.5), {"notch_ratio": (1.0, 5.0)})
+    rows = [{"stress_ratio": 2.2}, {"stress_ratio": 2.9}]
+    safe = fits.shifted(kt, "stress", rows, [2.0, 3.0])
+    assert safe.margin == pytest.approx(2.2 * 0.95 / 2.0 - 1)
+    assert safe({"notch_ratio": 2.0}) == pytest.approx(2.0 * (1 + safe.margin))
+    assert fits.judged_error("stress", rows[0], 2.0 * (1 + safe.margin)) == pytest.approx(-0.05)
+    # the extra length (an offset): a row whose deflection moves 0.05 per section size of extra
+    # length (deflection ratio 1.1 at an extra length of 1/0.55 sizes: (1 - 1/1.1) / 0.05) and whose
+    # left-out prediction is 0.4 sizes short: the rule's 1.5 % of the deflection is 0.3 sizes of
+    # it, so the fit moves up by 0.1 sizes, in a constant term it did not have
+    extra = Fit(("length_ratio",), ((1,),), (0.2,), {"length_ratio": (1.0, 5.0)})
+    row = {"extra_length": (1 - 1 / 1.1) / 0.05, "deflection_ratio": 1.1}
+    assert fits.error_weight("extra_length", row) == pytest.approx(0.05)
+    safe = fits.shifted(extra, "extra_length", [row], [row["extra_length"] - 0.4])
+    assert safe.margin == pytest.approx(0.1)
+    assert safe.exponents == ((1,), (0,)) and safe({"length_ratio": 2.0}) == pytest.approx(0.5)
+    # a fit that already errs to the safe side is left as it is
+    assert fits.shifted(kt, "stress", rows, [2.5, 3.1]).margin == 0.0

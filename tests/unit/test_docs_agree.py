@@ -69,3 +69,26 @@ def test_readings_are_volts_after_the_gain():
     (k1, f1, s1), (k2, f2, s2) = fitted[500], fitted[1000]
     assert k2 == pytest.approx(2 * k1, rel=1e-12)
     assert np.all(np.abs(f1 - k1) < 5 * s1) and np.all(np.abs(f2 - k2) < 5 * s2)
+
+
+def test_the_model_docs_table_of_corrections_is_the_shipped_table():
+    # docs/model.md §7 lists every shipped fit with its largest left-out residual and its shift to
+    # the safe side: the table must say what materials/corrections.yaml holds
+    from designer.model import corrections
+
+    text = (ROOT / "docs" / "model.md").read_text(encoding="utf-8")
+    rows = [line for line in text.splitlines() if line.startswith("| ")
+            and any(unit in line for unit in ("% of the factor", "% of the deflection", "% of K_t"))]
+    names = {"strain": "`C_ε`", "extra_length": "`Δ`", "stress": "`K_t`", "clamp": "`C_c`"}
+    families = {"rectangle-hole": "rectangle + hole", "rectangle-pocket": "rectangle + slot",
+                "round-pocket": "round + flat", "tube-pocket": "tube + flat", "plain": "every family (clamp)"}
+    table = corrections.load()
+    shipped = [(fam, q, f) for fam, qs in table.fits.items() for q, f in qs.items()]
+    assert len(rows) == len(shipped)
+    for fam, q, f in shipped:
+        row = next(r for r in rows if r.startswith(f"| {families[fam]} | {names[q]} |"))
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        assert cells[5].startswith(f"{f.loo_max:.1%}"), (fam, q, cells[5])
+        margin = getattr(f, "margin", 0.0)
+        expected = "–" if not margin else (f"×{1 + margin:.3f}" if q == "stress" else f"+{margin:.3f} sizes")
+        assert cells[6] == expected, (fam, q, cells[6])

@@ -24,3 +24,23 @@ def test_surface_is_found_next_to_a_crowd_of_fine_facets():
     assert not np.isfinite(first[0])              # the nearest candidates miss it ...
     points, _ = readout._surface_points(m, xy)
     assert points[2] == pytest.approx([1.0, 1.0])  # ... the search finds the plane z = 1
+
+
+def test_a_peak_is_on_the_floor_radius_only_at_a_pockets_end_and_floor():
+    # a 0.2 mm corner radius at the ends of a pocket spanning 20-30 mm with its floor at Z = 4 mm:
+    # the fillet occupies one radius along the beam from each end wall and one radius up from the
+    # floor; a slot's side wall halfway along, or the floor's middle, is not the radius
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from designer.checks.fea.readout import _on_floor_radius
+
+    r = 0.2e-3
+    pb = SimpleNamespace(floor_radius=r, spans=((20e-3, 30e-3),), size=10e-3, gauge_z=4e-3)
+    assert _on_floor_radius(np.array([20e-3 + 0.5 * r, 1e-3, 4e-3 + 0.3 * r]), pb) is True   # JSON takes it
+    assert _on_floor_radius(np.array([30e-3 - 0.2 * r, 0.0, 4e-3]), pb)
+    assert not _on_floor_radius(np.array([25e-3, 2e-3, 4e-3 + 0.5e-3]), pb)     # side wall, mid-pocket
+    assert not _on_floor_radius(np.array([25e-3, 0.0, 4e-3]), pb)              # the floor's middle
+    assert not _on_floor_radius(np.array([20e-3, 0.0, 4e-3 + 5 * r]), pb)       # high on the end wall
+    assert not _on_floor_radius(np.array([20e-3, 0.0, 4e-3]), SimpleNamespace(**{**vars(pb), "floor_radius": 0.0}))

@@ -113,7 +113,8 @@ def test_the_peak_stress_has_its_own_convergence_verdict(slender):
             assert "peak-stress convergence: NOT converged" in text and "rerun with --mesh fine" in text
             assert "peak stress NOT converged (6.0% change" in report and "**NOT converged**" in report
     # two meshes that agree but are both too coarse for a pocket's floor radius do not count
-    at_radius = replace(slender.stress_peak, where="pocket at station 1 (20.0 mm)", element_size=0.17e-3)
+    at_radius = replace(slender.stress_peak, where="pocket at station 1 (20.0 mm)", element_size=0.17e-3,
+                        on_floor_radius=True)
     r = with_messages(replace(slender, stress_peak=at_radius, stress_peak_coarse=0.99 * peak, floor_radius=0.2e-3),
                       fatigue=False, feature="pocket", seconds=1.0, mesh_option="--mesh")
     assert r.stress_change <= fea.CONVERGED_STRESS and not r.stress_resolved and not r.stress_converged
@@ -122,6 +123,9 @@ def test_the_peak_stress_has_its_own_convergence_verdict(slender):
     assert r.as_dict()["stress"]["resolved"] is False
     fine_enough = replace(at_radius, element_size=0.07e-3)
     assert replace(r, stress_peak=fine_enough).stress_converged
+    # a peak in the pocket but off its floor radius (a slot's side wall) is not judged by the radius
+    side_wall = replace(at_radius, on_floor_radius=False)
+    assert replace(r, stress_peak=side_wall).stress_converged
 
 
 # ----------------------------------------------------------------- features

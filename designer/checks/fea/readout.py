@@ -38,6 +38,9 @@ GAUGE_LINES = 4
 # Points along the surface-strain profile, from this fraction of an element off the clamp face.
 PROFILE_POINTS = 400
 PROFILE_START = 0.25
+# A point within this many floor radii of a pocket's end and of its floor's level is on the
+# radius (the fillet spans one radius each way; the rest allows for the mesh's vertices).
+FLOOR_RADIUS_REACH = 1.5
 # Upward surface facets: outward normal's Z component at least this.
 UP_FACING = 0.2
 # Candidate facets searched for each surface point.
@@ -52,6 +55,7 @@ class StressPeak:
     location: tuple         # (X, Y, Z), m
     where: str              # "pocket corner", "hole edge", ...
     element_size: float = 0.0   # mean length of the mesh edges meeting at the peak, m
+    on_floor_radius: bool = False   # on a pocket's floor radius at one of its ends
 
 
 def _probe_matrix(basis, points: np.ndarray, cells: np.ndarray, derivative: int | None = None):
@@ -239,6 +243,20 @@ def _where(point: np.ndarray, pb: Problem) -> str:
     return "plain beam"
 
 
+def _on_floor_radius(point: np.ndarray, pb: Problem) -> bool:
+    """Whether ``point`` lies on a pocket's floor radius: within FLOOR_RADIUS_REACH radii of a
+    pocket's end along the beam and of its floor's level (+Z: the loaded face), where the end
+    mill's corner radius joins floor and end wall. A peak elsewhere in a pocket (a slot's side
+    wall, a wire channel's edge) is not the radius's."""
+    r = pb.floor_radius
+    if r <= 0:
+        return False
+    x, z = point[0], point[2]
+    reach = FLOOR_RADIUS_REACH * r
+    near_end = any(min(abs(x - a), abs(x - b)) <= reach for a, b in pb.spans)
+    return bool(near_end and -PLANE_TOLERANCE * pb.size <= z - pb.gauge_z <= reach)
+
+
 def _element_size_at(mesh, vertex: int) -> float:
     """The mean length of the mesh edges that meet at ``vertex``."""
     others = np.unique(mesh.t[:, np.any(mesh.t == vertex, axis=0)])
@@ -271,7 +289,7 @@ def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressP
     i_peak = np.flatnonzero(keep)[np.argmax(vm[keep])]
     location = tuple(float(v) for v in sol.mesh.p[:, i_peak])
     peak = StressPeak(float(vm[i_peak]), location, _where(sol.mesh.p[:, i_peak], pb),
-                      _element_size_at(sol.mesh, i_peak))
+                      _element_size_at(sol.mesh, i_peak), _on_floor_radius(sol.mesh.p[:, i_peak], pb))
     zone = keep & _stress_zone(x, pb)
     feature_peak = float(vm[zone].max()) if zone.any() else float(vm[keep].max())
     margin = pb.depth / 2

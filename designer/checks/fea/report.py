@@ -162,8 +162,8 @@ class VerifyResult:
     def stress_resolved(self) -> bool:
         """False when the peak sits on a pocket's floor radius and the mesh edges there are on
         average longer than RESOLVED_RADIUS_SHARE of it."""
-        at_radius = self.floor_radius > 0 and self.stress_peak.where.startswith("pocket")
-        return not at_radius or self.stress_peak.element_size <= RESOLVED_RADIUS_SHARE * self.floor_radius
+        return (not self.stress_peak.on_floor_radius
+                or self.stress_peak.element_size <= RESOLVED_RADIUS_SHARE * self.floor_radius)
 
     @property
     def stress_converged(self) -> bool:
@@ -192,7 +192,8 @@ class VerifyResult:
                        "fea_stations": list(self.stress_stations_fea),
                        "coarse_peak": self.stress_peak_coarse, "mesh_change": self.stress_change,
                        "converged": self.stress_converged, "converged_within": CONVERGED_STRESS,
-                       "element_size": self.stress_peak.element_size, "resolved": self.stress_resolved,
+                       "element_size": self.stress_peak.element_size, "on_floor_radius": self.stress_peak.on_floor_radius,
+                       "resolved": self.stress_resolved,
                        "floor_radius": self.floor_radius,
                        "model_max": self.stress_model, "model_root": self.stress_root_model,
                        "model_feature": self.stress_feature_model, "model_kt": self.stress_concentration_model,

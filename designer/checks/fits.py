@@ -1,0 +1,283 @@
+"""Fitting the feature corrections to the 3-D study's table (docs/model.md §7).
+
+Each quantity of each family (the gauge-strain factor, the extra length, K_t) is fitted by least
+squares over a few candidate forms of its dimensionless parameters, weighted by what an error
+costs the design, and judged by its leave-one-out error: ``fit_table`` keeps the form of fewest
+terms that meets the 3-D check's own acceptance (FIT_ACCEPT), or, where none does, the best
+rough form within FIT_CEILING, shifted to its quantity's safe side where it has one. The fits
+are written to ``materials/corrections.yaml`` by ``python -m designer.checks.study --fit``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+def monomials(n: int, degree: int) -> list[tuple]:
+    """Exponent tuples of every monomial of ``n`` variables up to total ``degree``, constant first."""
+    out = [()]
+    for _ in range(n):
+        out = [e + (k,) for e in out for k in range(degree + 1)]
+    return sorted((e for e in out if sum(e) <= degree), key=lambda e: (sum(e), [-k for k in e]))
+
+
+def fit_polynomial(rows: list[dict], variables: tuple, target, degree: int = 2, weight=None):
+    """Least-squares polynomial of ``target(row)`` over ``variables``, every monomial up to
+    ``degree``: ``fit_terms`` of ``monomials``."""
+    return fit_terms(rows, Terms(tuple(variables), tuple(monomials(len(variables), degree))), target, weight)[0]
+
+
+@dataclass(frozen=True)
+class Terms:
+    """A fit's form: the monomials (exponent tuples over ``variables``) it sums."""
+
+    variables: tuple
+    exponents: tuple
+
+
+def fit_terms(rows: list[dict], terms: Terms, target, weight=None):
+    """Least squares of ``target(row)`` over ``terms``, the residuals weighted by ``weight(row)``
+    (what a unit error in the target costs; 1 by default): the Fit, with its RMS weighted
+    residual and largest weighted leave-one-out residual (from the hat matrix:
+    r_i / (1 - h_ii)), and each row's left-out prediction."""
+    import numpy as np
+
+    from designer.model.corrections import Fit
+
+    variables = terms.variables
+    X = np.array([[np.prod([r[v] ** e for v, e in zip(variables, ex)]) for ex in terms.exponents] for r in rows])
+    y = np.array([target(r) for r in rows])
+    w = np.array([1.0 if weight is None else weight(r) for r in rows])
+    Xw, yw = X * w[:, None], y * w
+    coef, *_ = np.linalg.lstsq(Xw, yw, rcond=None)
+    resid = yw - Xw @ coef
+    hat = np.einsum("ij,ji->i", Xw, np.linalg.pinv(Xw))
+    loo = resid / np.clip(1 - hat, 1e-9, None)
+    domain = {v: (min(r[v] for r in rows), max(r[v] for r in rows)) for v in variables}
+    fit = Fit(tuple(variables), tuple(tuple(e) for e in terms.exponents), tuple(float(c) for c in coef), domain,
+              float(np.sqrt(np.mean(resid ** 2))), float(np.max(np.abs(loo))))
+    return fit, y - loo / w
+
+
+# What each family's fits may depend on, as candidate forms tried from the fewest terms up (the
+# other parameters are fixed by the spec's pocket rule or do not vary in the study). A tuple of
+# parameters stands for its full polynomials of FIT_DEGREES; ``Terms`` are forms with a physical
+# shape:
+# - the gauge strain on the pocket's depth, its length and the gauge grid's (how far the grid's
+#   ends are from the pocket's ends), and for a slot the share of the width it takes;
+# - the extra compliance on the depth and the length (a tube's wall, a slot's share), also as a
+#   share of the feature's length (``SHARE_OF_LENGTH``: a slot's side walls and a flat's ends
+#   shed their load over a distance that grows with the feature);
+# - K_t, as Peterson's shoulder fillets, on sqrt(t/r) and the depth (a tube's wall, a slot's
+#   share), also in Neuber's shape ``1 + sqrt(t/r) (a + b p + c v)``: K_t - 1 grows like sqrt(t/r)
+#   for a sharp fillet, with a slope set by the depth (Neuber, Kerbspannungslehre; Peterson's
+#   charts, Pilkey & Pilkey 3rd ed. ch. 3).
+NEUBER = Terms(("notch_ratio", "depth_ratio"), ((0, 0), (1, 0), (1, 1)))
+
+
+def _neuber(third: str) -> Terms:
+    return Terms(("notch_ratio", "depth_ratio", third), ((0, 0, 0), (1, 0, 0), (1, 1, 0), (1, 0, 1)))
+
+
+def _share_of_length(*others: str) -> Terms:
+    """``Δ = l (a + b l + sum c_j v_j)``, over length_ratio l and the ``others``."""
+    n = len(others)
+    ones = [tuple(1 if j == i else 0 for j in range(n)) for i in range(n)]
+    return Terms(("length_ratio",) + others, tuple([(1,) + (0,) * n, (2,) + (0,) * n] + [(1,) + e for e in ones]))
+
+
+FIT_FORMS = {
+    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio")]},
+    "rectangle-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
+                                    ("depth_ratio", "length_ratio", "pocket_width_ratio"),
+                                    ("depth_ratio", "length_ratio", "width_ratio")],
+                         "extra_length": [("depth_ratio", "length_ratio"),
+                                          ("depth_ratio", "length_ratio", "pocket_width_ratio"),
+                                          ("length_ratio", "pocket_width_ratio", "width_ratio"),
+                                          _share_of_length("pocket_width_ratio"),
+                                          _share_of_length("depth_ratio", "pocket_width_ratio")],
+                         "stress": [NEUBER, _neuber("pocket_width_ratio"), ("notch_ratio", "depth_ratio"),
+                                    ("notch_ratio", "depth_ratio", "pocket_width_ratio")]},
+    "round-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
+                                ("depth_ratio", "length_ratio", "grid_ratio")],
+                     "extra_length": [("depth_ratio", "length_ratio"), ("depth_ratio", "length_ratio", "grid_ratio"),
+                                      _share_of_length("depth_ratio")],
+                     "stress": [NEUBER, _neuber("length_ratio"), ("notch_ratio", "depth_ratio"),
+                                ("notch_ratio", "depth_ratio", "length_ratio")]},
+    "tube-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
+                               ("depth_ratio", "wall_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
+                    "extra_length": [("depth_ratio", "wall_ratio"), ("depth_ratio", "length_ratio"),
+                                     ("depth_ratio", "wall_ratio", "length_ratio"),
+                                     _share_of_length("depth_ratio", "wall_ratio")],
+                    "stress": [NEUBER, _neuber("wall_ratio"), ("notch_ratio", "depth_ratio"),
+                               ("notch_ratio", "depth_ratio", "wall_ratio")]},
+}
+# Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
+# kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
+FIT_DOMAINS: dict = {
+    # A pocket or flat short for its section reads a gauge strain that scatters more than any
+    # smooth fit follows (the load flows round a short pocket rather than through it): on a tube,
+    # from -8 % to +14 % of the beam model's below half the diameter; on a bar, from -7 % to +17 %
+    # below 0.9 of its height. Their gauge strain is fitted, and designs are kept, above that.
+    "tube-pocket": {"strain": {"length_ratio": (0.5, math.inf)}},
+    "rectangle-pocket": {"strain": {"length_ratio": (0.9, math.inf)}},
+}
+FIT_DEGREES = (1, 2, 3)
+# No form has more terms than this: a cubic in three parameters (20 terms) follows the study's
+# scatter and wiggles between its points, which the optimiser would find and exploit.
+MAX_TERMS = 10
+# A fit is shipped only if its largest leave-one-out error is within this: a correction the study
+# cannot predict to better than the 3-D check's own acceptance would only move the model's error
+# elsewhere. The gauge-strain factor is judged on itself (0.02: 2 % of the plain model's strain,
+# the check's strain verdict), K_t relative to itself (5 %, half the peak-stress verdict's 10 %). The extra length is judged
+# by what the design sees, the free-end deflection it implies: 1.5 % (half the check's 3 %). A
+# fixed share of the section size (the rule before) asks far too much of a long thin slot, whose
+# deflection barely depends on Δ, and too little of a deep flat near the clamp.
+FIT_ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05}
+TARGETS = {"strain": "strain_far", "extra_length": "extra_length", "stress": "stress_ratio"}
+
+
+def deflection_per_extra(row: dict) -> float:
+    """The relative change of the beam model's free-end deflection per unit of ``extra_length``
+    (Δ / size) at this row, from its two ends: Δ = 0 gives the plain model (ratio
+    ``deflection_ratio`` to the 3-D) and Δ = ``extra_length`` the 3-D deflection; the deflection is
+    linear in Δ to within the curvature of the moment over Δ/2 (under 1 % of the slope here)."""
+    extra = row["extra_length"]
+    if abs(extra) < 1e-6:
+        return 0.0
+    return (1 - 1 / row["deflection_ratio"]) / extra
+
+
+def error_weight(quantity: str, row: dict) -> float:
+    """What a unit error in the fitted quantity costs at ``row``, in FIT_ACCEPT's terms."""
+    if quantity == "extra_length":
+        return abs(deflection_per_extra(row))
+    if quantity == "stress":
+        return 1 / abs(row[TARGETS[quantity]])
+    return 1.0
+
+
+def judged_error(quantity: str, row: dict, predicted: float) -> float:
+    """The error of a prediction of ``quantity`` at ``row`` as FIT_ACCEPT judges it: on the strain
+    factor itself (a share of the plain model's strain), relative for K_t, the implied free-end
+    deflection's for the extra length."""
+    return (predicted - row[TARGETS[quantity]]) * error_weight(quantity, row)
+
+
+def _in_domain(row: dict, box: dict) -> bool:
+    return all(lo <= row.get(k, math.nan) <= hi for k, (lo, hi) in box.items())
+
+
+# Where no form meets FIT_ACCEPT, the form with the smallest left-out error still ships when that
+# error is within FIT_CEILING and below the largest error of no correction at all (a factor of 1,
+# an extra length of 0) over the study: a rough correction beats none. A quantity with a safe side
+# (SAFE_SIDE) ships shifted to it (``Fit.margin``) until no left-out point misses on the unsafe
+# side by more than FIT_ACCEPT, so that the model errs towards a design that holds: K_t scaled up,
+# the extra length, and so the deflection, raised. The gauge strain has no safe side (a larger
+# factor is safe for the strain limit and unsafe for the predicted error): it ships unshifted, and
+# the gauge-strain limit keeps its left-out error as room (``corrections.strain_allowance``).
+SAFE_SIDE = {"stress": "scale", "extra_length": "offset"}
+FIT_CEILING = {"strain": 0.04, "stress": 0.25, "extra_length": 0.10}
+
+
+def uncorrected_error(quantity: str, rows: list[dict]) -> float:
+    """The largest error, as FIT_ACCEPT judges it, of leaving ``quantity`` uncorrected."""
+    plain = {"strain": 1.0, "stress": 1.0, "extra_length": 0.0}[quantity]
+    return max(abs(judged_error(quantity, r, plain)) for r in rows)
+
+
+def _forms(candidates) -> list[Terms]:
+    out = []
+    for c in candidates:
+        if isinstance(c, Terms):
+            out.append(c)
+        else:
+            out += [Terms(tuple(c), tuple(monomials(len(c), d))) for d in FIT_DEGREES]
+    return [t for t in out if len(t.exponents) <= MAX_TERMS]
+
+
+def shifted(fit, quantity: str, rows: list[dict], predicted):
+    """``fit`` shifted to ``quantity``'s safe side (SAFE_SIDE) until none of the left-out
+    ``predicted`` values of ``rows`` misses on the unsafe side by more than FIT_ACCEPT (as
+    ``judged_error`` weighs it), with that shift as its margin."""
+    from dataclasses import replace
+
+    tol = FIT_ACCEPT[quantity]
+    actual = [r[TARGETS[quantity]] for r in rows]
+    if SAFE_SIDE[quantity] == "scale":
+        # judged (p (1 + m) - y) / y >= -tol
+        margin = max(0.0, float(max(y * (1 - tol) / p for y, p in zip(actual, predicted))) - 1)
+        return replace(fit, coefficients=tuple(float(c * (1 + margin)) for c in fit.coefficients), margin=margin)
+    # judged (p + m - y) w >= -tol
+    margin = max(0.0, float(max(y - p - tol / error_weight(quantity, r) for y, p, r in zip(actual, predicted, rows))))
+    zero = (0,) * len(fit.variables)
+    if zero in fit.exponents:
+        k = fit.exponents.index(zero)
+        coefficients = fit.coefficients[:k] + (float(fit.coefficients[k] + margin),) + fit.coefficients[k + 1:]
+        return replace(fit, coefficients=coefficients, margin=margin)
+    return replace(fit, exponents=fit.exponents + (zero,), coefficients=fit.coefficients + (margin,), margin=margin)
+
+
+# Among rough forms, the one of fewest terms whose left-out error is within this factor of the
+# smallest: a polynomial with more terms that predicts hardly better adds wiggles between the
+# study's points, which put local optima in the optimiser's way.
+PARSIMONY = 1.25
+
+
+def _parsimonious(tried: list):
+    """``(fit, rows, left-out predictions)`` of the fewest terms among ``tried`` (sorted by their
+    number of terms) whose left-out error is within PARSIMONY of the smallest; None if none."""
+    if not tried:
+        return None
+    least = min(f.loo_max for f, _, _ in tried)
+    return next(t for t in tried if t[0].loo_max <= PARSIMONY * least)
+
+
+def fit_table(rows: list[dict], source: str = ""):
+    """The corrections of every family from the study's rows: for each feature family and
+    quantity, the form of fewest terms (over FIT_FORMS) whose leave-one-out error meets
+    ``FIT_ACCEPT`` with at least two points per term, fitted over FIT_DOMAINS where one is given;
+    where none does, the best form within FIT_CEILING that beats no correction, shifted to the
+    quantity's safe side where it has one (``shifted``); otherwise the quantity stays uncorrected."""
+    from designer.model.corrections import Corrections
+
+    fits, report = {}, []
+    for fam, quantities in FIT_FORMS.items():
+        for quantity, candidates in quantities.items():
+            column = TARGETS[quantity]
+            box = FIT_DOMAINS.get(fam, {}).get(quantity, {})
+            tried = []
+            for terms in sorted(_forms(candidates), key=lambda t: len(t.exponents)):
+                data = [r for r in rows if r["family"] == fam and math.isfinite(r.get(column, math.nan))
+                        and all(v in r for v in terms.variables) and _in_domain(r, box)]
+                if 2 * len(terms.exponents) > len(data):
+                    continue
+                fit, left_out = fit_terms(data, terms, lambda r: r[column],
+                                          weight=lambda r, q=quantity: error_weight(q, r))
+                if box:  # the fit holds over the box it was fitted in, its own parameters or not
+                    from dataclasses import replace
+
+                    fit = replace(fit, domain={**fit.domain, **{k: (min(r[k] for r in data), max(r[k] for r in data))
+                                                                for k in box if k not in fit.domain}})
+                report.append((fam, quantity, len(terms.exponents), fit))
+                if fit.loo_max <= FIT_ACCEPT[quantity]:
+                    fits.setdefault(fam, {})[quantity] = fit
+                    break
+                tried.append((fit, data, left_out))
+            else:
+                best = _parsimonious(tried)
+                if (best is not None and best[0].loo_max <= FIT_CEILING[quantity]
+                        and best[0].loo_max < uncorrected_error(quantity, best[1])):
+                    rough = shifted(best[0], quantity, best[1], best[2]) if quantity in SAFE_SIDE else best[0]
+                    fits.setdefault(fam, {})[quantity] = rough
+                    if rough is not best[0]:
+                        report.append((fam, quantity, len(rough.exponents), rough))
+    if any(r["family"] == "rectangle-none" for r in rows):
+        from designer.checks import clamp_study
+
+        clamp = clamp_study.fit(rows)
+        if clamp.loo_max <= FIT_ACCEPT["strain"]:
+            fits["plain"] = {"clamp": clamp}
+        report.append(("plain", "clamp", "sech", clamp))
+    return Corrections(fits, source), report
