@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 from typing import Any
 
@@ -110,6 +112,9 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     # per-station factors on the gauge strain (and so on k_i): the feature and clamp corrections,
     # then the design's 3-D/model ratios
     station_factors = [corrections.strain_factors(g, table, ops)]
+    arc = grid_arc_factor(g, ops)
+    if arc is not None:
+        station_factors.append([arc] * len(g.stations))
     if adjust is not None:
         if len(adjust.gauge_strain) != len(g.stations):
             raise ValueError(f"adjustment.gauge_strain: {len(adjust.gauge_strain)} factors for "
@@ -149,6 +154,18 @@ def _scaled(values: list, factor_lists: list) -> tuple:
         if factors:
             values = [v * c for v, c in zip(values, factors)]
     return tuple(values)
+
+
+def grid_arc_factor(g: Geometry, ops: Ops = NUMERIC):
+    """The strain a gauge grid of width ``w`` reads on the round surface of a bar or tube (no flat
+    under it) over the top fibre's: across the grid the surface falls away from ``y_g = R`` as
+    ``sqrt(R^2 - s^2)`` (``s`` across the beam), and the bending strain with it, so the grid
+    averages ``(a sqrt(1 - a^2) + asin a) / (2 a)`` with ``a = w / (2 R) = w / D``. None where the
+    gauge sits on a flat face (rectangles, pockets, flats) or the grid's width is not known."""
+    if g.section == "rectangle" or g.feature != "none" or not g.grid_width:
+        return None
+    a = g.grid_width / g.diameter
+    return (a * ops.sqrt(1 - a * a) + (math.pi / 2 - ops.acos(a))) / (2 * a)
 
 
 def fatigue_factor(notch_sensitivity, stress_concentration):

@@ -33,6 +33,7 @@ class Geometry:
     pocket_width: float = 0.0      # w_p
     gauge_length: float = 0.0
     grid_length: float = 0.0       # the gauge's active grid along the beam
+    grid_width: float = 0.0        # ... and across it
     axes: int = 1
     floor_radius: float = 0.0      # the end mill's corner radius where a pocket's floor meets its end walls
 

@@ -174,7 +174,8 @@ def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometr
         hole=feature.diameter if feature.kind == "hole" else 0.0,
         pocket_length=feature.length if feature.kind == "pocket" else lp,
         pocket_width=feature.width if feature.kind == "pocket" else wp,
-        gauge_length=spec.gauge.length, grid_length=spec.gauge.grid_length, axes=axes or spec.axes,
+        gauge_length=spec.gauge.length, grid_length=spec.gauge.grid_length,
+        grid_width=spec.gauge.grid_width, axes=axes or spec.axes,
         floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0)
 
 

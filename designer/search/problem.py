@@ -120,7 +120,7 @@ class FamilyVariables:
                         width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
                         wall=named.get("wall"), depth=named.get("depth", 0.0), hole=named.get("hole", 0.0),
                         pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length,
-                        grid_length=spec.gauge.grid_length, axes=spec.axes,
+                        grid_length=spec.gauge.grid_length, grid_width=spec.gauge.grid_width, axes=spec.axes,
                         floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0)
 
     def design(self, x, material) -> Design:

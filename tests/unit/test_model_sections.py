@@ -184,3 +184,19 @@ def test_casadi_expressions_equal_the_numeric_model(name):
     expected = [float(getattr(a_num, n)) for n in names] + [float(lim.normalised) for lim in lims_num]
     assert [lim.name for lim in lims_sym] == [lim.name for lim in lims_num]
     np.testing.assert_allclose(values, expected, rtol=1e-10, atol=1e-12)
+
+
+def test_the_grid_arc_factor_is_the_mean_height_of_the_round_surface_under_the_grid():
+    # Reference: the mean of sqrt(R^2 - s^2) / R over |s| <= w/2, by the trapezoid rule; 1 on a
+    # flat face (rectangles, flats) and for a grid of no width
+    from designer import model
+
+    for d, w in ((5e-3, 2.2e-3), (10e-3, 4.57e-3), (30e-3, 2.2e-3)):
+        g = circular("round", d, grid_width=w)
+        s = np.linspace(-w / 2, w / 2, 200001)
+        mean = np.trapezoid(np.sqrt((d / 2) ** 2 - s ** 2), s) / w / (d / 2)
+        assert float(model.grid_arc_factor(g)) == pytest.approx(mean, rel=1e-9)
+        assert float(model.grid_arc_factor(circular("tube", d, wall=d / 4, grid_width=w))) == pytest.approx(mean, rel=1e-9)
+    assert model.grid_arc_factor(circular("round", 5e-3, feature="pocket", grid_width=2.2e-3, depth=1e-3)) is None
+    assert model.grid_arc_factor(rectangle(5e-3, 5e-3, grid_width=2.2e-3)) is None
+    assert model.grid_arc_factor(circular("round", 5e-3)) is None
