@@ -126,6 +126,7 @@ class _Draft:
     force_error: float = 0.01
     position_error: float = 1e-3
     units: str = "si"                    # si | imperial
+    end_mill: float | None = None        # cad.end_mill_diameter: a micro end mill for a miniature gauge's slot
 
 
 def _draw_common(rng, f_range, x_range, materials=(2, 3), sections=(1, 2)) -> _Draft:
@@ -263,6 +264,7 @@ def _raw(d: _Draft) -> dict:
         "targets": {"force_error": _q(d.force_error * 100, "%", 3), "position_error": length(d.position_error)},
         "search": {"materials": list(d.materials), "sections": list(d.sections), "feature": d.feature},
         "objective": d.objective,
+        **({"cad": {"end_mill_diameter": length(d.end_mill)}} if d.end_mill is not None else {}),
     }
 
 
@@ -279,6 +281,7 @@ def _millinewton(rng, name):
     _small_gauge(d, 1.5e-3, 1.2e-3)
     d.limits.update(clamp_clearance=1e-3, load_clearance=1e-3, tip_margin=1e-3, pocket_margin=0.2e-3,
                     gauge_gap=0.5e-3, min_wall=0.2e-3, min_pocket_depth=0.05e-3)
+    d.end_mill = 0.8e-3   # the 1.6 mm slot is too narrow for the CAD's standard end mills (from 1 mm)
     _place_load(rng, d)
     _size_sections(rng, d)
     _set_targets_and_noise(rng, d, (0.15, 0.6))
@@ -313,6 +316,7 @@ def _short_beam(rng, name):
     _small_gauge(d, 1.0e-3, 0.8e-3)
     d.limits.update(clamp_clearance=0.3e-3, load_clearance=0.3e-3, tip_margin=0.5e-3, pocket_margin=0.1e-3,
                     gauge_gap=0.2e-3, min_wall=0.1e-3, min_pocket_depth=0.02e-3)
+    d.end_mill = 0.5e-3   # likewise for its 1.0 mm slot
     _place_load(rng, d)
     _size_sections(rng, d, low=(0.3, 0.5))
     _set_targets_and_noise(rng, d, (0.15, 0.6))

@@ -238,6 +238,22 @@ def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: lis
     return next((s2, ev2) for s2, ev2 in found if ev2 is best)
 
 
+def _unmachinable(spec, fam: Family) -> str:
+    """Why no design of ``fam`` can be machined under ``spec`` ('' when one can): a slot needs an
+    end mill that cuts it with the spec's corner radius and leaves the gauge a flat floor, and
+    that depends on the spec alone (``outputs.cad.beam.slot_end_mill``)."""
+    if fam.section != "rectangle" or fam.feature != "pocket":
+        return ""
+    from designer.errors import DesignFileError
+    from designer.outputs.cad.beam import slot_end_mill
+
+    try:
+        slot_end_mill(spec)
+    except DesignFileError as exc:
+        return f"no slot can be machined: {exc}"
+    return ""
+
+
 def _only_targets(ev: Evaluation) -> bool:
     return all(v.name in model.TARGET_LIMITS for v in ev.violations)
 
@@ -255,11 +271,16 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     candidates: list[Candidate] = []
     problems: dict[Family, FamilyProblem] = {}
     total = len(mats) * len(fams)
+    unmachinable = {}
     for fam in fams:
         problem = FamilyProblem(spec, fam)
         problems[fam] = problem
+        why = _unmachinable(spec, fam)
+        if why:
+            unmachinable[fam] = why
         for mat in mats:
-            candidates.append(solve_candidate(problem, mat, method))
+            candidates.append(Candidate(mat.name, fam, None, (), (why,)) if why
+                              else solve_candidate(problem, mat, method))
             if progress is not None:
                 progress(len(candidates), total)
     if method == "ipopt":
@@ -287,6 +308,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
               "solves": sum(len(c.solves) for c in candidates),
               "fallbacks": [f"{c.material} {c.family.label}: {f}" for c in candidates for f in c.fallbacks]}
     if not any(c.evaluation is not None for c in candidates):
+        if unmachinable:
+            raise SpecError("search.sections: " + "; ".join(f"{fam.label}: {why}" for fam, why in unmachinable.items()))
         if spec.search.stock != "none":
             raise SpecError(f"search.stock: {spec.search.stock!r} leaves no stock size to try: "
                             + "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))

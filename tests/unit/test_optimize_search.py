@@ -141,3 +141,26 @@ def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     assert g[-3] + x[-1] == pytest.approx(float(ev.analysis.force_error) / spec.targets.force_error)
     assert g[-2] + x[-1] == pytest.approx(float(ev.analysis.position_error) / spec.targets.position_error)
     assert e == pytest.approx(ev.error_ratio)
+
+
+def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
+    # A 1.5 x 1.2 mm gauge with 0.2 mm margins needs a 1.6 mm wide slot; the CAD's standard end
+    # mills start at 1 mm and take at most 0.6 of the slot's width (outputs/cad/beam.py), so no
+    # standard tool cuts it: a rectangle-only pocket search is bad input, and a 0.8 mm micro end
+    # mill (cad.end_mill_diameter) makes it a design again
+    from designer.errors import SpecError
+
+    text = _spec_text(search="  materials: [7075-T6]\n  sections: [rectangle]\n  feature: pocket",
+                              load="  force: [2 mN, 100 mN]\n  position: [8 mm, 14 mm]",
+                              limits="  clamp_clearance: 1 mm\n  load_clearance: 1 mm\n  tip_margin: 1 mm\n"
+                                     "  pocket_margin: 0.2 mm\n  gauge_gap: 0.5 mm\n  min_wall: 0.2 mm\n"
+                                     "  min_pocket_depth: 0.05 mm\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]",
+                              targets="  force_error: 20 %\n  position_error: 20 %")
+    text += "gauge: {name: miniature, factor: 2.0, length: 1.5 mm, width: 1.2 mm, max_strain: 1500 ue}\n"
+    with pytest.raises(SpecError) as err:
+        search.optimize(parse_spec_text(text))
+    message = str(err.value)
+    assert message.startswith("search.sections: rectangle: no slot can be machined: a slot 1.6 mm wide")
+    assert "cad.end_mill_diameter" in message
+    found = search.optimize(parse_spec_text(text + "cad: {end_mill_diameter: 0.8 mm}\n"))
+    assert found.best is not None and found.x.geometry.section == "rectangle"

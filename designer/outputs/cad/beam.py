@@ -265,6 +265,24 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
     return given
 
 
+def slot_end_mill(spec) -> float:
+    """The end mill that cuts a spec's slots (rectangle pockets), which depends on the spec alone:
+    the pocket's size from the gauge and its margin, the corner radius and any given end mill.
+    Raises DesignFileError when no tool can."""
+    lp, wp = spec.pocket_size()
+    if spec.cad.end_mill_diameter is not None:
+        return _end_mill({"end_mill_diameter": spec.cad.end_mill_diameter}, lp, wp, spec.gauge.length,
+                         spec.gauge.width, spec.cad.corner_radius)
+    try:
+        return _end_mill({}, lp, wp, spec.gauge.length, spec.gauge.width, spec.cad.corner_radius)
+    except DesignFileError:
+        raise DesignFileError(
+            f"a slot {fmt_mm(wp)} mm wide (the gauge's {fmt_mm(spec.gauge.width)} mm and twice "
+            f"limits.pocket_margin) leaves no standard end mill (from {fmt_mm(END_MILLS[0])} mm) that cuts it with "
+            f"the {fmt_mm(spec.cad.corner_radius)} mm cad.corner_radius and keeps the gauge on its flat floor; "
+            "give cad.end_mill_diameter, a smaller cad.corner_radius or a larger limits.pocket_margin") from None
+
+
 def _end_mill(cad: dict, p_len: float, p_wid: float, g_len: float, g_wid: float, corner: float) -> float:
     """The end mill of a slot: its radius is the slot's plan corner radius; ``corner`` (its own
     corner radius) rounds the floor's edge, and the gauge backing must sit on the flat floor."""
