@@ -61,13 +61,13 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     d = list(g.stations)
     l_f = g.feature_length
     table = corrections.load() if table is None else table
+    # the strain-borne limits keep room for the corrections' own uncertainty (docs/model.md §7)
+    allowance = corrections.strain_allowance(g, table)
     out = [
         Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
         Limit("stress_feature", a.stress_feature, m.static_allowable, unit="Pa"),
-        # the gauge's limit less the corrections' own uncertainty (docs/model.md §7)
-        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain / (1 + corrections.strain_allowance(g, table)),
-              unit="strain"),
-        Limit("min_signal_snr", a.min_signal_snr, lim.min_snr, upper=False),
+        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain / (1 + allowance), unit="strain"),
+        Limit("min_signal_snr", a.min_signal_snr, lim.min_snr * (1 + allowance), upper=False),
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]
@@ -172,6 +172,13 @@ def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
     if g.feature == "hole":
         out += [Limit("hole_ligament", (g.height - g.hole) / 2, lim.min_wall, upper=False, unit="m"),
                 Limit("hole_min", g.hole, lim.min_wall, upper=False, unit="m")]
+    if g.feature != "pocket":
+        # the gauge's backing lies on the face it reads (a pocket's or flat's own limits see to it
+        # there): a rectangle's face at least as wide, a round surface at least as wide across
+        face = g.width if g.section == "rectangle" else g.diameter
+        out.append(Limit("gauge_face", face, spec.gauge.width, upper=False, unit="m"))
+        if g.section == "rectangle" and g.axes == 2:
+            out.append(Limit("gauge_face_side", g.height, spec.gauge.width, upper=False, unit="m"))
     return out
 
 

@@ -200,3 +200,23 @@ def test_the_grid_arc_factor_is_the_mean_height_of_the_round_surface_under_the_g
     assert model.grid_arc_factor(circular("round", 5e-3, feature="pocket", grid_width=2.2e-3, depth=1e-3)) is None
     assert model.grid_arc_factor(rectangle(5e-3, 5e-3, grid_width=2.2e-3)) is None
     assert model.grid_arc_factor(circular("round", 5e-3)) is None
+
+
+def test_the_gauge_backing_must_fit_the_face_it_reads():
+    # The default gauge's backing is 3.5 mm wide (BF120-3AA, materials/gauges.yaml): a 1.72 mm
+    # wide bar with holes (a bench-suite design whose gauge overhung both edges, so that the 3-D
+    # check found no surface under its grid) breaks gauge_face by 1 - 1.72/3.5; a 4 mm bar and a
+    # Ø4 mm round bar meet it; a slot's own side-wall limit covers pockets
+    from designer.model.limits import section_limits
+
+    spec = make_spec()
+    assert spec.gauge.width == pytest.approx(3.5 * MM)
+
+    def face(g):
+        return {lim.name: lim for lim in section_limits(g, spec)}.get("gauge_face")
+
+    narrow = face(rectangle(1.72 * MM, 15.6 * MM, feature="hole", hole=4.7 * MM))
+    assert float(narrow.normalised) == pytest.approx(1 - 1.72 / 3.5)
+    assert float(face(rectangle(4 * MM, 4 * MM)).normalised) < 0
+    assert float(face(circular("round", 4 * MM)).normalised) < 0
+    assert face(rectangle(10 * MM, 5 * MM, feature="pocket", depth=1 * MM)) is None

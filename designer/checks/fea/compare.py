@@ -154,9 +154,9 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
         "position_error": (float(sigma_x), "model with 3-D sensitivities"),
         "stress_root": (float(a.stress_root), "beam model: the idealised clamp is singular in 3-D"),
     }
-    # the model keeps room under the gauge's rating for its corrections' uncertainty (docs/model.md
-    # §4); the 3-D strain is held to the rating itself
-    own = {"gauge_strain": spec.gauge.max_strain}
+    # the model keeps room under the gauge's rating and over the smallest signal for its
+    # corrections' uncertainty (docs/model.md §4); the 3-D figures are held to the limits themselves
+    own = {"gauge_strain": spec.gauge.max_strain, "min_signal_snr": spec.limits.min_snr}
     out = []
     for lim in ev.limits:
         value, source = fea.get(lim.name, (float(lim.value), "geometry: as the model"))
