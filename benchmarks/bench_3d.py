@@ -108,7 +108,8 @@ def main(argv=None) -> int:
         r = rows[-1]
         print(f"{name:28s} {r['design']:28s} strain {', '.join(f'{s:.3f}' for s in r['strain'])}  "
               f"deflection {r['deflection']:.3f}  stress {r['stress']:.2f}  "
-              f"{'holds' if holds(r) else 'FAILS ' + ', '.join(r['failed'])}", flush=True)
+              f"{'holds' if holds(r) else 'breaks ' + ', '.join(r['failed']) if r['failed'] else 'meets every limit, outside the tolerances'}",
+              flush=True)
     text = markdown(rows, args.mesh)
     print(text)
     if args.output:
