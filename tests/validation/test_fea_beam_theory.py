@@ -171,9 +171,11 @@ def test_slot_pockets_agree_with_beam_theory_within_a_few_percent():
     for g in r.gauges:
         # the "within a few percent": 4 % here; 6 % bounds it
         assert abs(g.ratio - 1) < 0.06
-    # the pocket's sharp inside corners concentrate stress well beyond the net section
+    # the pocket's floor radius concentrates stress well beyond the net section's nominal stress
+    # (the model's K_t of docs/model.md §7 carries it)
     assert r.stress_peak.where.startswith("pocket at station 1")
-    assert r.stress_peak.value > 1.2 * r.stress_model
+    assert r.stress_peak.value > 1.2 * r.stress_feature_nominal
+    assert r.stress_concentration_model > 1.2
 
 
 # ----------------------------------------------------------------- memory

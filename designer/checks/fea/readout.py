@@ -286,6 +286,8 @@ def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressP
     vm = vertex_von_mises(sol, pb)
     x = sol.mesh.p[0]
     keep = _kept(sol, pb, refinement)
+    if not keep.any():  # a beam shorter than the zones kept out at its two ends: all but the clamp face
+        keep = x > PLANE_TOLERANCE * pb.size
     i_peak = np.flatnonzero(keep)[np.argmax(vm[keep])]
     location = tuple(float(v) for v in sol.mesh.p[:, i_peak])
     peak = StressPeak(float(vm[i_peak]), location, _where(sol.mesh.p[:, i_peak], pb),
