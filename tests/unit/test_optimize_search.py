@@ -164,3 +164,16 @@ def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
     assert "cad.end_mill_diameter" in message
     found = search.optimize(parse_spec_text(text + "cad: {end_mill_diameter: 0.8 mm}\n"))
     assert found.best is not None and found.x.geometry.section == "rectangle"
+
+
+def test_a_contender_is_solved_from_every_start():
+    # prototype-b-optimized's 6061-T6 slotted bar: IPOPT's first start ends in a local optimum
+    # (error ratio 0.2417, a 7.8 x 9.5 mm bar); the second finds the 19 x 5 mm plate that the
+    # exhaustive reference search (search.reference, no casadi; benchmarks/bench_optimize.py)
+    # puts at 0.234888. A candidate within 5 % of the best is solved from every start.
+    spec = load_spec(EXAMPLES / "prototype-b-optimized.yaml")
+    spec = replace(spec, search=replace(spec.search, materials=("6061-T6",), sections=("rectangle",)))
+    found = search.optimize(spec)
+    assert found.success
+    assert found.best.objective <= 0.234888 * (1 + model.TIE_TOLERANCE)
+    assert len(found.candidates[0].solves) >= 2
