@@ -253,8 +253,8 @@ def check_plot_files(paths, names, formats):
 # unit/test_adjust.py, unit/test_correct.py, e2e/test_cli_verify_rounds.py
 
 # The gripper finger with a stiffer deflection limit, one material and one section: its optimum
-# sits on the deflection limit with the stresses well below the allowable, and a deep flat on a
-# round bar is more compliant in 3-D than the beam model says (docs/model.md §12).
+# sits on the deflection limit with the stresses well below the allowable (unit/test_adjust.py;
+# unit/test_correct.py judges it with a stand-in 3-D check of known ratios).
 STIFF_FINGER = """\
 name: stiff-finger
 load:

@@ -22,12 +22,6 @@ def monomials(n: int, degree: int) -> list[tuple]:
     return sorted((e for e in out if sum(e) <= degree), key=lambda e: (sum(e), [-k for k in e]))
 
 
-def fit_polynomial(rows: list[dict], variables: tuple, target, degree: int = 2, weight=None):
-    """Least-squares polynomial of ``target(row)`` over ``variables``, every monomial up to
-    ``degree``: ``fit_terms`` of ``monomials``."""
-    return fit_terms(rows, Terms(tuple(variables), tuple(monomials(len(variables), degree))), target, weight)[0]
-
-
 @dataclass(frozen=True)
 class Terms:
     """A fit's form: the monomials (exponent tuples over ``variables``) it sums."""
@@ -67,7 +61,7 @@ def fit_terms(rows: list[dict], terms: Terms, target, weight=None):
 # - the gauge strain on the pocket's depth, its length and the gauge grid's (how far the grid's
 #   ends are from the pocket's ends), and for a slot the share of the width it takes;
 # - the extra compliance on the depth and the length (a tube's wall, a slot's share), also as a
-#   share of the feature's length (``SHARE_OF_LENGTH``: a slot's side walls and a flat's ends
+#   share of the feature's length (``_share_of_length``: a slot's side walls and a flat's ends
 #   shed their load over a distance that grows with the feature);
 # - K_t, as Peterson's shoulder fillets, on sqrt(t/r) and the depth (a tube's wall, a slot's
 #   share), also in Neuber's shape ``1 + sqrt(t/r) (a + b p + c v)``: K_t - 1 grows like sqrt(t/r)

@@ -123,7 +123,7 @@ class Fit:
     rms: float = 0.0        # fit residual, and the largest leave-one-out residual
     loo_max: float = 0.0
     # the shift to the safe side the coefficients include, for a fit that does not meet its rule
-    # (``checks.study.SAFE_SIDE``): K_t times (1 + margin), the extra length + margin sizes; 0
+    # (``checks.fits.SAFE_SIDE``): K_t times (1 + margin), the extra length + margin sizes; 0
     # for a fit that meets it
     margin: float = 0.0
 

@@ -22,7 +22,9 @@ class Limit:
     """One limit: ``value <= limit`` (``upper``) or ``value >= limit``, in SI.
 
     ``normalised`` is the optimiser's ``g <= 0`` form: ``value/limit - 1`` (or ``1 - value/limit``);
-    limits at zero are scaled by ``scale`` instead.
+    limits at zero are scaled by ``scale`` instead. ``rating``, where given, is the limit the built
+    part must meet, of which ``limit`` keeps room for the model's own uncertainty (the 3-D check
+    holds its figures to ``rating``).
     """
 
     name: str
@@ -31,6 +33,12 @@ class Limit:
     upper: bool = True
     scale: Any = None
     unit: str = ""
+    rating: Any = None
+
+    @property
+    def part_limit(self):
+        """The limit the built part must meet: ``rating``, or ``limit`` where the model keeps no room."""
+        return self.limit if self.rating is None else self.rating
 
     @property
     def normalised(self):
@@ -66,8 +74,9 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     out = [
         Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
         Limit("stress_feature", a.stress_feature, m.static_allowable, unit="Pa"),
-        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain / (1 + allowance), unit="strain"),
-        Limit("min_signal_snr", a.min_signal_snr, lim.min_snr * (1 + allowance), upper=False),
+        Limit("gauge_strain", a.gauge_strain[0], spec.gauge.max_strain / (1 + allowance), unit="strain",
+              rating=spec.gauge.max_strain),
+        Limit("min_signal_snr", a.min_signal_snr, lim.min_snr * (1 + allowance), upper=False, rating=lim.min_snr),
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]

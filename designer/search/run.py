@@ -359,13 +359,14 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
     for c in candidates:
         problem = problems[c.family]
         ev = c.evaluation
+        starts = problem.starts()
         if (ev is None or not ev.feasible or ev.objective > lead * (1 + CONTENDER_BAND)
-                or len(c.solves) >= len(problem.starts())):
+                or len(c.solves) >= len(starts)):
             out.append(c)
             continue
         # the first start gave this candidate's answer; the others have not been solved
         again = solve_candidate(problem, catalogue.material(c.material), "ipopt", all_starts=True,
-                                starts=problem.starts()[1:])
+                                starts=starts[1:])
         better = again.evaluation is not None and again.evaluation.feasible and again.evaluation.objective < ev.objective
         out.append(replace(again, solves=c.solves + again.solves, fallbacks=c.fallbacks + again.fallbacks)
                    if better else c)
