@@ -11,7 +11,7 @@ are written to ``materials/corrections.yaml`` by ``python -m designer.checks.stu
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 def monomials(n: int, degree: int) -> list[tuple]:
@@ -30,11 +30,12 @@ class Terms:
     exponents: tuple
 
 
-def fit_terms(rows: list[dict], terms: Terms, target, weight=None):
+def fit_terms(rows: list[dict], terms: Terms, target, weight=None, box=()):
     """Least squares of ``target(row)`` over ``terms``, the residuals weighted by ``weight(row)``
     (what a unit error in the target costs; 1 by default): the Fit, with its RMS weighted
     residual and largest weighted leave-one-out residual (from the hat matrix:
-    r_i / (1 - h_ii)), and each row's left-out prediction."""
+    r_i / (1 - h_ii)), and each row's left-out prediction. Its domain is the rows' range of its
+    variables and of the ``box`` parameters the rows were chosen by (it holds only there)."""
     import numpy as np
 
     from designer.model.corrections import Fit
@@ -48,7 +49,7 @@ def fit_terms(rows: list[dict], terms: Terms, target, weight=None):
     resid = yw - Xw @ coef
     hat = np.einsum("ij,ji->i", Xw, np.linalg.pinv(Xw))
     loo = resid / np.clip(1 - hat, 1e-9, None)
-    domain = {v: (min(r[v] for r in rows), max(r[v] for r in rows)) for v in variables}
+    domain = {v: (min(r[v] for r in rows), max(r[v] for r in rows)) for v in dict.fromkeys((*variables, *box))}
     fit = Fit(tuple(variables), tuple(tuple(e) for e in terms.exponents), tuple(float(c) for c in coef), domain,
               float(np.sqrt(np.mean(resid ** 2))), float(np.max(np.abs(loo))))
     return fit, y - loo / w
@@ -163,7 +164,7 @@ def _in_domain(row: dict, box: dict) -> bool:
     return all(lo <= row.get(k, math.nan) <= hi for k, (lo, hi) in box.items())
 
 
-# Where no form meets FIT_ACCEPT, the form with the smallest left-out error still ships when that
+# Where no form meets FIT_ACCEPT, the best form (by PARSIMONY) still ships when its left-out
 # error is within FIT_CEILING and below the largest error of no correction at all (a factor of 1,
 # an extra length of 0) over the study: a rough correction beats none. A quantity with a safe side
 # (SAFE_SIDE) ships shifted to it (``Fit.margin``) until no left-out point misses on the unsafe
@@ -195,8 +196,6 @@ def shifted(fit, quantity: str, rows: list[dict], predicted):
     """``fit`` shifted to ``quantity``'s safe side (SAFE_SIDE) until none of the left-out
     ``predicted`` values of ``rows`` misses on the unsafe side by more than FIT_ACCEPT (as
     ``judged_error`` weighs it), with that shift as its margin."""
-    from dataclasses import replace
-
     tol = FIT_ACCEPT[quantity]
     actual = [r[TARGETS[quantity]] for r in rows]
     if SAFE_SIDE[quantity] == "scale":
@@ -248,12 +247,7 @@ def fit_table(rows: list[dict], source: str = ""):
                 if 2 * len(terms.exponents) > len(data):
                     continue
                 fit, left_out = fit_terms(data, terms, lambda r: r[column],
-                                          weight=lambda r, q=quantity: error_weight(q, r))
-                if box:  # the fit holds over the box it was fitted in, its own parameters or not
-                    from dataclasses import replace
-
-                    fit = replace(fit, domain={**fit.domain, **{k: (min(r[k] for r in data), max(r[k] for r in data))
-                                                                for k in box if k not in fit.domain}})
+                                          weight=lambda r, q=quantity: error_weight(q, r), box=box)
                 report.append((fam, quantity, len(terms.exponents), fit))
                 if fit.loo_max <= FIT_ACCEPT[quantity]:
                     fits.setdefault(fam, {})[quantity] = fit
