@@ -18,6 +18,12 @@ from designer.errors import InputError
 from designer.result.evaluation import ROUNDING, Design, Evaluation, evaluate
 
 
+def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
+    """Under the error objective (``epigraph``), whether the accuracy targets are all that ``ev``
+    misses: a verdict on the spec (the least error it reaches), not a failure of the solve."""
+    return epigraph and all(v.name in model.TARGET_LIMITS for v in ev.violations)
+
+
 def round_and_check(design: Design, spec) -> Evaluation | None:
     """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points. A stock
     section (``design.stock``) is not rounded: only its feature and stations are.

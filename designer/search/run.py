@@ -16,7 +16,7 @@ from designer.result.evaluation import Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
 from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
-from designer.search.rounding import buildable, floor_ceil, pick, round_and_check
+from designer.search.rounding import buildable, floor_ceil, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
 
@@ -124,13 +124,13 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 continue
             if not s.success:
                 fallbacks.append(f"{m} start {i + 1}: {s.message}")
-            elif not ev.feasible and ev.violations and not (problem.epigraph and _only_targets(ev)):
+            elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
                 fallbacks.append(f"{m} start {i + 1}: reported success but violates "
                                       + ", ".join(v.name for v in ev.violations))
                 if m == "ipopt":
                     s, ev = _back_off(problem, params, material, s, ev, solves, fallbacks,
                                       f"{m} start {i + 1}")
-            if m == "ipopt" and s.success and problem.epigraph and _only_targets(ev):
+            if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
             evaluation = pick(checked)
@@ -169,7 +169,7 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
         s2 = problem.solve_ipopt(params, s.x, margin=margin)
         solves.append(s2)
         ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
-        if ev2 is not None and (ev2.feasible or (problem.epigraph and _only_targets(ev2))):
+        if ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph)):
             fallbacks.append(f"{where}: re-solved with every limit tightened by {margin:.0e}; "
                                   "the rounded design " + ("meets every limit" if ev2.feasible else
                                                            "misses only the accuracy targets"))
@@ -230,7 +230,7 @@ def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: lis
         if not s2.success:
             continue
         ev2 = round_and_check(problem.design(s2.x, material), problem.spec)
-        if ev2 is not None and (ev2.feasible or (problem.epigraph and _only_targets(ev2))):
+        if ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph)):
             found.append((s2, ev2))
     if not found:
         return None
@@ -252,10 +252,6 @@ def _unmachinable(spec, fam: Family) -> str:
     except DesignFileError as exc:
         return f"no slot can be machined: {exc}"
     return ""
-
-
-def _only_targets(ev: Evaluation) -> bool:
-    return all(v.name in model.TARGET_LIMITS for v in ev.violations)
 
 
 def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True) -> SearchResult:

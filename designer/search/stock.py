@@ -20,7 +20,7 @@ import numpy as np
 
 from designer import model
 from designer.search.problem import MM, FamilyProblem, in_nlp_units, material_params
-from designer.search.rounding import pick, round_and_check
+from designer.search.rounding import only_targets_missed, pick, round_and_check
 from designer.spec import catalogue
 
 # A row whose rounded design breaks a limit its solve met is solved again with every constraint
@@ -113,13 +113,13 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             s = problem.solve_ipopt(params, x, fixed=fixed)
             solves.append(s)
             ev = round_and_check(on_stock(problem.design(s.x, material), item, exact), spec)
-            if ev is not None and s.success and not ev.feasible and not _only_targets(problem, ev):
+            if ev is not None and s.success and not ev.feasible and not only_targets_missed(ev, problem.epigraph):
                 for margin in ROW_MARGINS:  # rounding the stations or depth broke a limit
                     s2 = problem.solve_ipopt(params, s.x, fixed=fixed, margin=margin)
                     solves.append(s2)
                     ev2 = round_and_check(on_stock(problem.design(s2.x, material), item, exact), spec) \
                         if s2.success else None
-                    if ev2 is not None and (ev2.feasible or _only_targets(problem, ev2)):
+                    if ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph)):
                         ev = ev2
                         break
             if ev is not None:
@@ -173,10 +173,6 @@ def _split(points: np.ndarray, members: list, x, index: list) -> list:
         half = len(order) // 2
         left, right = order[:half], order[half:]
     return [left, right]
-
-
-def _only_targets(problem: FamilyProblem, ev) -> bool:
-    return problem.epigraph and all(v.name in model.TARGET_LIMITS for v in ev.violations)
 
 
 def brute_force(problem: FamilyProblem, material, x0) -> list:
