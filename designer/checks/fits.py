@@ -71,6 +71,21 @@ def fit_terms(rows: list[dict], terms: Terms, target, weight=None, box=()):
 NEUBER = Terms(("notch_ratio", "depth_ratio"), ((0, 0), (1, 0), (1, 1)))
 
 
+def near_clamp_domain(fit, rows: list[dict]):
+    """``fit`` with its domain bounded below by the study's nearest feature to the clamp
+    (``NEAR_CLAMP``); unchanged where the rows do not record it."""
+    from designer.model.corrections import CLAMP_NEAR
+
+    near = [r[NEAR_CLAMP] for r in rows if math.isfinite(r.get(NEAR_CLAMP, math.nan))]
+    domain = dict(fit.domain)
+    if CLAMP_NEAR in domain:
+        # far from the clamp the nearness falls to 0, where every fit's clamp term vanishes
+        domain[CLAMP_NEAR] = (0.0, domain[CLAMP_NEAR][1])
+    if near:
+        domain[NEAR_CLAMP] = (min(near), math.inf)
+    return replace(fit, domain=domain)
+
+
 def _neuber(third: str) -> Terms:
     return Terms(("notch_ratio", "depth_ratio", third), ((0, 0, 0), (1, 0, 0), (1, 1, 0), (1, 0, 1)))
 
@@ -91,22 +106,30 @@ FIT_FORMS = {
                                           ("depth_ratio", "length_ratio", "pocket_width_ratio"),
                                           ("length_ratio", "pocket_width_ratio", "width_ratio"),
                                           _share_of_length("pocket_width_ratio"),
-                                          _share_of_length("depth_ratio", "pocket_width_ratio")],
-                         "stress": [NEUBER, _neuber("pocket_width_ratio"), ("notch_ratio", "depth_ratio"),
-                                    ("notch_ratio", "depth_ratio", "pocket_width_ratio")]},
+                                          _share_of_length("depth_ratio", "pocket_width_ratio"),
+                                          _share_of_length("depth_ratio", "pocket_width_ratio", "clamp_near")],
+                         "stress": [NEUBER, _neuber("pocket_width_ratio"), _neuber("clamp_near"),
+                                    ("notch_ratio", "depth_ratio"),
+                                    ("notch_ratio", "depth_ratio", "pocket_width_ratio"),
+                                    ("notch_ratio", "depth_ratio", "clamp_near")]},
     "round-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
                                 ("depth_ratio", "length_ratio", "grid_ratio")],
                      "extra_length": [("depth_ratio", "length_ratio"), ("depth_ratio", "length_ratio", "grid_ratio"),
-                                      _share_of_length("depth_ratio")],
-                     "stress": [NEUBER, _neuber("length_ratio"), ("notch_ratio", "depth_ratio"),
-                                ("notch_ratio", "depth_ratio", "length_ratio")]},
+                                      _share_of_length("depth_ratio"), ("depth_ratio", "length_ratio", "clamp_near"),
+                                      _share_of_length("depth_ratio", "clamp_near")],
+                     "stress": [NEUBER, _neuber("length_ratio"), _neuber("clamp_near"), ("notch_ratio", "depth_ratio"),
+                                ("notch_ratio", "depth_ratio", "length_ratio"),
+                                ("notch_ratio", "depth_ratio", "clamp_near")]},
     "tube-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
                                ("depth_ratio", "wall_ratio"), ("depth_ratio", "wall_ratio", "length_ratio")],
                     "extra_length": [("depth_ratio", "wall_ratio"), ("depth_ratio", "length_ratio"),
                                      ("depth_ratio", "wall_ratio", "length_ratio"),
-                                     _share_of_length("depth_ratio", "wall_ratio")],
-                    "stress": [NEUBER, _neuber("wall_ratio"), ("notch_ratio", "depth_ratio"),
-                               ("notch_ratio", "depth_ratio", "wall_ratio")]},
+                                     _share_of_length("depth_ratio", "wall_ratio"),
+                                     ("depth_ratio", "wall_ratio", "clamp_near"),
+                                     _share_of_length("depth_ratio", "wall_ratio", "clamp_near")],
+                    "stress": [NEUBER, _neuber("wall_ratio"), _neuber("clamp_near"), ("notch_ratio", "depth_ratio"),
+                               ("notch_ratio", "depth_ratio", "wall_ratio"),
+                               ("notch_ratio", "depth_ratio", "clamp_near")]},
 }
 # Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
 # kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
@@ -130,6 +153,10 @@ MAX_TERMS = 10
 # fixed share of the section size (the rule before) asks far too much of a long thin slot, whose
 # deflection barely depends on Δ, and too little of a deep flat near the clamp.
 FIT_ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05}
+# Every feature fit holds only as near the clamp as the study put its features: the near
+# station's ``clamp_ratio`` (clamp face to the feature's clamp-side end, in section sizes) bounds
+# the domain from below, open above (a feature further out is the study's far station).
+NEAR_CLAMP = "clamp_ratio"
 TARGETS = {"strain": "strain_far", "extra_length": "extra_length", "stress": "stress_ratio"}
 
 
@@ -141,7 +168,8 @@ def deflection_per_extra(row: dict) -> float:
     extra = row["extra_length"]
     if abs(extra) < 1e-6:
         return 0.0
-    return (1 - 1 / row["deflection_ratio"]) / extra
+    # base_ratio: the 3-D deflection over the model's without Δ, where ``refresh`` solved it
+    return (1 - 1 / row.get("base_ratio", row["deflection_ratio"])) / extra
 
 
 def error_weight(quantity: str, row: dict) -> float:
@@ -227,7 +255,7 @@ def _parsimonious(tried: list):
     return next(t for t in tried if t[0].loo_max <= PARSIMONY * least)
 
 
-def fit_table(rows: list[dict], source: str = ""):
+def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None, refresh=None):
     """The corrections of every family from the study's rows: for each feature family and
     quantity, the form of fewest terms (over FIT_FORMS) whose leave-one-out error meets
     ``FIT_ACCEPT`` with at least two points per term, fitted over FIT_DOMAINS where one is given;
@@ -235,7 +263,22 @@ def fit_table(rows: list[dict], source: str = ""):
     quantity's safe side where it has one (``shifted``); otherwise the quantity stays uncorrected."""
     from designer.model.corrections import Corrections
 
+    from designer.model.corrections import CLAMP_NEAR, clamp_nearness
+
+    rows = [{**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else r for r in rows]
     fits, report = {}, []
+    if stiffness_rows:
+        # the plain bar's stiffness first: each feature's extra length is what remains of its
+        # 3-D deflection beyond it and the wire channels (``refresh`` solves the rows' extra
+        # lengths again with today's model)
+        from designer.checks import stiffness_study
+
+        stiffness = stiffness_study.fit(stiffness_rows)
+        report.append(("plain", "stiffness", "plate+shear", stiffness))
+        if stiffness.loo_max <= FIT_ACCEPT["extra_length"]:
+            fits["plain"] = {"stiffness": stiffness}
+    if refresh is not None:
+        rows = refresh(rows, fits.get("plain", {}).get("stiffness"))
     for fam, quantities in FIT_FORMS.items():
         for quantity, candidates in quantities.items():
             column = TARGETS[quantity]
@@ -248,6 +291,7 @@ def fit_table(rows: list[dict], source: str = ""):
                     continue
                 fit, left_out = fit_terms(data, terms, lambda r: r[column],
                                           weight=lambda r, q=quantity: error_weight(q, r), box=box)
+                fit = near_clamp_domain(fit, data)
                 report.append((fam, quantity, len(terms.exponents), fit))
                 if fit.loo_max <= FIT_ACCEPT[quantity]:
                     fits.setdefault(fam, {})[quantity] = fit
@@ -261,11 +305,67 @@ def fit_table(rows: list[dict], source: str = ""):
                     fits.setdefault(fam, {})[quantity] = rough
                     if rough is not best[0]:
                         report.append((fam, quantity, len(rough.exponents), rough))
+    clamp = None
     if any(r["family"] == "rectangle-none" for r in rows):
         from designer.checks import clamp_study
 
         clamp = clamp_study.fit(rows)
         if clamp.loo_max <= FIT_ACCEPT["strain"]:
-            fits["plain"] = {"clamp": clamp}
+            fits.setdefault("plain", {})["clamp"] = clamp
         report.append(("plain", "clamp", "sech", clamp))
+    for fam, candidates in NEAR_CLAMP_FORMS.items():
+        near = fit_near_clamp([r for r in rows if r["family"] == fam], candidates, clamp)
+        if near is not None:
+            report.append((fam, "near_clamp", len(near.poly.exponents), near))
+            if near.loo_max <= FIT_ACCEPT["strain"]:
+                fits.setdefault(fam, {})["near_clamp"] = near
     return Corrections(fits, source), report
+
+
+# The strain near the clamp beyond the ClampFit (``model.corrections.DecayFit``): forms of the
+# polynomial tried from the fewest terms up, per family, over these decay rates (per section size).
+NEAR_CLAMP_FORMS = {
+    "round-none": [()],
+    "tube-none": [(), ("wall_ratio",)],
+    "round-pocket": [(), ("depth_ratio",), ("depth_ratio", "length_ratio")],
+    "tube-pocket": [(), ("depth_ratio",), ("wall_ratio",), ("depth_ratio", "wall_ratio")],
+    "rectangle-pocket": [(), ("depth_ratio",), ("width_ratio",), ("depth_ratio", "width_ratio")],
+}
+DECAY_RATES = tuple(1.0 * 1.1 ** k for k in range(36))    # 1 to 28 per size
+
+
+def near_clamp_target(row: dict, clamp) -> float:
+    """A study row's near-station strain over its far station's, over the ClampFit's factor there."""
+    w = row.get("width_ratio", 1.0)
+    u = (row["clamp_ratio"] + row["length_ratio"] / 2) / w     # the station's centre, in widths
+    c = float(clamp(w, u)) if clamp is not None else 1.0
+    return row["strain_near"] / row["strain_far"] / c
+
+
+def fit_near_clamp(rows: list[dict], candidates, clamp):
+    """The DecayFit of a family's near-station strains: for each form (the fewest terms first) the
+    decay rate of the smallest leave-one-out error; the form of fewest terms within PARSIMONY of
+    the best. None without rows near the clamp."""
+    from designer.model.corrections import DecayFit
+
+    rows = [r for r in rows if "clamp_ratio" in r and math.isfinite(r.get("strain_near", math.nan))]
+    if not rows or min(r["clamp_ratio"] for r in rows) >= 1.0:
+        return None
+    tried = []
+    for c in candidates:
+        for terms in (_forms([c]) if c else [Terms((), ((),))]):
+            if 2 * len(terms.exponents) > len(rows):
+                continue
+            best = None
+            for rate in DECAY_RATES:
+                def decay(r, k=rate):
+                    return math.exp(-k * r["clamp_ratio"])
+                fit, _ = fit_terms(rows, terms, lambda r, d=decay: (near_clamp_target(r, clamp) - 1) / d(r),
+                                   weight=decay)
+                if best is None or fit.loo_max < best[1].loo_max:
+                    best = (rate, fit)
+            tried.append(best)
+    least = min(f.loo_max for _, f in tried)
+    rate, poly = next(t for t in tried if t[1].loo_max <= PARSIMONY * least)
+    near = min(r["clamp_ratio"] for r in rows)
+    return DecayFit(rate, poly, {**poly.domain, NEAR_CLAMP: (near, math.inf)})

@@ -139,6 +139,18 @@ POCKET_GROUPS = (("rectangle-pocket", POCKET_BOXES["rectangle-pocket"], 40),
                  ("rectangle-pocket", SHORT_SLOTS, 16),
                  ("round-pocket", SHORT_ROUND_FLATS, 16),
                  ("tube-pocket", SHORT_TUBE_FLATS, 20))
+# Features near the clamp (a weigh bar's flat 0.17 D from it, a gripper's 0.55 D): the first
+# feature's clamp-side end ``clamp_ratio`` section sizes from the clamp face instead of
+# POCKET_CLEARANCE, down to NEAR_CLAMP_CLEARANCE.
+NEAR_CLAMP_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.2, 2.0), "notch_ratio": (1.55, 7.0),
+                          "lp_grid": (2.4, 4.0), "clamp_ratio": (0.1, 1.0)}
+NEAR_CLAMP_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.15, 1.8),
+                         "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0), "clamp_ratio": (0.1, 1.0)}
+NEAR_CLAMP_SLOTS = {**POCKET_BOXES["rectangle-pocket"], "pocket_width_ratio": (0.2, 0.88), "clamp_ratio": (0.1, 1.0)}
+NEAR_CLAMP_GROUPS = (("round-pocket", NEAR_CLAMP_ROUND_FLATS, 32),
+                     ("tube-pocket", NEAR_CLAMP_TUBE_FLATS, 24),
+                     ("rectangle-pocket", NEAR_CLAMP_SLOTS, 16))
+NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
 # deep enough: gmsh's mesh of a radius much finer than the pocket's own detail takes minutes. A
@@ -170,7 +182,8 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
     box's range up to where the floor radius reaches MIN_CORNER_RADIUS."""
     l_p = u["lp_grid"] * GRID_LENGTH
     size = l_p / u["length_ratio"]
-    clearance = max(CLAMP_CLEARANCE, POCKET_CLEARANCE * size)
+    clearance = (max(NEAR_CLAMP_CLEARANCE, u["clamp_ratio"] * size) if "clamp_ratio" in u
+                 else max(CLAMP_CLEARANCE, POCKET_CLEARANCE * size))
     wall = u["wall_ratio"] * size if family == "tube-pocket" else 0.0
     depth = u["depth_ratio"] * (wall if family == "tube-pocket" else size)
     lo, hi = (box or POCKET_BOXES[family])["notch_ratio"]
@@ -189,11 +202,12 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
     return case if l_p - 2 * case.corner_radius >= GAUGE_LENGTH else None
 
 
-def cases(families=None) -> list[Case]:
-    """The study's grid, family by family."""
+def cases(families=None, near_clamp: bool = True) -> list[Case]:
+    """The study's grid, family by family (without the NEAR_CLAMP_GROUPS if not ``near_clamp``);
+    ``near_clamp_cases`` are the last of their families."""
     mm = 1e-3
     out = []
-    for fam, box, count in POCKET_GROUPS:
+    for fam, box, count in POCKET_GROUPS + (NEAR_CLAMP_GROUPS if near_clamp else ()):
         names = list(box)
         for point in halton(count, len(names)):
             u = {k: t if k == "notch_ratio" else lo + t * (hi - lo)
@@ -205,7 +219,27 @@ def cases(families=None) -> list[Case]:
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
     out += clamp_cases()
+    out += round_clamp_cases()
     return [c for c in out if families is None or c.family in families]
+
+
+def near_clamp_cases() -> list[Case]:
+    """The NEAR_CLAMP_GROUPS' cases alone."""
+    return [c for c in cases() if c not in set(cases(near_clamp=False))]
+
+
+# Round bars and tubes near the clamp: the strain of a plain station ``clamp_ratio`` diameters
+# from the clamp face (to the gauge's end) over the far station's.
+ROUND_CLAMP_DIAMETER = 20e-3
+ROUND_CLAMP_WALLS = (None, 0.05, 0.1, 0.2, 0.35)     # round bar, then tubes' t/D
+ROUND_CLAMP_RATIOS = (0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0)
+
+
+def round_clamp_cases() -> list[Case]:
+    """Plain round bars and tubes with the first station ``ROUND_CLAMP_RATIOS`` diameters out."""
+    D = ROUND_CLAMP_DIAMETER
+    return [Case("round-none" if t is None else "tube-none", diameter=D, wall=(t or 0.0) * D, clamp_clearance=c * D)
+            for t in ROUND_CLAMP_WALLS for c in ROUND_CLAMP_RATIOS]
 
 
 def clamp_cases() -> list[Case]:
@@ -273,15 +307,27 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
     near_peak, far_peak = v.stress_stations_fea
     f_max, x_max = spec.load.force_max, spec.load.position_max
     nominal = [f_max * (x_max - a) * float(raw.props.y_e) / float(raw.props.I_s) for a, _ in g.reduced_spans]
-    return Row(case.family, mesh, params, near, far, v.deflection_fea / float(raw.deflection),
-               extra_length(g, raw, design.material, spec, v.deflection_fea) / case.size,
+    stiffness = corrections.stiffness_fit(corrections.load())
+    return Row(case.family, mesh, params, near, far, v.deflection_fea / euler_deflection(g, raw, design.material, spec),
+               extra_length(g, raw, design.material, spec, v.deflection_fea, stiffness) / case.size,
                near_peak / nominal[0], far_peak / nominal[1],
                max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0)
 
 
-def extra_length(g, analysis, material, spec, deflection: float) -> float:
-    """The extension Δ of each reduced-section span (Δ/2 at each end) for which beam theory with
-    EI(s) piecewise gives ``deflection`` under F_max at x_max; negative if the beam is stiffer."""
+def euler_deflection(g, analysis, material, spec) -> float:
+    """The free-end deflection by Euler-Bernoulli theory with the reduced sections over their
+    spans alone (no wire channel, no correction): what the table's ``deflection_ratio`` is over."""
+    from designer import model
+
+    return float(model.tip_deflection(g, analysis.props, float(material.E), spec.load.force_max,
+                                      spec.load.position_max))
+
+
+def extra_length(g, analysis, material, spec, deflection: float, stiffness=None) -> float:
+    """The extension Δ of each reduced-section span (Δ/2 at each end) for which the beam model's
+    deflection (beam theory with EI(s) piecewise, the wire channels, and the plain bar's
+    ``stiffness`` fit where one is given) is ``deflection`` under F_max at x_max; negative if the
+    beam is stiffer."""
     from scipy.optimize import brentq
 
     from designer import model
@@ -290,10 +336,13 @@ def extra_length(g, analysis, material, spec, deflection: float) -> float:
     sp = analysis.props
     E = float(material.E)
     f_max, x_max = spec.load.force_max, spec.load.position_max
+    rest = float(model.channel_deflection(g, sp, E, f_max, x_max))
+    if stiffness is not None:
+        rest += float(stiffness.extra_deflection(g, sp, E, float(material.poisson), f_max, x_max))
 
     def tip(delta):
         widened = corrections.Widened(g, delta)
-        return float(model.tip_deflection(widened, sp, E, f_max, x_max)) - deflection
+        return float(model.tip_deflection(widened, sp, E, f_max, x_max)) + rest - deflection
 
     span = g.stations[1] - g.stations[0] - g.feature_length
     lo, hi = -g.feature_length * 0.99, span * 0.99
@@ -314,6 +363,42 @@ def write_csv(rows: list[Row], path: Path) -> None:
                        + [f"{v:.6g}" if isinstance(v, float) else v for v in values[2:]])
 
 
+def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
+    """``rows`` with each pocket row's ``extra_length`` solved again from its 3-D deflection
+    (``deflection_ratio`` times ``euler_deflection``) with today's beam model and ``stiffness``
+    fit, without the 3-D check: each row is matched to its case of ``cases()`` by its parameters."""
+    from designer.model import corrections
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    out = list(rows)
+    index = {}
+    for i, r in enumerate(rows):
+        if r["family"].endswith("pocket"):
+            index.setdefault(r["family"], []).append(i)
+    for case in cases([*index]):
+        spec = parse_spec_text(case.spec_text(), source=case.family)
+        design = evaluate_fixed(spec).evaluation.design
+        g = design.geometry
+        params = geometry_parameters(g)
+        match = [i for i in index[case.family]
+                 if all(math.isclose(rows[i].get(k, math.nan), v, rel_tol=1e-5, abs_tol=1e-9) for k, v in params.items())]
+        if len(match) != 1:
+            continue
+        from designer import model
+
+        raw = model.analyse(g, design.material_params(spec), spec, table=corrections.Corrections({}))
+        row = dict(rows[match[0]])
+        fea = row["deflection_ratio"] * euler_deflection(g, raw, design.material, spec)
+        row["extra_length"] = extra_length(g, raw, design.material, spec, fea, stiffness) / case.size
+        base = float(raw.deflection) + (float(stiffness.extra_deflection(
+            g, raw.props, float(design.material.E), float(design.material.poisson), spec.load.force_max,
+            spec.load.position_max)) if stiffness is not None else 0.0)
+        row["base_ratio"] = fea / base
+        out[match[0]] = row
+    return out
+
+
 def read_csv(path: Path) -> list[dict]:
     """The study table as dictionaries of floats (the family as text)."""
     with open(path, newline="", encoding="utf-8") as fh:
@@ -326,6 +411,8 @@ def main(argv=None) -> int:
     p.add_argument("-o", "--output", type=Path, required=True, help="CSV to write (with --fit: the YAML table)")
     p.add_argument("--mesh", default="normal", choices=("coarse", "normal", "fine"))
     p.add_argument("--family", action="append", help="only these families (repeatable)")
+    p.add_argument("--near-clamp", action="store_true", help="only the features near the clamp (NEAR_CLAMP_GROUPS)")
+    p.add_argument("--round-clamp", action="store_true", help="only the round bars and tubes near the clamp")
     p.add_argument("--fit", type=Path, metavar="CSV", help="fit this study table instead of running the study")
     args = p.parse_args(argv)
     if args.fit is not None:
@@ -337,9 +424,14 @@ def main(argv=None) -> int:
         meshes = sorted({(r["family"], r.get("mesh", "?")) for r in rows})
         source = (f"fpdesign's 3-D check over the parametric study {args.fit.name} (python -m designer.checks.study; "
                   + ", ".join(f"{fam}: {mesh} mesh" for fam, mesh in meshes) + ")")
-        from designer.checks import fits
+        from designer.checks import fits, stiffness_study
 
-        table, report = fits.fit_table(rows, source=source)
+        stiffness = args.fit.parent / stiffness_study.TABLE
+        stiffness_rows = stiffness_study.read_csv(stiffness) if stiffness.exists() else None
+        if stiffness_rows:
+            source += f"; the plain bars' stiffness series {stiffness_study.TABLE} (python -m designer.checks.stiffness_study)"
+        table, report = fits.fit_table(rows, source=source, stiffness_rows=stiffness_rows,
+                                       refresh=refresh_extra_lengths)
         args.output.write_text(yaml.safe_dump(to_dict(table), sort_keys=False, width=110, default_flow_style=None),
                                encoding="utf-8")
         for fam, quantity, degree, f in report:  # degree: the number of terms
@@ -352,7 +444,8 @@ def main(argv=None) -> int:
     rows = []
     from designer.errors import FpdError
 
-    for case in cases(args.family):
+    chosen = near_clamp_cases() if args.near_clamp else round_clamp_cases() if args.round_clamp else cases(args.family)
+    for case in chosen:
         try:
             row = run_case(case, args.mesh)
         except FpdError as exc:     # a case the CAD or the 3-D check cannot do: said, and left out

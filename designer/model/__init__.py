@@ -8,7 +8,7 @@ design must meet, how designs rank). Every function takes its math through ``ops
 
 from designer.model.adjust import Adjustment
 from designer.model.analysis import Analysis, MaterialParams, analyse, grid_arc_factor
-from designer.model.beam import (CLAMPED_FREE_ROOT, LARGE_DEFLECTION_RATIO, is_large_deflection,
+from designer.model.beam import (CLAMPED_FREE_ROOT, LARGE_DEFLECTION_RATIO, channel_deflection, is_large_deflection,
                                  natural_frequency, rigidity_segments, tip_deflection)
 from designer.model.electronics import BRIDGE_FACTORS, output_noise, volts_per_strain
 from designer.model.limits import (ACTIVE_TOLERANCE, TARGET_LIMITS, Limit, limits, minimum_room, section_limits,

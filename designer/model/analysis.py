@@ -9,12 +9,12 @@ from typing import Any
 
 from designer.model import corrections
 from designer.model.adjust import Adjustment
-from designer.model.beam import natural_frequency, tip_deflection
+from designer.model.beam import channel_deflection, natural_frequency, tip_deflection
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
 from designer.model.estimator import sigmas
 from designer.model.ops import NUMERIC, Ops
-from designer.model.sections import Geometry, SectionProperties, section_properties
+from designer.model.sections import Geometry, SectionProperties, channel_inertia, section_properties
 
 # The optimiser passes the material as parameters in GPa, MPa and kg/m^3 so that the NLP's
 # numbers stay near one.
@@ -33,6 +33,7 @@ class MaterialParams:
     static_allowable: Any = None  # yield / safety factor, Pa: the nominal stress at a feature (docs/model.md §4);
                                   # None: the same as ``allowable``
     notch_length: Any = 0.0       # Peterson's characteristic length a, m (materials.yaml notch_length)
+    poisson: Any = 0.3            # Poisson's ratio: the shear modulus G = E / (2 (1 + nu)) of the shear deflection
 
     def __post_init__(self):
         if self.static_allowable is None:
@@ -42,18 +43,18 @@ class MaterialParams:
     def of(cls, material, limits) -> "MaterialParams":
         """A catalogue material under the spec's ``limits`` (safety factor, fatigue)."""
         return cls(material.E, material.allowable_stress(limits.safety_factor, limits.fatigue), material.density,
-                   material.allowable_stress(limits.safety_factor, False), material.notch_length)
+                   material.allowable_stress(limits.safety_factor, False), material.notch_length, material.poisson)
 
     def scaled(self) -> list:
-        """``[E, allowable, density, static allowable, notch length]`` in the optimiser's parameter
-        units (GPa, MPa, kg/m^3, MPa, mm)."""
+        """``[E, allowable, density, static allowable, notch length, Poisson's ratio]`` in the
+        optimiser's parameter units (GPa, MPa, kg/m^3, MPa, mm, 1)."""
         return [self.E / E_UNIT, self.allowable / STRESS_UNIT, self.density, self.static_allowable / STRESS_UNIT,
-                self.notch_length / LENGTH_UNIT]
+                self.notch_length / LENGTH_UNIT, self.poisson]
 
     @classmethod
     def from_scaled(cls, p) -> "MaterialParams":
         """The inverse of ``scaled``: ``p`` may be numbers, arrays or casadi parameters."""
-        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2], p[3] * STRESS_UNIT, p[4] * LENGTH_UNIT)
+        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2], p[3] * STRESS_UNIT, p[4] * LENGTH_UNIT, p[5])
 
 
 @dataclass(frozen=True)
@@ -128,13 +129,17 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     force_error = sigma_f / f_min
 
     l_f = g.feature_length
-    stress_root = f_max * x_max * sp.y_root / sp.I
+    # the wire channels, where there are any, run into the clamp
+    stress_root = f_max * x_max * sp.y_root / (sp.I - channel_inertia(g, ops))
     stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
     strains = _scaled([f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d], station_factors)
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
     widened = corrections.widened(g, table)
-    deflection = tip_deflection(widened, sp, m.E, f_max, x_max)
+    deflection = tip_deflection(widened, sp, m.E, f_max, x_max) + channel_deflection(g, sp, m.E, f_max, x_max, ops)
+    stiffness = corrections.stiffness_fit(table)
+    if stiffness is not None:
+        deflection = deflection + stiffness.extra_deflection(g, sp, m.E, m.poisson, f_max, x_max, ops)
     if adjust is not None:
         deflection = deflection * adjust.deflection
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from designer.model.ops import NUMERIC, Ops
-from designer.model.sections import Geometry, SectionProperties
+from designer.model.sections import Geometry, SectionProperties, channel_inertia, channel_spans
 
 # First root of 1 + cos(b) cosh(b) = 0 for a clamped-free beam (Euler-Bernoulli).
 CLAMPED_FREE_ROOT = 1.8751040687
@@ -32,16 +32,35 @@ def tip_deflection(g: Geometry, sp: SectionProperties, E, force, x):
     return force * plain
 
 
+def channel_deflection(g: Geometry, sp: SectionProperties, E, force, x, ops: Ops = NUMERIC):
+    """What the wire channels add to the free-end deflection: ``EI`` falls to ``E (I - I_c)``
+    (``sections.channel_inertia``) over ``sections.channel_spans``, by the same unit-load integral
+    as ``tip_deflection``; 0 without channels."""
+    spans = channel_spans(g)
+    if not spans:
+        return 0.0
+    ell = g.length
+    extra = 1 / (E * (sp.I - channel_inertia(g, ops))) - 1 / (E * sp.I)
+    total = 0.0
+    for a, b in spans:
+        a = ops.fmax(a, 0.0)
+        total = total + _moment_arm_integral(b, x, ell) - _moment_arm_integral(a, x, ell)
+    return force * extra * total
+
+
 def rigidity_segments(g: Geometry, sp: SectionProperties, E: float) -> list[tuple[float, float, float]]:
     """``EI(s)`` as ``(s0, s1, EI)`` segments from the clamp to the free end (numbers): the
-    reduced section over each span of ``Geometry.reduced_spans``, clipped to the beam."""
+    reduced section over each span of ``Geometry.reduced_spans`` and the wire channels' between
+    them (``sections.channel_spans``), clipped to the beam."""
     ell = float(g.length)
     EI, EI_s = E * float(sp.I), E * float(sp.I_s)
+    EI_c = E * (float(sp.I) - float(channel_inertia(g)))
+    channel = [(float(a), float(b)) for a, b in channel_spans(g)]
     segs, s = [], 0.0
-    for a, b in g.reduced_spans:
+    for i, (a, b) in enumerate(g.reduced_spans):
         a, b = max(float(a), 0.0), min(float(b), ell)
         if a > s:
-            segs.append((s, a, EI))
+            segs.append((s, a, EI_c if i < len(channel) else EI))
         if b > a:
             segs.append((a, b, EI_s))
         s = b

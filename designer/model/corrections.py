@@ -13,7 +13,10 @@ shipped as ``materials/corrections.yaml``:
   for every family, under ``plain``: the clamp's restraint of the anticlastic bending of a wide
   bar, ``ClampFit``);
 - ``stress``: K_t, the 3-D peak stress at the feature (a pocket's or flat's floor radius at its
-  ends, a hole's edge) over the beam model's nominal stress at the feature's clamp-side edge.
+  ends, a hole's edge) over the beam model's nominal stress at the feature's clamp-side edge;
+- ``stiffness`` (under ``plain``, ``StiffnessFit``): the plain bar's free-end deflection beyond
+  Euler-Bernoulli theory, the clamp's plate effect on a wide bar and the shear deflection of a
+  stubby one (``checks.stiffness_study``).
 
 A fit is a polynomial in its family's parameters, smooth so that IPOPT keeps exact
 derivatives, and valid over the box of the study (its ``domain``): designs are kept inside it
@@ -26,6 +29,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import lru_cache
 
+from designer.model.ops import ops_for
 from designer.model.sections import Geometry
 
 TABLE = "corrections.yaml"
@@ -56,7 +60,24 @@ def parameters(g: Geometry) -> dict:
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":
         out["wall_ratio"] = g.wall / size
+    if g.feature == "pocket":
+        # the first feature's nearness to the clamp, exp(-3 u) of its clamp-side end u sizes out
+        # (``clamp_ratios``): 0.05 one size out, and the clamp's effect on a feature fades faster
+        out[CLAMP_NEAR] = clamp_nearness(clamp_ratios(g)[0], ops_for(g.stations[0]))
     return out
+
+
+# ``parameters``' measure of the first feature's nearness to the clamp: its extra length and K_t
+# change within about a section size of the clamp face.
+CLAMP_NEAR = "clamp_near"
+CLAMP_NEAR_RATE = 3.0
+
+
+def clamp_nearness(clamp_ratio, ops=None):
+    """``exp(-CLAMP_NEAR_RATE u)`` of a feature ``u`` section sizes from the clamp face."""
+    from designer.model.ops import NUMERIC
+
+    return (ops or NUMERIC).exp(-CLAMP_NEAR_RATE * clamp_ratio)
 
 
 def clamp_ratios(g: Geometry) -> tuple:
@@ -68,6 +89,11 @@ def station_width_ratios(g: Geometry) -> tuple:
     """Each station's distance from the clamp face over the section's width (b, or D): the clamp
     fit's variable. The clamp's restraint spreads about one width along the beam."""
     return tuple(d / g.breadth for d in g.stations)
+
+
+# The domain bound of the first station's feature's distance from the clamp face in section sizes
+# (``clamp_ratios``): the study put no feature nearer the clamp than its fits' ``clamp_ratio``.
+NEAR_CLAMP_BOUND = "clamp_ratio_1"
 
 
 def station_bound_name(i: int) -> str:
@@ -112,6 +138,58 @@ class ClampFit:
         return 1 - 2 * amplitude / (ops.exp(z) + ops.exp(-z))
 
 
+STIFFNESS_COEFFICIENTS = ("plate", "w0", "reach", "shear", "shear_bore")
+
+
+@dataclass(frozen=True)
+class StiffnessFit:
+    """The plain bar's free-end deflection beyond Euler-Bernoulli theory, as two terms added to it:
+
+    - the clamp's plate effect: near a rigid clamp a wide bar bends in plane strain (its
+      anticlastic curvature is stopped), so its curvature falls by ``A(w) exp(-s / c)`` at ``s``
+      from the clamp face, ``c = reach * b``, with ``A(w) = plate (1 - exp(-((w - 1)+ / w0)^2))``
+      as in ``ClampFit`` (``w = b/h``; 0 for round bars and tubes). Over the plain ``EI`` it takes
+      ``F A J / EI`` off the deflection at ``l``, ``J = int_0^x exp(-s/c) (x - s)(l - s) ds
+      = c x l - c^2 (x + l + e (x - l)) + 2 c^3 (1 - e)``, ``e = exp(-x/c)``;
+    - shear: ``phi F x / (kappa G A)`` with Cowper's ``kappa`` (``sections.shear_coefficient``) and
+      ``phi = shear + shear_bore m^2`` (``m``: a tube's bore ratio): the clamp face, held flat,
+      stops part of the shear deformation Timoshenko's theory gives.
+    """
+
+    plate: float
+    w0: float
+    reach: float
+    shear: float
+    shear_bore: float
+    domain: dict            # width_ratio, slenderness -> (low, high)
+    rms: float = 0.0
+    loo_max: float = 0.0
+
+    def plate_amplitude(self, w, ops=None):
+        from designer.model.ops import NUMERIC
+
+        ops = ops or NUMERIC
+        excess = (w - 1 + abs(w - 1)) / (2 * self.w0)
+        return self.plate * (1 - ops.exp(-excess * excess))
+
+    def extra_deflection(self, g: Geometry, sp, E, poisson, force, x, ops=None):
+        """What the plate effect and shear add to Euler-Bernoulli's free-end deflection (m; the
+        plate effect takes off) for ``force`` at ``x`` on ``g`` of section properties ``sp``."""
+        from designer.model.ops import NUMERIC
+        from designer.model.sections import bore_ratio, shear_stiffness
+
+        ops = ops or NUMERIC
+        ell = g.length
+        out = 0.0
+        if g.section == "rectangle":
+            c = self.reach * g.breadth
+            e = ops.exp(-x / c)
+            J = c * x * ell - c * c * (x + ell + e * (x - ell)) + 2 * c ** 3 * (1 - e)
+            out = -force * self.plate_amplitude(g.width / g.height, ops) * J / (E * sp.I)
+        m = bore_ratio(g)
+        return out + (self.shear + self.shear_bore * m * m) * force * x / shear_stiffness(g, sp, E, poisson)
+
+
 @dataclass(frozen=True)
 class Fit:
     """``sum_k c_k prod_j p_j^e_kj`` over ``variables``, valid inside ``domain``."""
@@ -139,6 +217,37 @@ class Fit:
 
 
 @dataclass(frozen=True)
+class DecayFit:
+    """``C = 1 + exp(-rate u) P``, ``P`` a polynomial (``poly``, a Fit) in the feature's
+    parameters and ``u`` the station's ``clamp_ratio`` (``clamp_ratios``): the strain of a station
+    near the clamp over the same station far from it, beyond what ``ClampFit`` gives. A round bar
+    or tube held in a rigid clamp reads up to 7 % less within a fifth of its diameter of the clamp
+    face, and the clamp's effect fades over about a third of a diameter."""
+
+    rate: float
+    poly: Fit
+    domain: dict            # clamp_ratio and the poly's variables -> (low, high)
+
+    @property
+    def variables(self):
+        return self.poly.variables
+
+    @property
+    def rms(self):
+        return self.poly.rms
+
+    @property
+    def loo_max(self):
+        return self.poly.loo_max
+
+    def __call__(self, values: dict, u, ops=None):
+        from designer.model.ops import NUMERIC
+
+        ops = ops or NUMERIC
+        return 1 + ops.exp(-self.rate * u) * self.poly(values)
+
+
+@dataclass(frozen=True)
 class Corrections:
     """Every family's fits; a family or quantity without a fit is not corrected (factor 1, no extra)."""
 
@@ -147,6 +256,13 @@ class Corrections:
 
     def fit(self, fam: str, quantity: str) -> Fit | None:
         return self.fits.get(fam, {}).get(quantity)
+
+
+def data_path(name: str):
+    """A file of the shipped catalogue folder (``materials/``)."""
+    from designer.spec.catalogue import data_folder
+
+    return data_folder() / name
 
 
 @lru_cache(maxsize=1)
@@ -179,15 +295,24 @@ def _fit_from_dict(f: dict):
     if f.get("form") == "clamp":
         return ClampFit(*(float(f["coefficients"][k]) for k in CLAMP_COEFFICIENTS), domain,
                         float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
+    if f.get("form") == "decay":
+        return DecayFit(float(f["rate"]), _fit_from_dict({k: v for k, v in f.items() if k not in ("form", "rate")}),
+                        domain)
+    if f.get("form") == "stiffness":
+        return StiffnessFit(*(float(f["coefficients"][k]) for k in STIFFNESS_COEFFICIENTS), domain,
+                            float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
     return Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
                tuple(float(c) for c in f["coefficients"]), domain, float(f.get("rms", 0.0)),
                float(f.get("loo_max", 0.0)), float(f.get("margin", 0.0)))
 
 
 def _fit_to_dict(f) -> dict:
-    if isinstance(f, ClampFit):
-        return {"form": "clamp", "coefficients": {k: getattr(f, k) for k in CLAMP_COEFFICIENTS},
-                "domain": {k: list(v) for k, v in f.domain.items()}, "rms": f.rms, "loo_max": f.loo_max}
+    if isinstance(f, DecayFit):
+        return {"form": "decay", "rate": f.rate, **_fit_to_dict(f.poly), "domain": {k: list(v) for k, v in f.domain.items()}}
+    for cls, form, names in ((ClampFit, "clamp", CLAMP_COEFFICIENTS), (StiffnessFit, "stiffness", STIFFNESS_COEFFICIENTS)):
+        if isinstance(f, cls):
+            return {"form": form, "coefficients": {k: getattr(f, k) for k in names},
+                    "domain": {k: list(v) for k, v in f.domain.items()}, "rms": f.rms, "loo_max": f.loo_max}
     return {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
             "coefficients": list(f.coefficients), "domain": {k: list(v) for k, v in f.domain.items()},
             "rms": f.rms, "loo_max": f.loo_max, **({"margin": f.margin} if f.margin else {})}
@@ -204,24 +329,34 @@ def clamp_fit(table: Corrections):
     return table.fit("plain", "clamp")
 
 
+def stiffness_fit(table: Corrections):
+    """The plain bar's stiffness fit (one for every family)."""
+    return table.fit("plain", "stiffness")
+
+
 def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
     """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at
-    the station's distance from the clamp; empty when the table corrects neither."""
-    strain, clamp = table.fit(family(g), "strain"), clamp_fit(table)
-    if strain is None and clamp is None:
+    the station's distance from the clamp over the width, times the family's own ``near_clamp``
+    fit (``DecayFit``) at its distance in sizes; empty when the table corrects none of them."""
+    strain, clamp, near = table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")
+    if strain is None and clamp is None and near is None:
         return ()
     values = parameters(g)
     base = strain(values) if strain is not None else 1.0
-    if clamp is None:
-        return tuple(base for _ in g.stations)
-    return tuple(base * clamp(values["width_ratio"], u, ops) for u in station_width_ratios(g))
+    factors = [base for _ in g.stations]
+    if clamp is not None:
+        factors = [f * clamp(values["width_ratio"], u, ops) for f, u in zip(factors, station_width_ratios(g))]
+    if near is not None:
+        factors = [f * near(values, u, ops) for f, u in zip(factors, clamp_ratios(g))]
+    return tuple(factors)
 
 
 def strain_allowance(g: Geometry, table: Corrections) -> float:
     """How far above the corrected model the 3-D gauge strain may lie: the largest left-out error
-    of the fits that set it (the feature's ``strain`` fit and the clamp's). The gauge-strain limit
-    keeps this much room, so that a design at that limit meets it in 3-D too."""
-    fits = [table.fit(family(g), "strain"), clamp_fit(table)]
+    of the fits that set it (the feature's ``strain`` fit, the clamp's and the family's
+    ``near_clamp``). The gauge-strain limit keeps this much room, so that a design at that limit
+    meets it in 3-D too."""
+    fits = [table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")]
     return max((f.loo_max for f in fits if f is not None), default=0.0)
 
 
@@ -255,13 +390,18 @@ class Widened:
 
 def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     """``(name, value, low, high)`` for every parameter a fit of ``g``'s family uses: the design must
-    stay inside the box the study covered (infinite bounds are open). Clamp ratios per station."""
+    stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
+    first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``)."""
     fam = family(g)
-    values = parameters(g)
+    # a fit's clamp_ratio bounds the first station's (the others are further out)
+    values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0]}
     box = {}    # where fits share a parameter, the design stays inside all of their ranges
-    for quantity in ("strain", "extra_length", "stress"):
+    for quantity in ("strain", "extra_length", "stress", "near_clamp"):
         fit = table.fit(fam, quantity)
         for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
+            if name == CLAMP_NEAR:      # the same bound as the first feature's clamp ratio's
+                continue
+            name = NEAR_CLAMP_BOUND if name == "clamp_ratio" else name
             old_lo, old_hi = box.get(name, (lo, hi))
             box[name] = (max(lo, old_lo), min(hi, old_hi))
     out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
@@ -272,4 +412,9 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
                 out += [(station_bound_name(i), u, lo, hi) for i, u in enumerate(station_width_ratios(g))]
             elif all(name != o[0] for o in out):
                 out.append((name, values[name], lo, hi))
+    stiffness = stiffness_fit(table)
+    if stiffness is not None:
+        values["slenderness"] = g.length / g.size
+        out += [(name, values[name], lo, hi) for name, (lo, hi) in stiffness.domain.items()
+                if all(name != o[0] for o in out)]
     return out

@@ -115,6 +115,11 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
             out.append(Limit(f"domain_{name}_min", stations[name], lo * g.breadth, upper=False, scale=1e-3,
                              unit="m"))
             continue
+        if name == corrections.NEAR_CLAMP_BOUND:
+            # d_1 - l_f/2 >= lo h (or D), linear in the sizes
+            start = g.stations[0] - g.feature_length / 2
+            out.append(Limit(f"domain_{name}_min", start, lo * g.size, upper=False, scale=1e-3, unit="m"))
+            continue
         if math.isfinite(lo):
             out.append(Limit(f"domain_{name}_min", value, lo, upper=False, scale=max(abs(lo), 0.1)))
         if math.isfinite(hi):

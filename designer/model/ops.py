@@ -30,3 +30,8 @@ def casadi_ops() -> Ops:
     import casadi
 
     return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin, casadi.exp)
+
+
+def ops_for(value) -> Ops:
+    """The operations for ``value``: casadi's for a casadi expression, numpy's otherwise."""
+    return casadi_ops() if type(value).__module__.startswith("casadi") else NUMERIC

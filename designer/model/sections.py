@@ -36,6 +36,8 @@ class Geometry:
     grid_width: float = 0.0        # ... and across it
     axes: int = 1
     floor_radius: float = 0.0      # the end mill's corner radius where a pocket's floor meets its end walls
+    channel_width: float = 0.0     # the wire channel along each pocketed face, clamp to last station (0: none)
+    channel_depth: Any = 0.0
 
     @property
     def feature_length(self):
@@ -96,6 +98,78 @@ def segment_inertia_across(R, alpha, ops: Ops = NUMERIC):
 def flat_half_angle(R, depth, ops: Ops = NUMERIC):
     """Half angle of a flat milled to ``depth`` on a circle of radius ``R``."""
     return ops.acos((R - depth) / R)
+
+
+# ----------------------------------------------------------------- wire channels
+
+# The CAD's default wire channel (outputs.cad.beam): 1.5 mm takes four 0.3 mm lead wires side by
+# side, 0.5 mm deep covers one; never more than half the pocket deep, nor wider than half the pocket.
+CHANNEL_WIDTH = 1.5e-3
+CHANNEL_DEPTH = 0.5e-3
+
+
+def wire_channel(cad, feature: str, depth, pocket_width, ops: Ops = NUMERIC) -> tuple:
+    """``(width, depth)`` of the wire channel the CAD cuts along each pocketed face from the clamp
+    to the last station (``cad``: the spec's CadOptions); ``(0, 0)`` without one."""
+    if feature != "pocket" or not cad.wire_channels:
+        return 0.0, 0.0
+    width = cad.channel_width if cad.channel_width is not None else min(CHANNEL_WIDTH, pocket_width / 2)
+    deep = cad.channel_depth if cad.channel_depth is not None else ops.fmin(CHANNEL_DEPTH, depth / 2)
+    return width, deep
+
+
+def channel_inertia(g: Geometry, ops: Ops = NUMERIC):
+    """What the wire channels on the two faces in the load direction take off the plain section's
+    second moment: a ``w x t`` groove at the top of a bar, ``w (c^3 - (c - t)^3) / 3`` with
+    ``c = h/2``; on a round bar or tube the part of the circle above ``z_0 = R - t`` within
+    ``|y| <= a = w/2``: ``(2/3) (F(a) - z_0^3 a)``, ``F(a) = int_0^a (R^2 - y^2)^{3/2} dy
+    = (a/8)(5R^2 - 2a^2) sqrt(R^2 - a^2) + (3R^4/8) asin(a/R)``. Both faces, 0 without channels."""
+    w, t = g.channel_width, g.channel_depth
+    if not w:
+        return 0.0
+    if g.section == "rectangle":
+        c = g.height / 2
+        return 2 * w * (c ** 3 - (c - t) ** 3) / 3
+    R = g.diameter / 2
+    z0 = R - t
+    a = ops.fmin(w / 2, ops.sqrt(R * R - z0 * z0))
+    big = a / 8 * (5 * R * R - 2 * a * a) * ops.sqrt(R * R - a * a) + 3 * R ** 4 / 8 * (math.pi / 2 - ops.acos(a / R))
+    return 2 * 2 / 3 * (big - z0 ** 3 * a)
+
+
+def channel_spans(g: Geometry) -> tuple:
+    """Where the channels alone reduce the section: from the clamp face to the first feature and
+    between features (the channel runs to the last station, inside the last feature's span, and a
+    feature's own span is cut deeper than the channel)."""
+    if not g.channel_width:
+        return ()
+    spans = g.reduced_spans
+    return ((0.0, spans[0][0]),) + tuple((spans[i][1], spans[i + 1][0]) for i in range(len(spans) - 1))
+
+
+# ----------------------------------------------------------------- shear
+
+def bore_ratio(g: Geometry):
+    """``m``: a tube's bore over its outer diameter; 0 for a bar."""
+    return (g.diameter - 2 * g.wall) / g.diameter if g.section == "tube" else 0.0
+
+
+def shear_coefficient(section: str, m, poisson):
+    """Timoshenko's shear coefficient ``kappa`` of a plain section, Cowper's from the exact flexure
+    solution (G. R. Cowper, "The shear coefficient in Timoshenko's beam theory", J. Appl. Mech. 33
+    (1966) 335-340, Table 1): ``10 (1 + nu) / (12 + 11 nu)`` for a rectangle, and for a hollow
+    circle of bore ratio ``m`` (``bore_ratio``; 0: a solid bar)
+    ``6 (1 + nu) (1 + m^2)^2 / ((7 + 6 nu)(1 + m^2)^2 + (20 + 12 nu) m^2)``."""
+    nu = poisson
+    if section == "rectangle":
+        return 10 * (1 + nu) / (12 + 11 * nu)
+    q = (1 + m * m) ** 2
+    return 6 * (1 + nu) * q / ((7 + 6 * nu) * q + (20 + 12 * nu) * m * m)
+
+
+def shear_stiffness(g: Geometry, sp, E, poisson):
+    """``kappa G A`` of the plain section, ``G = E / (2 (1 + nu))``."""
+    return shear_coefficient(g.section, bore_ratio(g), poisson) * E / (2 * (1 + poisson)) * sp.A
 
 
 # ----------------------------------------------------------------- section properties

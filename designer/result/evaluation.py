@@ -16,6 +16,7 @@ from designer.spec.catalogue import Material
 from designer.spec.stock import StockItem
 from designer.errors import InputError, SpecError
 from designer.model import Adjustment, Analysis, Geometry, Limit, MaterialParams
+from designer.model.sections import wire_channel
 
 ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
 
@@ -176,7 +177,10 @@ def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometr
         pocket_width=feature.width if feature.kind == "pocket" else wp,
         gauge_length=spec.gauge.length, grid_length=spec.gauge.grid_length,
         grid_width=spec.gauge.grid_width, axes=axes or spec.axes,
-        floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0)
+        floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0,
+        **dict(zip(("channel_width", "channel_depth"),
+                   wire_channel(spec.cad, feature.kind, feature.depth if feature.kind == "pocket" else 0.0,
+                                feature.width if feature.kind == "pocket" else wp))))
 
 
 def fixed_design(spec) -> Design:

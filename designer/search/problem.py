@@ -17,6 +17,8 @@ import numpy as np
 from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
+from designer.model.ops import ops_for
+from designer.model.sections import wire_channel
 from designer.result.evaluation import Design
 
 MM = 1e-3
@@ -116,12 +118,15 @@ class FamilyVariables:
         if "side" in named:
             named["width"] = named["height"] = named["side"]
         stations = tuple(named[f"station_{i + 1}"] for i in range(spec.stations))
+        depth = named.get("depth", 0.0)
+        channel = wire_channel(spec.cad, fam.feature, depth, wp, ops_for(depth))
         return Geometry(section=fam.section, feature=fam.feature, stations=stations, length=spec.free_length,
                         width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
-                        wall=named.get("wall"), depth=named.get("depth", 0.0), hole=named.get("hole", 0.0),
+                        wall=named.get("wall"), depth=depth, hole=named.get("hole", 0.0),
                         pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length,
                         grid_length=spec.gauge.grid_length, grid_width=spec.gauge.grid_width, axes=spec.axes,
-                        floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0)
+                        floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0,
+                        channel_width=channel[0], channel_depth=channel[1])
 
     def design(self, x, material) -> Design:
         return Design(material, self.geometry([float(v) * MM for v in x[: len(self.names)]]), self.adjustment)
@@ -173,7 +178,7 @@ def in_nlp_units(value, objective: str):
 
 
 # The NLP's parameters: the material's (MaterialParams.scaled), then the cap on the primary objective.
-CAP = 5
+CAP = 6
 
 
 def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
@@ -195,7 +200,7 @@ class FamilyProblem:
         self.spec, self.family = spec, family
         n, epigraph = len(variables.names), variables.epigraph
         x = ca.SX.sym("x", variables.size)
-        # the material (MaterialParams.scaled: GPa, MPa, kg/m^3, MPa, mm), then the cap on the primary objective
+        # the material (MaterialParams.scaled: GPa, MPa, kg/m^3, MPa, mm, 1), then the cap on the primary objective
         par = ca.SX.sym("p", CAP + 1)
         ops = model.casadi_ops()
         geometry = variables.geometry([x[i] * MM for i in range(n)])

@@ -22,9 +22,10 @@ How the check is made:
 - The load ``F_max`` at ``x_max`` enters at the cut face as its resultant (Saint-Venant): a
   uniform shear ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with
   ``M = F (x_max - x_cut)``; ``A`` and ``I`` are integrated over the meshed cut face.
-- The free-end deflection is the cut face's mean deflection ``w_c`` and slope ``w'_c`` (least
-  squares of ``u_x = -z w'``) carried to the free end with Euler-Bernoulli over the plain rest:
-  ``w(l) = w_c + w'_c (l - x_cut) + F a^3/(3EI) + F a^2/(2EI) (l - x_max)``, ``a = x_max - x_cut``.
+- The free-end deflection is the cut face's mean deflection ``w_c`` and rotation ``w'_c`` (least
+  squares of ``u_x = -z w'``) carried to the free end with Timoshenko's theory over the plain rest:
+  ``w(l) = w_c + w'_c (l - x_cut) + F a^3/(3EI) + F a^2/(2EI) (l - x_max) + F a/(kappa G A)``,
+  ``a = x_max - x_cut``, with Cowper's shear coefficient ``kappa`` (``model.sections.shear_coefficient``).
 - A gauge reads the mean of ``eps_xx`` over its grid's footprint (``grid_length x grid_width``
   centred on the station, on the gauge face: the pocket floor, or the beam's surface). Along
   each line of the grid that mean is exactly ``(u_x(end) - u_x(start)) / grid_length``; the

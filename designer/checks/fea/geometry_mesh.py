@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from designer.errors import DesignFileError, SolverError
+from designer.model.sections import shear_stiffness
 
 # Mesh levels: a refinement factor on the base element sizes below; each step is 1.5 x finer.
 MESH_LEVELS = {"coarse": 1.0, "normal": 1.5, "fine": 2.25}
@@ -107,6 +108,7 @@ class Problem:
     radius: float           # a round or tube section's outer radius (0: rectangle)
     floor_radius: float     # the pockets' floor radius (the end mill's corner radius; 0: none)
     plate: bool             # a thin wide plate: elements flatter than the depth across its width
+    shear_stiffness: float = float("inf")   # kappa G A of the plain section beyond the cut (Cowper)
 
 
 def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Problem:
@@ -152,7 +154,8 @@ def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Pro
                    detail_size=detail_size, detail_reach=detail_reach,
                    bore=beam.radius - beam.wall if beam.section == "tube" else 0.0,
                    radius=beam.radius if beam.section != "rectangle" else 0.0,
-                   floor_radius=beam.floor_radius if beam.feature == "pocket" else 0.0, plate=plate)
+                   floor_radius=beam.floor_radius if beam.feature == "pocket" else 0.0, plate=plate,
+                   shear_stiffness=float(shear_stiffness(geometry, sp, material.E, material.poisson)))
 
 
 def write_step_apart(record: dict, path: Path) -> None:

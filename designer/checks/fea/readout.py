@@ -190,10 +190,13 @@ def _cut_face_motion(sol: Solution, pb: Problem) -> tuple[float, float]:
 
 
 def free_end_deflection(sol: Solution, pb: Problem) -> float:
-    """Downward deflection of the free end: the cut's motion carried on by beam theory."""
+    """Downward deflection of the free end: the cut's motion carried on by Timoshenko's beam
+    theory over the plain rest (its shear ``F a / (kappa G A)`` between the cut and the load; the
+    cut's slope is the section's rotation, the least squares of ``u_x = -z w'``)."""
     w_c, slope = _cut_face_motion(sol, pb)
     a = pb.position - pb.cut
-    beyond = pb.force * a ** 3 / (3 * pb.EI) + pb.force * a ** 2 / (2 * pb.EI) * (pb.free_length - pb.position)
+    beyond = (pb.force * a ** 3 / (3 * pb.EI) + pb.force * a ** 2 / (2 * pb.EI) * (pb.free_length - pb.position)
+              + pb.force * a / pb.shear_stiffness)
     return -(w_c + slope * (pb.free_length - pb.cut)) + beyond
 
 
