@@ -360,6 +360,33 @@ def strain_allowance(g: Geometry, table: Corrections) -> float:
     return max((f.loo_max for f in fits if f is not None), default=0.0)
 
 
+# A fit meets its rule when it predicts each study point left out of it within these (the gauge-
+# strain factor on itself, the extra length by the free-end deflection it implies, K_t relative to
+# itself); a fit shifted to its safe side misses on the unsafe side by at most as much.
+ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05}
+
+
+def _unsafe_error(fit, quantity: str) -> float:
+    """How far a shipped fit may err on the unsafe side: its left-out error, or the rule where it
+    was shifted to its safe side (``Fit.margin``)."""
+    return ACCEPT[quantity] if getattr(fit, "margin", 0.0) else fit.loo_max
+
+
+def deflection_allowance(g: Geometry, table: Corrections) -> float:
+    """How far above the model the 3-D free-end deflection may lie: the largest unsafe-side error of
+    the fits that set it (the feature's ``extra_length``, as a share of the deflection, and the
+    plain bar's ``stiffness``). The deflection limit keeps this much room."""
+    fits = [(table.fit(family(g), "extra_length"), "extra_length"), (stiffness_fit(table), "extra_length")]
+    return max((_unsafe_error(f, q) for f, q in fits if f is not None), default=0.0)
+
+
+def stress_allowance(g: Geometry, table: Corrections) -> float:
+    """How far above the model the 3-D peak stress at the feature may lie: the unsafe-side error of
+    the feature's ``stress`` fit (K_t). The fatigue limit at the feature keeps this much room."""
+    fit = table.fit(family(g), "stress")
+    return 0.0 if fit is None else _unsafe_error(fit, "stress")
+
+
 def stress_concentration(g: Geometry, table: Corrections):
     """K_t at the feature: the ``stress`` fit, or 1 where the table has none."""
     fit = table.fit(family(g), "stress")

@@ -69,7 +69,8 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     d = list(g.stations)
     l_f = g.feature_length
     table = corrections.load() if table is None else table
-    # the strain-borne limits keep room for the corrections' own uncertainty (docs/model.md §7)
+    # the strain-borne limits, the deflection and the fatigue limit at a feature keep room for the
+    # corrections' own uncertainty (docs/model.md §4, §7)
     allowance = corrections.strain_allowance(g, table)
     out = [
         Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
@@ -81,11 +82,14 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]
     if lim.fatigue and g.feature != "none":
-        out.append(Limit("fatigue_feature", a.stress_fatigue, m.allowable, unit="Pa"))
+        room = corrections.stress_allowance(g, table)
+        out.append(Limit("fatigue_feature", a.stress_fatigue, m.allowable / (1 + room), unit="Pa", rating=m.allowable))
     out += [Limit(f"station_gap_{i + 1}", d[i + 1] - d[i], l_f + lim.gauge_gap, upper=False, scale=mm, unit="m")
             for i in range(len(d) - 1)]
     if lim.max_deflection is not None:
-        out.append(Limit("deflection", a.deflection, lim.max_deflection, unit="m"))
+        room = corrections.deflection_allowance(g, table)
+        out.append(Limit("deflection", a.deflection, lim.max_deflection / (1 + room), unit="m",
+                         rating=lim.max_deflection))
     if lim.min_frequency is not None:
         out.append(Limit("natural_frequency", a.natural_frequency, lim.min_frequency, upper=False, unit="Hz"))
     if include_targets:

@@ -79,9 +79,11 @@ def test_the_model_docs_table_of_corrections_is_the_shipped_table():
     text = (ROOT / "docs" / "model.md").read_text(encoding="utf-8")
     rows = [line for line in text.splitlines() if line.startswith("| ")
             and any(unit in line for unit in ("% of the factor", "% of the deflection", "% of K_t"))]
-    names = {"strain": "`C_ε`", "extra_length": "`Δ`", "stress": "`K_t`", "clamp": "`C_c`"}
+    names = {"strain": "`C_ε`", "extra_length": "`Δ`", "stress": "`K_t`", "clamp": "`C_c`", "near_clamp": "`C_n`",
+             "stiffness": "`φ`, `A`"}
     families = {"rectangle-hole": "rectangle + hole", "rectangle-pocket": "rectangle + slot",
-                "round-pocket": "round + flat", "tube-pocket": "tube + flat", "plain": "every family (clamp)"}
+                "round-pocket": "round + flat", "tube-pocket": "tube + flat", "round-none": "round bar",
+                "tube-none": "tube", "plain": "every family"}
     table = corrections.load()
     shipped = [(fam, q, f) for fam, qs in table.fits.items() for q, f in qs.items()]
     assert len(rows) == len(shipped)
