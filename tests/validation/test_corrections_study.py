@@ -172,8 +172,10 @@ def test_fresh_3d_runs_reproduce_pocket_points_of_the_table_and_the_fits(family,
     assert fresh.stress_ratio == pytest.approx(row["stress_ratio"], rel=1e-3)
     figures = {"strain": fresh.strain_far, "extra_length": fresh.extra_length, "stress": fresh.stress_ratio}
     for quantity, fit in corrections.load().fits.get(family, {}).items():
-        values = {**fresh.parameters, "extra_length": fresh.extra_length, "deflection_ratio": fresh.deflection_ratio,
-                  fits.TARGETS[quantity]: figures[quantity]}
+        if quantity not in figures:
+            continue  # near_clamp: test_the_near_clamp_fits_reproduce_the_study
+        values = {**fresh.parameters, **_nearness(fresh.parameters), "extra_length": fresh.extra_length,
+                  "deflection_ratio": fresh.deflection_ratio, fits.TARGETS[quantity]: figures[quantity]}
         if _inside(fit, values):
             assert _within_its_rule(quantity, fit, values), quantity
 
