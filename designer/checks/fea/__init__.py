@@ -14,11 +14,14 @@ How the check is made:
   ``Y = 0`` and ``u_x = u_y = 0`` on ``Z = 0``.
   The STEP is built in a child process, so the CAD kernel's memory (about 0.5 GB) is gone
   before the mesh; the detail size fills a thin wall's thickness around the features' faces
-  and grows from there to the section's size.
+  and grows from there to the section's size. Where gmsh's surface mesher leaves flat triangles
+  on a floor radius's narrow faces and the 3-D mesh fails or holds tetrahedra of no volume,
+  those faces are meshed again by gmsh's MeshAdapt (and the convergence mesh likewise).
 - Linear elasticity with quadratic tetrahedra (scikit-fem's ``ElementTetP2``), assembled here
   in vectorised form, a chunk of elements at a time, and solved by conjugate gradients
   preconditioned with a two-level (quadratic / linear) cycle; a thin wide plate, on which the
-  linear level locks, by a sparse LU.
+  linear level locks, by a sparse LU. Either solution must leave a small true residual
+  ``||f - K u|| / ||f||``, checked here rather than taken from the solver.
 - The load ``F_max`` at ``x_max`` enters at the cut face as its resultant (Saint-Venant): a
   uniform shear ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with
   ``M = F (x_max - x_cut)``; ``A`` and ``I`` are integrated over the meshed cut face.

@@ -28,7 +28,8 @@ from designer.errors import InputError, describe_allowed
 class Figures:
     """What one mesh gives: the gauge strains, the free-end deflection, the stress peaks (overall,
     at the features, at each station's feature), the stress at another run's peak (``at_peak``),
-    the surface strain profile ``(x, z, eps_xx)`` and the run's size and time."""
+    the surface strain profile ``(x, z, eps_xx)`` and the run's size and time, and whether MeshAdapt
+    meshed faces of it."""
 
     gauges: tuple
     deflection: float
@@ -38,14 +39,17 @@ class Figures:
     at_peak: float | None
     profile: tuple
     run: MeshRun
+    mesh_adapt: bool        # faces with a flat surface mesh were meshed by MeshAdapt
 
 
-def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=None) -> Figures:
+def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=None,
+         mesh_adapt: bool = False) -> Figures:
     """Mesh, solve and read the design at one refinement; ``peak_at``: a point (m) where the
-    stress is also read (the finer run's peak, for the convergence check). Only the figures
-    outlive the call, so the two meshes of a check are never held at once."""
+    stress is also read (the finer run's peak, for the convergence check); ``mesh_adapt``: mesh
+    the faces whose surface mesh is flat with MeshAdapt from the start (``mesh_quarter``). Only
+    the figures outlive the call, so the two meshes of a check are never held at once."""
     start = time.perf_counter()
-    points, tets = mesh_quarter(step_path, pb, refinement)
+    points, tets, adapted = mesh_quarter(step_path, pb, refinement, mesh_adapt)
     sol = solve(points, tets, pb)
     gauges = tuple(gauge_strains(sol, pb))
     deflection = free_end_deflection(sol, pb)
@@ -56,7 +60,7 @@ def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=No
                   detail_size=pb.detail_size / refinement, elements=int(tets.shape[1]),
                   vertices=int(points.shape[1]), dofs=int(3 * sol.basis.N), cg_iterations=sol.iterations,
                   seconds=time.perf_counter() - start)
-    return Figures(gauges, deflection, peak, feature_peak, station_peaks, at_peak, profile, run)
+    return Figures(gauges, deflection, peak, feature_peak, station_peaks, at_peak, profile, run, adapted)
 
 
 def model_profile(x: np.ndarray, z: np.ndarray, pb: Problem, segments) -> np.ndarray:
@@ -102,8 +106,9 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         step_path = Path(tmp) / f"{beam.file_stem}.step"
         write_step_apart(design, step_path)
         main = _run(step_path, pb, mesh, refinement)
+        # a main mesh that needed MeshAdapt on its flat faces has its convergence mesh made alike
         partner = _run(step_path, pb, f"{mesh} / {CONVERGENCE_COARSENING:g}", refinement / CONVERGENCE_COARSENING,
-                       peak_at=main.peak.location)
+                       peak_at=main.peak.location, mesh_adapt=main.mesh_adapt)
 
     a = ev.analysis
     gauges = tuple(GaugeCheck(d, fea, float(m), coarse)

@@ -6,7 +6,13 @@ symmetric about ``XZ`` and, under a load along ``Z``, antisymmetric about ``XY``
 follow the section, thin walls and features (the named settings below): the detail size fills
 the material within a thin wall's thickness of the features' faces (pocket floor, walls and
 corners, hole bore) and grows from there at ``GRADING`` to the section's size, so plain lengths
-and the far side of a thick section stay coarse. gmsh is imported only inside ``mesh_quarter``.
+and the far side of a thick section stay coarse. gmsh is imported only inside the functions that
+mesh.
+
+A mesh that gmsh cannot make, or that holds tetrahedra of no volume, comes from flat triangles
+on a floor radius's narrow faces (FLAT_TRIANGLE): it is made once more with those faces meshed
+by gmsh's MeshAdapt, and the check's convergence mesh is then made the same way. Every other
+mesh is gmsh's first.
 
 The STEP solid is built by cadquery in a child process (``write_step_apart``): the CAD kernel
 alone holds about 0.5 GB, which is then free for the solve.
@@ -65,6 +71,20 @@ RADIUS_REACH = 0.5
 # elements on the normal mesh instead of 27 000).
 RADIUS_BAND = 3.0
 HXT = 10                 # gmsh's Mesh.Algorithm3D code of its parallel Delaunay, HXT
+# gmsh's surface mesher (Frontal-Delaunay) can leave flat triangles (three corners in a line, or
+# nearly) on a floor radius's faces, strips a quarter circle wide running across the beam: the
+# R0.01 and R0.02 radii of 1 to 1.6 mm slots, the R0.2 radii of 8.4 mm flats on a 28 mm round. HXT
+# then either stops ("a vertex lies in a segment": a boundary node on such a triangle's edge) or
+# fills the triangle with tetrahedra of no volume, on which the stiffness is singular and
+# conjugate gradients do not converge. Such a mesh is made again with the faces that carry a
+# triangle flatter than FLAT_TRIANGLE (its area over an equilateral's on its longest edge; those
+# faces' worst are 0 to 0.005) meshed by gmsh's MeshAdapt, which gives them sound triangles
+# (0.2 and better). A mesh that meshes and has no tetrahedron flatter than FLAT_TETRAHEDRON (its
+# volume over a regular one's on its longest edge; tetrahedra of no volume read 1e-16 and less,
+# the worst of the meshes the examples and the bench suite solve 1e-5) is kept as it is.
+MESH_ADAPT = 1           # gmsh's Mesh.Algorithm code of its MeshAdapt surface mesher
+FLAT_TRIANGLE = 0.01
+FLAT_TETRAHEDRON = 1e-9
 # The mesh is cut this many section sizes (the larger of width and depth) past the last
 # feature: Saint-Venant end effects of the cut-face load decay over about one section size.
 CUT_MARGIN = 2.0
@@ -231,103 +251,147 @@ def _floor_radius_boxes(pb: Problem) -> list:
     return out
 
 
-def mesh_quarter(step_path: Path, pb: Problem, refinement: float):
-    """gmsh: the quarter ``0 <= X <= x_cut, Y >= 0, Z >= 0`` of the STEP solid, linear tets."""
+def mesh_quarter(step_path: Path, pb: Problem, refinement: float, mesh_adapt: bool = False):
+    """gmsh: the quarter ``0 <= X <= x_cut, Y >= 0, Z >= 0`` of the STEP solid, linear tets
+    ``(points (3, n), tets (4, E))``, and whether faces were meshed by MeshAdapt. A mesh that
+    fails, or holds a tetrahedron of no volume, is made once more with MeshAdapt on the faces that
+    carry flat triangles (see FLAT_TRIANGLE); gmsh is started afresh for it, as after a failed mesh
+    it refuses to mesh again. ``mesh_adapt``: go straight to MeshAdapt on such faces (the
+    convergence mesh of a check whose main mesh needed it, so that both are made alike).
+    SolverError when the last mesh fails too."""
+    import gmsh
+
+    failure = None
+    for again in (True,) if mesh_adapt else (False, True):
+        gmsh.initialize(interruptible=False)
+        try:
+            _set_up(step_path, pb, refinement)
+            faces = _mesh_adapt_flat_faces() if again else []
+            if again and not faces and not mesh_adapt:
+                break                       # nothing to mesh otherwise: the same failure again
+            try:
+                gmsh.model.mesh.generate(3)
+                points, tets = _tetrahedra()
+                problem = "it left tetrahedra of no volume" if _flat_tetrahedra(points, tets) else None
+            except Exception as exc:  # gmsh raises plain Exception
+                problem = str(exc)
+            if problem is None:
+                return points, tets, bool(faces)
+            attempt = f"with MeshAdapt on {len(faces)} faces: {problem}"
+            failure = f"{failure}; again {attempt}" if failure else (attempt if faces else problem)
+        finally:
+            gmsh.finalize()
+    raise SolverError(f"gmsh could not mesh the beam ({failure})")
+
+
+def _mesh_adapt_flat_faces() -> list:
+    """The surfaces whose Frontal-Delaunay mesh has flat triangles, set to be meshed by MeshAdapt
+    (the surface mesh made to find them is cleared)."""
+    import gmsh
+
+    gmsh.model.mesh.generate(2)
+    faces = _flat_faces()
+    for tag in faces:
+        gmsh.model.mesh.setAlgorithm(2, tag, MESH_ADAPT)
+    gmsh.model.mesh.clear()
+    return faces
+
+
+def _set_up(step_path: Path, pb: Problem, refinement: float) -> None:
+    """gmsh (started): the quarter model cut from the STEP solid, its element sizes and options."""
     import gmsh
 
     s_g = pb.global_size / refinement
     s_d = pb.detail_size / refinement
-    gmsh.initialize(interruptible=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.option.setString("Geometry.OCCTargetUnit", "M")
     try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setString("Geometry.OCCTargetUnit", "M")
-        try:
-            entities = gmsh.model.occ.importShapes(str(step_path))
-        except Exception as exc:  # gmsh raises plain Exception
-            raise SolverError(f"{step_path}: gmsh could not read the STEP model ({exc})") from exc
-        big = 10 * pb.size
-        box = gmsh.model.occ.addBox(0.0, 0.0, 0.0, pb.cut, big, big)
-        volumes, _ = gmsh.model.occ.intersect(entities, [(3, box)])
-        gmsh.model.occ.synchronize()
-        if len(volumes) != 1:
-            raise SolverError(f"cutting the STEP model at X = 0 and X = {pb.cut * 1e3:.2f} mm gave "
-                              f"{len(volumes)} volumes, expected one; please report this design")
+        entities = gmsh.model.occ.importShapes(str(step_path))
+    except Exception as exc:  # gmsh raises plain Exception
+        raise SolverError(f"{step_path}: gmsh could not read the STEP model ({exc})") from exc
+    big = 10 * pb.size
+    box = gmsh.model.occ.addBox(0.0, 0.0, 0.0, pb.cut, big, big)
+    volumes, _ = gmsh.model.occ.intersect(entities, [(3, box)])
+    gmsh.model.occ.synchronize()
+    if len(volumes) != 1:
+        raise SolverError(f"cutting the STEP model at X = 0 and X = {pb.cut * 1e3:.2f} mm gave "
+                          f"{len(volumes)} volumes, expected one; please report this design")
 
-        faces = _feature_faces(pb) if s_d < s_g else []
-        if faces:
-            # the detail size within detail_reach of the features' faces, then graded to s_g
-            f = gmsh.model.mesh.field
-            distance = f.add("Distance")
-            f.setNumbers(distance, "SurfacesList", faces)
-            f.setNumber(distance, "Sampling", int(min(200, np.ceil(pb.feature_length / s_d) + 2)))
-            reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d)
-            ramp = f.add("Threshold")
-            f.setNumber(ramp, "InField", distance)
-            f.setNumber(ramp, "SizeMin", s_d)
-            f.setNumber(ramp, "SizeMax", s_g)
-            f.setNumber(ramp, "DistMin", reach)
-            f.setNumber(ramp, "DistMax", reach + (s_g - s_d) / GRADING)
-            f.setAsBackgroundMesh(ramp)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", s_g)
-        gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-        gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", ELEMENTS_PER_CIRCLE * refinement)
-        gmsh.option.setNumber("Mesh.ElementOrder", 1)
-        sizers = []
-        if 0 < pb.bore and (pb.bore / pb.radius) ** 4 < BORE_SHARE:
-            # the bore's elements as long as the outer surface's (never longer than the section's)
-            # and no longer than the detail size's ramp along X near the features (a flat's floor
-            # may lie a thin wall above the bore)
-            bore_size = min(s_g, 2 * np.pi * pb.radius / (ELEMENTS_PER_CIRCLE * refinement))
-            near = FACE_TOLERANCE * pb.size
-            reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d) if s_d < s_g else 0.0
+    faces = _feature_faces(pb) if s_d < s_g else []
+    if faces:
+        # the detail size within detail_reach of the features' faces, then graded to s_g
+        f = gmsh.model.mesh.field
+        distance = f.add("Distance")
+        f.setNumbers(distance, "SurfacesList", faces)
+        f.setNumber(distance, "Sampling", int(min(200, np.ceil(pb.feature_length / s_d) + 2)))
+        reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d)
+        ramp = f.add("Threshold")
+        f.setNumber(ramp, "InField", distance)
+        f.setNumber(ramp, "SizeMin", s_d)
+        f.setNumber(ramp, "SizeMax", s_g)
+        f.setNumber(ramp, "DistMin", reach)
+        f.setNumber(ramp, "DistMax", reach + (s_g - s_d) / GRADING)
+        f.setAsBackgroundMesh(ramp)
+    gmsh.option.setNumber("Mesh.MeshSizeMax", s_g)
+    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
+    gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", ELEMENTS_PER_CIRCLE * refinement)
+    gmsh.option.setNumber("Mesh.ElementOrder", 1)
+    sizers = []
+    if 0 < pb.bore and (pb.bore / pb.radius) ** 4 < BORE_SHARE:
+        # the bore's elements as long as the outer surface's (never longer than the section's)
+        # and no longer than the detail size's ramp along X near the features (a flat's floor
+        # may lie a thin wall above the bore)
+        bore_size = min(s_g, 2 * np.pi * pb.radius / (ELEMENTS_PER_CIRCLE * refinement))
+        near = FACE_TOLERANCE * pb.size
+        reach = max(pb.detail_reach, DETAIL_ELEMENTS * s_d) if s_d < s_g else 0.0
 
-            def bore(dim, x, y, z, lc):
-                if dim == 3 or abs(np.hypot(y, z) - pb.bore) > near:
-                    return lc
-                beyond = min(max(a - reach - x, x - b - reach, 0.0) for a, b in pb.spans)
-                return max(lc, min(bore_size, s_d + GRADING * beyond))
-
-            sizers.append(bore)
-        boxes = _floor_radius_boxes(pb) if pb.floor_radius > 0 else []
-        if boxes:
-            # gmsh's minimum drops to the floor radius's size; everywhere else the old minimum
-            # still holds (the callback lifts gmsh's size to it), so that curved faces far from
-            # the radius (a slot's plan corners, a tube's bore) keep the sizes they had
-            s_r = min(RADIUS_SIZE * pb.floor_radius / refinement, s_d)
-            r_reach = RADIUS_REACH * pb.floor_radius
-            lows = np.array([lo for lo, _ in boxes])
-            highs = np.array([hi for _, hi in boxes])
-            old_min = MIN_SIZE_FRACTION * s_d
-            min_size = s_r
-
-            def radius(dim, x, y, z, lc):
-                p = np.array([x, y, z])
-                d = np.sqrt(np.min(np.sum(np.maximum(np.maximum(lows - p, p - highs), 0.0) ** 2, axis=1)))
-                return min(max(lc, old_min), s_r + GRADING * max(d - r_reach, 0.0))
-
-            sizers.append(radius)
-            # gmsh's default 3-D Delaunay stalls for minutes on a radius this much finer than the
-            # section (a R0.25 flat on a 30 mm tube: over 300 s); HXT meshes it in seconds
-            gmsh.option.setNumber("Mesh.Algorithm3D", HXT)
-        else:
-            min_size = MIN_SIZE_FRACTION * s_d
-        gmsh.option.setNumber("Mesh.MeshSizeMin", min_size)
-        if sizers:
-            def size(dim, tag, x, y, z, lc):
-                for sizer in sizers:
-                    lc = sizer(dim, x, y, z, lc)
+        def bore(dim, x, y, z, lc):
+            if dim == 3 or abs(np.hypot(y, z) - pb.bore) > near:
                 return lc
+            beyond = min(max(a - reach - x, x - b - reach, 0.0) for a, b in pb.spans)
+            return max(lc, min(bore_size, s_d + GRADING * beyond))
 
-            gmsh.model.mesh.setSizeCallback(size)
-        try:
-            gmsh.model.mesh.generate(3)
-        except Exception as exc:
-            raise SolverError(f"gmsh could not mesh the beam ({exc})") from exc
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        _, tet_nodes = gmsh.model.mesh.getElementsByType(4)
-    finally:
-        gmsh.finalize()
+        sizers.append(bore)
+    boxes = _floor_radius_boxes(pb) if pb.floor_radius > 0 else []
+    if boxes:
+        # gmsh's minimum drops to the floor radius's size; everywhere else the old minimum
+        # still holds (the callback lifts gmsh's size to it), so that curved faces far from
+        # the radius (a slot's plan corners, a tube's bore) keep the sizes they had
+        s_r = min(RADIUS_SIZE * pb.floor_radius / refinement, s_d)
+        r_reach = RADIUS_REACH * pb.floor_radius
+        lows = np.array([lo for lo, _ in boxes])
+        highs = np.array([hi for _, hi in boxes])
+        old_min = MIN_SIZE_FRACTION * s_d
+        min_size = s_r
+
+        def radius(dim, x, y, z, lc):
+            p = np.array([x, y, z])
+            d = np.sqrt(np.min(np.sum(np.maximum(np.maximum(lows - p, p - highs), 0.0) ** 2, axis=1)))
+            return min(max(lc, old_min), s_r + GRADING * max(d - r_reach, 0.0))
+
+        sizers.append(radius)
+        # gmsh's default 3-D Delaunay stalls for minutes on a radius this much finer than the
+        # section (a R0.25 flat on a 30 mm tube: over 300 s); HXT meshes it in seconds
+        gmsh.option.setNumber("Mesh.Algorithm3D", HXT)
+    else:
+        min_size = MIN_SIZE_FRACTION * s_d
+    gmsh.option.setNumber("Mesh.MeshSizeMin", min_size)
+    if sizers:
+        def size(dim, tag, x, y, z, lc):
+            for sizer in sizers:
+                lc = sizer(dim, x, y, z, lc)
+            return lc
+
+        gmsh.model.mesh.setSizeCallback(size)
+
+
+def _tetrahedra():
+    """gmsh's tetrahedra as ``(points (3, n), tets (4, E))``, only the vertices they use."""
+    import gmsh
+
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    _, tet_nodes = gmsh.model.mesh.getElementsByType(4)
     if len(tet_nodes) == 0:
         raise SolverError("gmsh made no tetrahedra for the beam; please report this design")
     index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
@@ -336,3 +400,35 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float):
     used, t = np.unique(t, return_inverse=True)
     points = coords.reshape(-1, 3).T[:, used]
     return np.ascontiguousarray(points), np.ascontiguousarray(t.reshape(4, -1))
+
+
+def _flat_tetrahedra(points: np.ndarray, tets: np.ndarray) -> bool:
+    """Whether a tetrahedron's volume is below FLAT_TETRAHEDRON of a regular one's on its longest edge."""
+    x = points[:, tets]                                                   # (3, 4, E)
+    edges = x[:, [1, 2, 3, 2, 3, 3]] - x[:, [0, 0, 0, 1, 1, 2]]           # (3, 6, E)
+    longest = np.sqrt(np.max(np.sum(edges ** 2, axis=0), axis=0))
+    volume = np.abs(np.einsum("ie,ie->e", edges[:, 0], np.cross(edges[:, 1], edges[:, 2], axis=0))) / 6
+    return bool(np.any(volume < FLAT_TETRAHEDRON * longest ** 3 / (6 * np.sqrt(2))))
+
+
+def _flat_faces() -> list:
+    """The surfaces whose triangles include one of area below FLAT_TRIANGLE of an equilateral's on
+    its longest edge."""
+    import gmsh
+
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    index = np.zeros(int(tags.max()) + 1, dtype=np.int64)
+    index[tags.astype(np.int64)] = np.arange(len(tags))
+    xyz = coords.reshape(-1, 3)
+    out = []
+    for _, tag in gmsh.model.getEntities(2):
+        _, nodes = gmsh.model.mesh.getElementsByType(2, tag)
+        if len(nodes) == 0:
+            continue
+        a, b, c = xyz[index[nodes.astype(np.int64)].reshape(-1, 3).T]
+        area = 0.5 * np.linalg.norm(np.cross(b - a, c - a), axis=1)
+        longest = np.max([np.sum((b - a) ** 2, axis=1), np.sum((c - b) ** 2, axis=1), np.sum((a - c) ** 2, axis=1)],
+                         axis=0)
+        if np.any(area < FLAT_TRIANGLE * np.sqrt(3) / 4 * longest):
+            out.append(tag)
+    return out

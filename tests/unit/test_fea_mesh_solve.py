@@ -1,0 +1,64 @@
+"""The 3-D check's mesh screening and solve check (designer.checks.fea.geometry_mesh, .solve)."""
+
+import numpy as np
+import pytest
+
+
+def test_a_tetrahedron_of_no_volume_is_flat_and_a_sliver_is_not():
+    """Reference: a tetrahedron's volume is |det(edges)|/6; a regular one on edge L has L^3/(6 sqrt 2).
+    A fourth corner in the plane of the other three (the fill of a surface triangle whose corners
+    are collinear) has none. A sliver of 1e-5 of the regular volume, as the worst tetrahedra of the
+    meshes the 3-D check solves today, is kept."""
+    from designer.checks.fea.geometry_mesh import FLAT_TETRAHEDRON, _flat_tetrahedra
+
+    regular = np.array([[1.0, 1, 1], [1, -1, -1], [-1, 1, -1], [-1, -1, 1]]).T     # edge 2 sqrt 2
+    tets = np.arange(4).reshape(4, 1)
+    assert not _flat_tetrahedra(regular, tets)
+    flat = regular.copy()
+    flat[:, 3] = (regular[:, 0] + regular[:, 1] + regular[:, 2]) / 3                # in the face 0-1-2
+    assert _flat_tetrahedra(flat, tets)
+    # lift the fourth corner off the face until the volume is q times the regular one's
+    edge = 2 * np.sqrt(2)
+    normal = np.cross(regular[:, 1] - regular[:, 0], regular[:, 2] - regular[:, 0])
+    area = np.linalg.norm(normal) / 2
+    for q, is_flat in ((1e-5, False), (1e-3 * FLAT_TETRAHEDRON, True)):
+        height = 3 * q * edge ** 3 / (6 * np.sqrt(2)) / area
+        sliver = flat.copy()
+        sliver[:, 3] += height * normal / np.linalg.norm(normal)
+        assert _flat_tetrahedra(sliver, tets) is is_flat
+    # a mesh is flat when any one of its tetrahedra is
+    both = np.hstack([regular, flat])
+    assert _flat_tetrahedra(both, np.array([[0, 4], [1, 5], [2, 6], [3, 7]]))
+
+
+def _block_problem():
+    """A 20 x 4 x 4 mm steel bar's quarter (the symmetry planes Y = 0 and Z = 0), clamped at X = 0,
+    cut at X = 20 mm, loaded 10 N at 40 mm: a coarse tensor mesh."""
+    from skfem import MeshTet
+
+    from designer.checks.fea.geometry_mesh import Problem
+
+    mm = 1e-3
+    m = MeshTet.init_tensor(np.linspace(0, 20 * mm, 6), np.linspace(0, 2 * mm, 3), np.linspace(0, 2 * mm, 3))
+    pb = Problem(E=200e9, poisson=0.3, force=10.0, position=40 * mm, free_length=40 * mm, cut=20 * mm,
+                 EI=200e9 * (4 * mm) ** 4 / 12, depth=4 * mm, size=4 * mm, stations=(10 * mm,), feature="none",
+                 feature_length=0.0, spans=(), gauge_z=2 * mm, grid_length=1 * mm, grid_width=1 * mm,
+                 global_size=2 * mm, detail_size=2 * mm, detail_reach=0.0, bore=0.0, radius=0.0, floor_radius=0.0,
+                 plate=False)
+    return m.p, m.t, pb
+
+
+def test_a_solution_is_checked_against_its_residual_not_the_solvers_word(monkeypatch):
+    """Conjugate gradients that report success with a wrong answer (here u = 0, whose relative
+    residual ||f - K u|| / ||f|| is exactly 1) are refused; the true solve passes the check."""
+    import scipy.sparse.linalg as spla
+
+    from designer.checks.fea import solve as fea_solve
+    from designer.errors import SolverError
+
+    points, tets, pb = _block_problem()
+    good = fea_solve.solve(points, tets, pb)
+    assert good.iterations > 0 and np.abs(good.u).max() > 0
+    monkeypatch.setattr(spla, "cg", lambda K, f, **kw: (np.zeros_like(f), 0))
+    with pytest.raises(SolverError, match="relative residual of 1.0e\\+00"):
+        fea_solve.solve(points, tets, pb)
