@@ -38,7 +38,8 @@ def test_reported_design_meets_every_limit_when_rebuilt_from_design_json(name, t
     assert all(c["satisfied"] for c in record["constraints"])
     # what was reported is what was checked: re-evaluation reproduces the predictions
     assert ev.objective == pytest.approx(record["predicted"]["objective"], rel=1e-12)
-    assert float(ev.analysis.deflection) == pytest.approx(record["predicted"]["deflection"], rel=1e-12)
+    # (to round-off: the stiffness terms' exponentials of the rebuilt sizes)
+    assert float(ev.analysis.deflection) == pytest.approx(record["predicted"]["deflection"], rel=1e-10)
     # rounded to 0.01 mm
     for s in record["design"]["stations"]:
         assert abs(s * 1e5 - round(s * 1e5)) < 1e-6
