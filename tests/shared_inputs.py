@@ -391,8 +391,9 @@ objective: mass
 
 
 # A stubby lug (30 mm long, up to 16 mm high) on its deflection limit: its shear deformation and
-# the clamp's give, which Euler-Bernoulli theory leaves out, make it deflect about 1.14 x the beam
-# model in 3-D. e2e/test_cli_verify_rounds.py
+# the clamp's give make it deflect about 1.14 x Euler-Bernoulli theory in 3-D on the coarse mesh,
+# and still about 1.04 x the model with its fitted shear (docs/model.md §4), which the loop then
+# corrects. e2e/test_cli_verify_rounds.py
 STUBBY_LUG = """\
 name: stubby-lug
 load:

@@ -260,6 +260,19 @@ def _parsimonious(tried: list):
     return next(t for t in tried if t[0].loo_max <= PARSIMONY * least)
 
 
+def rough_ships(quantity: str, loo_max: float, uncorrected: float) -> bool:
+    """Whether a fit that misses its rule still ships: its left-out error within FIT_CEILING and
+    under the error of no correction (``uncorrected``)."""
+    return loo_max <= FIT_CEILING[quantity] and loo_max < uncorrected
+
+
+def with_nearness(rows: list[dict]) -> list[dict]:
+    """The study's rows with the ``clamp_near`` the fits use, computed from each row's clamp ratio."""
+    from designer.model.corrections import CLAMP_NEAR, clamp_nearness
+
+    return [{**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else r for r in rows]
+
+
 def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None):
     """The corrections of every family from the study's rows: for each feature family and
     quantity, the form of fewest terms (over FIT_FORMS) whose leave-one-out error meets
@@ -268,9 +281,7 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
     quantity's safe side where it has one (``shifted``); otherwise the quantity stays uncorrected."""
     from designer.model.corrections import Corrections
 
-    from designer.model.corrections import CLAMP_NEAR, clamp_nearness
-
-    rows = [{**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else r for r in rows]
+    rows = with_nearness(rows)
     fits, report = {}, []
     if stiffness_rows:
         # the plain bar's stiffness: each feature's extra length is what remains of its 3-D
@@ -302,8 +313,7 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
                 tried.append((fit, data, left_out))
             else:
                 best = _parsimonious(tried)
-                if (best is not None and best[0].loo_max <= FIT_CEILING[quantity]
-                        and best[0].loo_max < uncorrected_error(quantity, best[1])):
+                if best is not None and rough_ships(quantity, best[0].loo_max, uncorrected_error(quantity, best[1])):
                     rough = shifted(best[0], quantity, best[1], best[2]) if quantity in SAFE_SIDE else best[0]
                     fits.setdefault(fam, {})[quantity] = rough
                     if rough is not best[0]:
@@ -322,9 +332,9 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
         if near is not None:
             report.append((fam, "near_clamp", len(near.poly.exponents), near))
             # as a rough gauge-strain factor ships (its left-out error is room under the
-            # gauge-strain limit): within FIT_CEILING and better than no correction
+            # gauge-strain limit)
             worst = max(abs(near_clamp_target(r, clamp) - 1) for r in mine if "clamp_ratio" in r)
-            if near.loo_max <= FIT_ACCEPT["strain"] or FIT_CEILING["strain"] >= near.loo_max < worst:
+            if near.loo_max <= FIT_ACCEPT["strain"] or rough_ships("strain", near.loo_max, worst):
                 fits.setdefault(fam, {})["near_clamp"] = near
     return Corrections(fits, source), report
 

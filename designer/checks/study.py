@@ -202,12 +202,10 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
     return case if l_p - 2 * case.corner_radius >= GAUGE_LENGTH else None
 
 
-def cases(families=None, near_clamp: bool = True) -> list[Case]:
-    """The study's grid, family by family (without the NEAR_CLAMP_GROUPS if not ``near_clamp``);
-    ``near_clamp_cases`` are the last of their families."""
-    mm = 1e-3
+def group_cases(groups) -> list[Case]:
+    """The cases of pocket groups ``(family, box, number of Halton points)``."""
     out = []
-    for fam, box, count in POCKET_GROUPS + (NEAR_CLAMP_GROUPS if near_clamp else ()):
+    for fam, box, count in groups:
         names = list(box)
         for point in halton(count, len(names)):
             u = {k: t if k == "notch_ratio" else lo + t * (hi - lo)
@@ -215,6 +213,13 @@ def cases(families=None, near_clamp: bool = True) -> list[Case]:
             case = pocket_case(fam, u, box)
             if case is not None:
                 out.append(case)
+    return out
+
+
+def cases(families=None) -> list[Case]:
+    """The study's grid, family by family; ``near_clamp_cases`` are the last of their families."""
+    mm = 1e-3
+    out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -225,7 +230,7 @@ def cases(families=None, near_clamp: bool = True) -> list[Case]:
 
 def near_clamp_cases() -> list[Case]:
     """The NEAR_CLAMP_GROUPS' cases alone."""
-    return [c for c in cases() if c not in set(cases(near_clamp=False))]
+    return group_cases(NEAR_CLAMP_GROUPS)
 
 
 # Round bars and tubes near the clamp: the strain of a plain station ``clamp_ratio`` diameters
@@ -323,6 +328,19 @@ def euler_deflection(g, analysis, material, spec) -> float:
                                       spec.load.position_max))
 
 
+def beyond_euler(g, analysis, material, spec, stiffness=None) -> float:
+    """What the beam model adds to ``euler_deflection`` besides the features' extra length: the
+    wire channels, and the plain bar's ``stiffness`` fit where one is given."""
+    from designer import model
+
+    sp, E = analysis.props, float(material.E)
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+    rest = float(model.channel_deflection(g, sp, E, f_max, x_max))
+    if stiffness is not None:
+        rest += float(stiffness.extra_deflection(g, sp, E, float(material.poisson), f_max, x_max))
+    return rest
+
+
 def extra_length(g, analysis, material, spec, deflection: float, stiffness=None) -> float:
     """The extension Δ of each reduced-section span (Δ/2 at each end) for which the beam model's
     deflection (beam theory with EI(s) piecewise, the wire channels, and the plain bar's
@@ -336,9 +354,7 @@ def extra_length(g, analysis, material, spec, deflection: float, stiffness=None)
     sp = analysis.props
     E = float(material.E)
     f_max, x_max = spec.load.force_max, spec.load.position_max
-    rest = float(model.channel_deflection(g, sp, E, f_max, x_max))
-    if stiffness is not None:
-        rest += float(stiffness.extra_deflection(g, sp, E, float(material.poisson), f_max, x_max))
+    rest = beyond_euler(g, analysis, material, spec, stiffness)
 
     def tip(delta):
         widened = corrections.Widened(g, delta)
@@ -367,6 +383,7 @@ def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
     """``rows`` with each pocket row's ``extra_length`` solved again from its 3-D deflection
     (``deflection_ratio`` times ``euler_deflection``) with today's beam model and ``stiffness``
     fit, without the 3-D check: each row is matched to its case of ``cases()`` by its parameters."""
+    from designer import model
     from designer.model import corrections
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
@@ -385,16 +402,12 @@ def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
                  if all(math.isclose(rows[i].get(k, math.nan), v, rel_tol=1e-5, abs_tol=1e-9) for k, v in params.items())]
         if len(match) != 1:
             continue
-        from designer import model
-
         raw = model.analyse(g, design.material_params(spec), spec, table=corrections.Corrections({}))
         row = dict(rows[match[0]])
-        fea = row["deflection_ratio"] * euler_deflection(g, raw, design.material, spec)
+        euler = euler_deflection(g, raw, design.material, spec)
+        fea = row["deflection_ratio"] * euler
         row["extra_length"] = extra_length(g, raw, design.material, spec, fea, stiffness) / case.size
-        base = float(raw.deflection) + (float(stiffness.extra_deflection(
-            g, raw.props, float(design.material.E), float(design.material.poisson), spec.load.force_max,
-            spec.load.position_max)) if stiffness is not None else 0.0)
-        row["base_ratio"] = fea / base
+        row["base_ratio"] = fea / (euler + beyond_euler(g, raw, design.material, spec, stiffness))
         out[match[0]] = row
     return out
 

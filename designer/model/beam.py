@@ -54,13 +54,13 @@ def rigidity_segments(g: Geometry, sp: SectionProperties, E: float) -> list[tupl
     them (``sections.channel_spans``), clipped to the beam."""
     ell = float(g.length)
     EI, EI_s = E * float(sp.I), E * float(sp.I_s)
-    EI_c = E * (float(sp.I) - float(channel_inertia(g)))
-    channel = [(float(a), float(b)) for a, b in channel_spans(g)]
+    # the channels run over every gap between the clamp and the last feature (channel_spans)
+    EI_c = E * (float(sp.I) - float(channel_inertia(g))) if channel_spans(g) else EI
     segs, s = [], 0.0
-    for i, (a, b) in enumerate(g.reduced_spans):
+    for a, b in g.reduced_spans:
         a, b = max(float(a), 0.0), min(float(b), ell)
         if a > s:
-            segs.append((s, a, EI_c if i < len(channel) else EI))
+            segs.append((s, a, EI_c))
         if b > a:
             segs.append((a, b, EI_s))
         s = b

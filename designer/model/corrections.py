@@ -101,6 +101,15 @@ def station_bound_name(i: int) -> str:
     return f"station_width_ratio_{i + 1}"
 
 
+def width_amplitude(peak, w0, w, ops):
+    """``peak (1 - exp(-((w - 1)+ / w0)^2))``: how much of its plane-strain restraint a clamp puts
+    on a bar ``w = b/h`` wide (none on a square bar or a round one, ``peak`` on a wide plate)."""
+    # (w - 1)+ squared: the amplitude and its derivative vanish at w = 1 (square bars are common),
+    # and a product, not a power, keeps the derivatives finite where the excess is zero
+    excess = (w - 1 + abs(w - 1)) / (2 * w0)
+    return peak * (1 - ops.exp(-excess * excess))
+
+
 CLAMP_COEFFICIENTS = ("a", "w0", "k", "u0")
 SECH_REACH = 15.0   # sech(15) = 6e-7
 
@@ -128,10 +137,7 @@ class ClampFit:
         from designer.model.ops import NUMERIC
 
         ops = ops or NUMERIC
-        # (w - 1)+ squared: A and A' vanish at w = 1 (square bars are common), and a product, not
-        # a power, keeps the derivatives finite where the excess is zero
-        excess = (w - 1 + abs(w - 1)) / (2 * self.w0)
-        amplitude = self.a * (1 - ops.exp(-excess * excess))
+        amplitude = width_amplitude(self.a, self.w0, w, ops)
         # beyond |z| = SECH_REACH the restraint is below 1e-6 of its peak: z is held there, so
         # that a narrow bar's station many widths out does not put e^z of 1e16 into the optimiser
         z = self.k * (ops.fmin(u, self.u0 + SECH_REACH / self.k) - self.u0)
@@ -165,13 +171,6 @@ class StiffnessFit:
     rms: float = 0.0
     loo_max: float = 0.0
 
-    def plate_amplitude(self, w, ops=None):
-        from designer.model.ops import NUMERIC
-
-        ops = ops or NUMERIC
-        excess = (w - 1 + abs(w - 1)) / (2 * self.w0)
-        return self.plate * (1 - ops.exp(-excess * excess))
-
     def extra_deflection(self, g: Geometry, sp, E, poisson, force, x, ops=None):
         """What the plate effect and shear add to Euler-Bernoulli's free-end deflection (m; the
         plate effect takes off) for ``force`` at ``x`` on ``g`` of section properties ``sp``."""
@@ -185,7 +184,7 @@ class StiffnessFit:
             c = self.reach * g.breadth
             e = ops.exp(-x / c)
             J = c * x * ell - c * c * (x + ell + e * (x - ell)) + 2 * c ** 3 * (1 - e)
-            out = -force * self.plate_amplitude(g.width / g.height, ops) * J / (E * sp.I)
+            out = -force * width_amplitude(self.plate, self.w0, g.width / g.height, ops) * J / (E * sp.I)
         m = bore_ratio(g)
         return out + (self.shear + self.shear_bore * m * m) * force * x / shear_stiffness(g, sp, E, poisson)
 
@@ -376,8 +375,8 @@ def deflection_allowance(g: Geometry, table: Corrections) -> float:
     """How far above the model the 3-D free-end deflection may lie: the largest unsafe-side error of
     the fits that set it (the feature's ``extra_length``, as a share of the deflection, and the
     plain bar's ``stiffness``). The deflection limit keeps this much room."""
-    fits = [(table.fit(family(g), "extra_length"), "extra_length"), (stiffness_fit(table), "extra_length")]
-    return max((_unsafe_error(f, q) for f, q in fits if f is not None), default=0.0)
+    fits = [table.fit(family(g), "extra_length"), stiffness_fit(table)]
+    return max((_unsafe_error(f, "extra_length") for f in fits if f is not None), default=0.0)
 
 
 def stress_allowance(g: Geometry, table: Corrections) -> float:

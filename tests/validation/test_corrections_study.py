@@ -17,7 +17,7 @@ STUDY = Path(corrections.__file__).resolve().parents[2] / "materials" / "correct
 
 def _rows():
     # with each row's clamp_near, as fits.fit_table adds it
-    return [{**r, **_nearness(r)} if "clamp_ratio" in r else r for r in study.read_csv(STUDY)]
+    return fits.with_nearness(study.read_csv(STUDY))
 
 
 def _inside(fit, row) -> bool:
@@ -174,7 +174,7 @@ def test_fresh_3d_runs_reproduce_pocket_points_of_the_table_and_the_fits(family,
     for quantity, fit in corrections.load().fits.get(family, {}).items():
         if quantity not in figures:
             continue  # near_clamp: test_the_near_clamp_fits_reproduce_the_study
-        values = {**fresh.parameters, **_nearness(fresh.parameters), "extra_length": fresh.extra_length,
+        values = {**fits.with_nearness([fresh.parameters])[0], "extra_length": fresh.extra_length,
                   "deflection_ratio": fresh.deflection_ratio, fits.TARGETS[quantity]: figures[quantity]}
         if _inside(fit, values):
             assert _within_its_rule(quantity, fit, values), quantity
@@ -212,10 +212,6 @@ def test_the_near_clamp_fits_reproduce_the_study():
             assert float(fit(r, r["clamp_ratio"])) == pytest.approx(measured, abs=fit.loo_max + 1e-9), (fam, r)
     nearest = min((r for r in rows if r["family"] == "round-none"), key=lambda r: r["clamp_ratio"])
     assert nearest["strain_near"] / nearest["strain_far"] < 0.95
-
-
-def _nearness(row):
-    return {corrections.CLAMP_NEAR: float(corrections.clamp_nearness(row["clamp_ratio"]))}
 
 
 def _plain_geometry(fam):

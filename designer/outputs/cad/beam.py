@@ -22,6 +22,8 @@ from typing import Any
 
 from designer import model
 from designer.errors import DesignFileError
+# the wire channel's default size is the beam model's, whose stiffness counts it
+from designer.model.sections import CHANNEL_DEPTH, CHANNEL_WIDTH
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
 from designer.spec.reader import default_corner_radius
@@ -43,9 +45,6 @@ CLAMP_LENGTH_STEP = 0.005
 END_MILLS = (0.001, 0.0015, 0.002, 0.0025, 0.003, 0.004, 0.005, 0.006, 0.008, 0.010, 0.012)
 # Default end mill: at most 60 % of the slot width, so that the slot keeps straight side walls.
 END_MILL_FRACTION = 0.6
-# Wire channel: 1.5 mm takes four 0.3 mm lead wires side by side; 0.5 mm deep covers one.
-CHANNEL_WIDTH = 0.0015
-CHANNEL_DEPTH = 0.0005
 # Load grooves: 0.5 mm wide holds the "very thin string" the paper hung its masses from
 # (Noh et al. 2025, section 4.2.1); 0.3 mm deep, at most 5 % of the section's smaller side.
 GROOVE_WIDTH = 0.0005
