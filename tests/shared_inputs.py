@@ -66,7 +66,7 @@ def circular(kind, D, feature="none", wall=None, stations=(0.02, 0.08), length=0
 def montecarlo_prototype(examples, name):
     """(spec, k_i, d_i, forces, positions) of an example's fixed design on the paper's 7 x 7 grid."""
     spec = load_spec(examples / f"{name}.yaml")
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     g = ev.design.geometry
     forces, positions = grid(spec.load.force_min, spec.load.force_max, spec.load.position_min,
                              spec.load.position_max)
@@ -133,7 +133,7 @@ def fea_record(design: dict, load: dict, **extra) -> dict:
            "bridge": "half", "limits": {"fatigue": False}, "design": design}
     raw.update(extra)
     spec = parse_spec(raw)
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     return json.loads(json.dumps(build_record("feasible" if ev.feasible else "infeasible", spec, ev)))
 
 

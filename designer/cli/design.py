@@ -224,7 +224,7 @@ def _design_record(path: str) -> dict:
         if spec.design is None:
             raise SpecError(f"design: missing in {path}; simulate needs a fixed design (a design: block or a "
                             "design.json)")
-        ev = evaluate(fixed_design(spec).rounded(), spec)
+        ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     return build_record("feasible" if ev.feasible else "infeasible", spec, ev)
 
 

@@ -34,9 +34,10 @@ class Design:
     def material_params(self, spec) -> MaterialParams:
         return MaterialParams.of(self.material, spec.limits)
 
-    def rounded(self) -> "Design":
-        """Every length rounded to 0.01 mm; what is reported is what is checked. A stock section
-        keeps its sizes as the table gives them (3/8 in is 9.525 mm)."""
+    def rounded(self, cad) -> "Design":
+        """Every length rounded to 0.01 mm, and the wire channel the CAD (``cad``: the spec's
+        CadOptions) cuts for the rounded pocket; what is reported is what is checked. A stock
+        section keeps its sizes as the table gives them (3/8 in is 9.525 mm)."""
         g = self.geometry
 
         def r(v):
@@ -45,11 +46,11 @@ class Design:
         def section(v):
             return v if self.stock is not None else r(v)
 
-        return Design(self.material, replace(
+        return Design(self.material, channelled(replace(
             g, width=section(g.width), height=section(g.height), diameter=section(g.diameter),
             wall=section(g.wall), depth=r(g.depth) if g.feature == "pocket" else 0.0,
             hole=r(g.hole) if g.feature == "hole" else 0.0,
-            stations=tuple(r(s) for s in g.stations), length=r(g.length)), self.adjustment, self.stock)
+            stations=tuple(r(s) for s in g.stations), length=r(g.length)), cad), self.adjustment, self.stock)
 
     def section_dict(self) -> dict:
         g = self.geometry
@@ -163,6 +164,14 @@ def evaluate(design: Design, spec) -> Evaluation:
         raise InputError(f"the design cannot be evaluated: {', '.join(broken)} come out infinite or undefined; "
                          "a size, load or electronics value is far outside the physical range")
     return ev
+
+
+def channelled(g: Geometry, cad) -> Geometry:
+    """``g`` with the wire channels the CAD (``cad``: the spec's CadOptions) cuts for its pocket:
+    their depth follows the pocket's (``sections.wire_channel``), so a geometry whose depth was
+    rounded must have them cut again."""
+    width, depth = wire_channel(cad, g.feature, g.depth, g.pocket_width)
+    return replace(g, channel_width=width, channel_depth=depth)
 
 
 def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometry:

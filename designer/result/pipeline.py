@@ -93,7 +93,7 @@ def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
 
 def evaluate_fixed(spec) -> DesignResult:
     """Judge the spec's fixed ``design:`` block, rounded to 0.01 mm as every reported design is."""
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     messages = [] if ev.feasible else ["the design violates: " + ", ".join(v.name for v in ev.violations)]
     record = build_record("feasible" if ev.feasible else "infeasible", spec, ev, messages=messages)
     return DesignResult(_with_large_deflection(record), ev)

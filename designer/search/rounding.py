@@ -15,7 +15,7 @@ import numpy as np
 
 from designer import model
 from designer.errors import InputError
-from designer.result.evaluation import ROUNDING, Design, Evaluation, evaluate
+from designer.result.evaluation import ROUNDING, Design, Evaluation, channelled, evaluate
 
 
 def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
@@ -50,8 +50,9 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
     if g.axes == 2 and g.section == "rectangle" and "width" in named:
         named["height"] = named["width"]
     st = combos[:, len(fields_):]
-    trial = replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
-                    length=round(float(g.length) / ROUNDING) * ROUNDING, **named)
+    # the wire channels' depth follows the rounded pocket's, as the CAD cuts them
+    trial = channelled(replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
+                               length=round(float(g.length) / ROUNDING) * ROUNDING, **named), spec.cad)
     params = design.material_params(spec)
     with np.errstate(all="ignore"):
         a = model.analyse(trial, params, spec, adjust=design.adjustment)
@@ -71,8 +72,8 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
         best = idx[np.lexsort((objective[idx], mass[idx], deflection[idx]))[0]]
     else:
         best = int(np.argmin(np.where(valid, viol, np.inf)))
-    chosen = replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
-                     **{f: float(v[best]) for f, v in named.items()})
+    chosen = channelled(replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
+                                **{f: float(v[best]) for f, v in named.items()}), spec.cad)
     try:
         return evaluate(Design(design.material, chosen, design.adjustment, design.stock), spec)
     except InputError:

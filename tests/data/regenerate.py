@@ -90,7 +90,7 @@ def command_record(argv: list[str]) -> dict:
 def evaluated(raw: dict):
     """(spec, design.json record) of a spec dictionary with a design: block, by the library."""
     spec = parse_spec(raw)
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     return spec, ev, json.loads(json.dumps(build_record("feasible", spec, ev)))
 
 

@@ -21,7 +21,7 @@ FACTORS = Adjustment((0.9, 0.8), deflection=1.2, stress_concentration=1.5)
 
 def _plain_and_adjusted(adjust=FACTORS):
     spec = parse_spec_text(STIFF_FINGER + STIFF_FINGER_DESIGN)
-    design = fixed_design(spec).rounded()
+    design = fixed_design(spec).rounded(spec.cad)
     params = design.material_params(spec)
     plain = model.analyse(design.geometry, params, spec)
     return spec, plain, model.analyse(design.geometry, params, spec, adjust=adjust)
@@ -67,7 +67,7 @@ def test_factors_of_one_are_the_plain_model_to_the_last_bit():
 
 def test_a_factor_per_station_is_required():
     spec = parse_spec_text(STIFF_FINGER + STIFF_FINGER_DESIGN)
-    design = fixed_design(spec).rounded()
+    design = fixed_design(spec).rounded(spec.cad)
     with pytest.raises(ValueError, match=r"adjustment.gauge_strain: 3 factors for 2 stations"):
         model.analyse(design.geometry, design.material_params(spec), spec, adjust=Adjustment((1.0, 1.0, 1.0)))
 
@@ -113,21 +113,21 @@ def test_the_adjusted_nlp_has_exact_derivatives_and_the_factors_as_constants():
 
 def test_design_json_carries_the_factors_and_reading_it_back_gives_the_same_numbers():
     spec = parse_spec_text(STIFF_FINGER + STIFF_FINGER_DESIGN)
-    design = replace(fixed_design(spec).rounded(), adjustment=FACTORS)
+    design = replace(fixed_design(spec).rounded(spec.cad), adjustment=FACTORS)
     ev = evaluate(design, spec)
     record = build_record("feasible", spec, ev)
     assert record["design"]["adjustment"] == FACTORS.as_dict()
     back = parse_design(record)
     assert back.design.adjustment == FACTORS
     assert evaluate(back.design, back.spec).predicted() == record["predicted"]
-    plain = evaluate(fixed_design(spec).rounded(), spec)
+    plain = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     assert "adjustment" not in build_record("feasible", spec, plain)["design"]
     assert record["predicted"]["deflection"] == pytest.approx(1.2 * plain.predicted()["deflection"], rel=1e-15)
 
 
 def test_design_json_with_a_factor_count_that_does_not_match_the_stations_is_bad_input():
     spec = parse_spec_text(STIFF_FINGER + STIFF_FINGER_DESIGN)
-    record = build_record("feasible", spec, evaluate(fixed_design(spec).rounded(), spec))
+    record = build_record("feasible", spec, evaluate(fixed_design(spec).rounded(spec.cad), spec))
     record["design"]["adjustment"] = {"gauge_strain": [1.0], "deflection": 1.0, "stress_concentration": 1.0}
     with pytest.raises(DesignFileError, match=r"design.adjustment.gauge_strain: 1 factors for 2 stations"):
         parse_design(record)

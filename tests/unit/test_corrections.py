@@ -37,7 +37,7 @@ TABLE = Corrections({"rectangle-hole": {
 
 def _analysis(text=HOLE_SPEC, table=TABLE):
     spec = parse_spec_text(text)
-    design = fixed_design(spec).rounded()
+    design = fixed_design(spec).rounded(spec.cad)
     return spec, design, model.analyse(design.geometry, design.material_params(spec), spec, table=table)
 
 
@@ -79,7 +79,7 @@ def _integral(a, b, x, ell, n=2001):
 
 def test_no_table_is_the_plain_beam_model():
     spec = parse_spec_text(HOLE_SPEC)
-    design = fixed_design(spec).rounded()
+    design = fixed_design(spec).rounded(spec.cad)
     g = design.geometry
     assert corrections.strain_factors(g, Corrections({})) == ()
     assert corrections.widened(g, Corrections({})) is g

@@ -61,7 +61,7 @@ def test_readings_are_volts_after_the_gain():
     for gain in (500, 1000):
         raw = dict(LOAD, design=design, electronics={"excitation": "5 V", "gain": gain, "noise_rti": "1 uV"})
         spec = parse_spec(raw)
-        ev = evaluate(fixed_design(spec).rounded(), spec)
+        ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
         record = build_record("feasible" if ev.feasible else "infeasible", spec, ev)
         c = cal.calibrate(rd.simulated_scheme_readings(record, "grid", seed=3), cal.design_constants(record))
         fitted[gain] = (np.asarray(record["predicted"]["sensitivity"]), np.array([b.k for b in c.bridges]),

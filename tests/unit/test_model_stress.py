@@ -35,7 +35,7 @@ KT = Corrections({"round-pocket": {"stress": Fit(("depth_ratio",), ((0,),), (2.5
 
 def _analysis(fatigue=True, table=KT):
     spec = parse_spec_text(FLAT_SPEC.format(fatigue=str(fatigue).lower()))
-    design = fixed_design(spec).rounded()
+    design = fixed_design(spec).rounded(spec.cad)
     params = design.material_params(spec)
     a = model.analyse(design.geometry, params, spec, table=table)
     return spec, design, params, a, {lim.name: lim for lim in model.limits(design.geometry, a, params, spec, table=table)}

@@ -143,6 +143,40 @@ def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     assert e == pytest.approx(ev.error_ratio)
 
 
+# The bench suite's 016-short-beam (``bench.generate_suite(30, 0)``), with one material.
+SHORT_BEAM = """name: 016-short-beam
+load: {force: [39.12 mN, 703.7 mN], position: [8.212 mm, 10.99 mm]}
+electronics: {excitation: 5 V, gain: 128.0, noise_rti: 397.8 nV}
+gauge: {name: miniature, factor: 2.0, length: 1 mm, width: 0.8 mm, max_strain: 1500 ue}
+bridge: full
+stations: 3
+limits: {clamp_clearance: 0.3 mm, load_clearance: 0.3 mm, tip_margin: 0.5 mm, pocket_margin: 0.1 mm,
+  gauge_gap: 0.2 mm, min_wall: 0.1 mm, min_pocket_depth: 0.02 mm, width: [0.3 mm, 2.499 mm],
+  height: [0.3 mm, 2.228 mm]}
+targets: {force_error: 0.79 %, position_error: 0.05005 mm}
+search: {materials: [2024-T3], sections: [rectangle], feature: pocket}
+objective: mass
+cad: {end_mill_diameter: 0.5 mm}
+"""
+
+
+def test_a_rounded_design_is_judged_with_the_wire_channels_its_rounded_pocket_gets():
+    # The CAD cuts each wire channel half the pocket deep (up to 0.5 mm): rounding the depth to
+    # 0.01 mm moves the channels with it. A shallow slot on a sub-millimetre bar (the bench
+    # suite's 016: 0.06 mm deep, 0.78 mm tall) loses ~10 % of I to them, so a channel sized for
+    # the unrounded depth put the reported root stress 1.1 % under what design.json re-evaluates.
+    spec = parse_spec_text(SHORT_BEAM, source="016-short-beam")
+    out = search.optimize(spec)
+    record = json.loads(json.dumps(search_record(spec, out), default=str))
+    again = designfile.parse_design(record)
+    ev = evaluate(again.design, again.spec)
+    g = out.best.design.geometry
+    assert g.channel_depth == pytest.approx(min(0.5e-3, g.depth / 2), rel=1e-12)
+    reported = {c["name"]: c["value"] for c in record["constraints"]}
+    for lim in ev.limits:
+        assert float(lim.value) == pytest.approx(reported[lim.name], rel=1e-9, abs=1e-12), lim.name
+
+
 def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
     # A 1.5 x 1.2 mm gauge with 0.2 mm margins needs a 1.6 mm wide slot; the CAD's standard end
     # mills start at 1 mm and take at most 0.6 of the slot's width (outputs/cad/beam.py), so no

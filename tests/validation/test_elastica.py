@@ -51,7 +51,7 @@ def elliptic_tip_load(alpha: float) -> tuple[float, float, float]:
 
 def record_from(spec_path) -> dict:
     spec = load_spec(spec_path)
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     return json.loads(json.dumps(build_record("feasible", spec, ev)))
 
 

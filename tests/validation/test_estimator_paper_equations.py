@@ -74,7 +74,7 @@ def test_prototype_b_strains_through_eq_4_then_eqs_11_12_give_the_load_back(exam
     from designer.spec.reader import load_spec
 
     spec = load_spec(examples / "prototype-b.yaml")
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     a, e = ev.analysis, spec.electronics
     V1, V2 = (e.excitation * e.gain * spec.gauge.factor * spec.bridge_factor * eps / 4 for eps in a.gauge_strain)
     d1, d2 = ev.design.geometry.stations
