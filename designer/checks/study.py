@@ -238,13 +238,22 @@ def near_clamp_cases() -> list[Case]:
 ROUND_CLAMP_DIAMETER = 20e-3
 ROUND_CLAMP_WALLS = (None, 0.05, 0.1, 0.2, 0.35)     # round bar, then tubes' t/D
 ROUND_CLAMP_RATIOS = (0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0)
+# Large bars and tubes (a kilonewton lug's Ø60-120 mm), whose gauge grid is short for them: the
+# same clamp ratios resolve where on the decay the grid sits, not only where its backing starts.
+LARGE_CLAMP_DIAMETER = 60e-3
+LARGE_CLAMP_WALLS = (None, 0.05, 0.1, 0.2)
+LARGE_CLAMP_RATIOS = (0.05, 0.1, 0.2, 0.35, 0.5)
 
 
 def round_clamp_cases() -> list[Case]:
-    """Plain round bars and tubes with the first station ``ROUND_CLAMP_RATIOS`` diameters out."""
-    D = ROUND_CLAMP_DIAMETER
-    return [Case("round-none" if t is None else "tube-none", diameter=D, wall=(t or 0.0) * D, clamp_clearance=c * D)
-            for t in ROUND_CLAMP_WALLS for c in ROUND_CLAMP_RATIOS]
+    """Plain round bars and tubes with the first station ``ROUND_CLAMP_RATIOS`` diameters out, then
+    the large ones ``LARGE_CLAMP_RATIOS`` out."""
+    def series(D, walls, ratios):
+        return [Case("round-none" if t is None else "tube-none", diameter=D, wall=(t or 0.0) * D,
+                     clamp_clearance=c * D) for t in walls for c in ratios]
+
+    return (series(ROUND_CLAMP_DIAMETER, ROUND_CLAMP_WALLS, ROUND_CLAMP_RATIOS)
+            + series(LARGE_CLAMP_DIAMETER, LARGE_CLAMP_WALLS, LARGE_CLAMP_RATIOS))
 
 
 def clamp_cases() -> list[Case]:

@@ -1,8 +1,9 @@
 """Trade-off fronts: the best achievable error as one limit is swept (issue 5's plots).
 
 Each point is a solved, verified design: the spec re-solved for the ``error`` objective with
-``limits.max_deflection`` (or ``limits.min_frequency``) set to a level, for the leading
-materials of the search and every section family.
+``limits.max_deflection`` (or ``limits.min_frequency``) set to a level (``x``), for the leading
+materials of the search and every section family, with the design's own deflection (or
+frequency) as ``value``.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     out = {}
     sweeps = (("max_deflection", float(chosen.deflection), spec.limits.max_deflection),
               ("min_frequency", float(chosen.natural_frequency), spec.limits.min_frequency))
+    achieved = {"max_deflection": "deflection", "min_frequency": "natural_frequency"}
     done = 0
     for key, value, given in sweeps:
         points = []
@@ -42,7 +44,10 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
                 progress(done, len(sweeps) * LEVELS)
             for cand in result.candidates:
                 ev = cand.evaluation
+                # x: the limit the design was solved under; value: its own deflection or
+                # frequency, which the deflection limit's room (docs/model.md §4) keeps below x
                 points.append({"material": cand.material, "section": cand.family.label, "x": float(level),
+                               "value": None if ev is None else float(getattr(ev.analysis, achieved[key])),
                                "objective": None if ev is None else float(ev.error_ratio),
                                "feasible": bool(ev is not None and ev.feasible)})
         out[key] = points

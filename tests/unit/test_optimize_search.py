@@ -211,3 +211,22 @@ def test_a_contender_is_solved_from_every_start():
     assert found.success
     assert found.best.objective <= 0.234888 * (1 + model.TIE_TOLERANCE)
     assert len(found.candidates[0].solves) >= 2
+
+
+def test_the_front_passes_through_the_chosen_design():
+    # The front's point at the spec's own deflection limit is the chosen design solved again: it
+    # must be drawn where the chosen design's star is, at its own deflection, which the limit's
+    # room for the deflection fits (docs/model.md §4) keeps 1-2 % below the limit.
+    from designer.search.tradeoff import _levels, fronts
+
+    spec = _reduced(load_spec(EXAMPLES / "gripper-finger.yaml"), ["Ti-6Al-4V"], ["round"])
+    out = search.optimize(spec)
+    chosen = out.best.analysis
+    points = fronts(spec, out, materials=1)["max_deflection"]
+    level = _levels(spec.limits.max_deflection)[len(_levels(1.0)) // 2]
+    at_limit = [p for p in points if p["x"] == pytest.approx(level, rel=1e-12) and p["feasible"]]
+    assert at_limit, "the sweep includes the spec's own limit"
+    best = min(at_limit, key=lambda p: p["objective"])
+    assert best["objective"] == pytest.approx(out.best.objective, rel=2e-3)
+    assert best["value"] == pytest.approx(float(chosen.deflection), rel=2e-3)
+    assert best["value"] < 0.995 * spec.limits.max_deflection

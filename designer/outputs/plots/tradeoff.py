@@ -14,8 +14,10 @@ from designer.outputs.plots.sensor import is_number
 
 # The quantities a trade-off front can be drawn against: axis label, SI -> axis factor, file name.
 TRADEOFF_AXES = {
-    "max_deflection": ("free-end deflection limit (mm)", 1e3, "tradeoff-deflection"),
-    "min_frequency": ("minimum first natural frequency (Hz)", 1.0, "tradeoff-frequency"),
+    "max_deflection": ("free-end deflection (mm): the best design under each deflection limit", 1e3,
+                       "tradeoff-deflection"),
+    "min_frequency": ("first natural frequency (Hz): the best design above each frequency limit", 1.0,
+                      "tradeoff-frequency"),
 }
 TRADEOFF_ALIASES = {"deflection": "max_deflection", "frequency": "min_frequency",
                     "natural_frequency": "min_frequency"}
@@ -27,7 +29,8 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
     """Trade-off front: the best error objective the search reaches against a limit.
 
     ``points``: solved designs, each ``{"material", "section", "x": limit value (SI), "objective",
-    "feasible": bool}``; ``x``: ``"max_deflection"`` (m, drawn in mm) or ``"min_frequency"`` (Hz);
+    "feasible": bool}`` and optionally ``"value"``, the design's own deflection or frequency
+    (SI), where it is drawn (the deflection limit keeps room below ``x``, docs/model.md §4); ``x``: ``"max_deflection"`` (m, drawn in mm) or ``"min_frequency"`` (Hz);
     ``by``: one line per ``"material"`` (best section at each x, marked by its shape), per
     ``"section"`` (best material) or per material and section (``"both"``). The lower envelope of
     the feasible points is the front; ``chosen`` (``{"x", "objective"}``) is starred.
@@ -64,7 +67,7 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
             style = styles[sections.index(_family(section)) % len(styles)]
         else:
             colour, style = colour_of[name], "-"
-        xs = np.array([p["x"] for p in series]) * scale
+        xs = np.array([_drawn_at(p) for p in series]) * scale
         ys = np.array([np.nan if p["objective"] is None else p["objective"] for p in series], float)
         ok = np.array([p["feasible"] for p in series])
         ax.plot(xs, np.where(ok, ys, np.nan), color=colour, linestyle=style, linewidth=1.6, zorder=3)
@@ -143,7 +146,11 @@ def tradeoff_points(points, x: str) -> list[dict]:
             raise InputError(f"{where}.objective: {objective!r} must be a positive number or null")
         if not isinstance(p.get("feasible"), bool):
             raise InputError(f"{where}.feasible: {p.get('feasible')!r} must be true or false")
+        value = p.get("value")
+        if value is not None and (not is_number(value) or value <= 0):
+            raise InputError(f"{where}.value: {value!r} must be a positive number (SI units) or null")
         out.append({"material": p["material"], "section": p["section"], "x": float(p["x"]),
+                    "value": None if value is None else float(value),
                     "objective": None if objective is None else float(objective),
                     "feasible": p["feasible"] and objective is not None})
     if not out:
@@ -172,10 +179,17 @@ def _tradeoff_groups(pts: list[dict], by: str) -> dict:
     return {name: [_best(at[xv]) for xv in sorted(at)] for name, at in sorted(buckets.items())}
 
 
+def _drawn_at(p: dict) -> float:
+    """Where a point is drawn: the design's own deflection or frequency, else its limit."""
+    value = p.get("value")
+    return p["x"] if value is None else value
+
+
 def _front(pts: list[dict]) -> list[tuple[float, float]]:
-    """The best feasible objective at each x value."""
-    best: dict[float, float] = {}
+    """The best feasible design at each x value (limit level), drawn where it sits."""
+    best: dict[float, dict] = {}
     for p in pts:
         if p["feasible"] and p["objective"] is not None:
-            best[p["x"]] = min(best.get(p["x"], math.inf), p["objective"])
-    return sorted(best.items())
+            if p["x"] not in best or p["objective"] < best[p["x"]]["objective"]:
+                best[p["x"]] = p
+    return [(_drawn_at(p), p["objective"]) for _, p in sorted(best.items())]
