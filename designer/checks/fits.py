@@ -99,8 +99,21 @@ def _share_of_length(*others: str) -> Terms:
     return Terms(("length_ratio",) + others, tuple([(1,) + (0,) * n, (2,) + (0,) * n] + [(1,) + e for e in ones]))
 
 
+# A round flat's gauge strain: a quadratic in the depth, plus the end effects reaching the grid
+# over the gap between them, a slow decay growing with depth and a fast one.
+FLAT_GAP = Terms(("depth_ratio", "gap_slow", "gap_fast"),
+                 ((0, 0, 0), (1, 0, 0), (2, 0, 0), (0, 1, 0), (1, 1, 0), (0, 0, 1)))
+# K_t of a slot: Neuber's shape on the depth and the slot's share of the width, with the depth's
+# own quadratic (a shallow slot's peak over a nominal that is nearly the plain bar's) and the
+# length's (a short slot's ends interact).
+SLOT_KT = Terms(("notch_ratio", "depth_ratio", "pocket_width_ratio", "length_ratio"),
+                ((0, 0, 0, 0), (1, 0, 0, 0), (1, 1, 0, 0), (1, 0, 1, 0), (0, 1, 0, 0), (0, 2, 0, 0), (0, 0, 0, 2)))
+# K_t of a hole: the peak moves from the outer fibre (a small hole) to the hole's edge (d/h over
+# about 0.6), and a rigid clamp close by lowers it.
+HOLE_KT = Terms(("hole_ratio", "clamp_near"), ((0, 0), (0, 2), (2, 1), (3, 1), (2, 2)))
 FIT_FORMS = {
-    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio")]},
+    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio")],
+                       "stress": [("hole_ratio",), ("hole_ratio", "clamp_near"), HOLE_KT]},
     "rectangle-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
                                     ("depth_ratio", "length_ratio", "pocket_width_ratio"),
                                     ("depth_ratio", "length_ratio", "width_ratio")],
@@ -110,12 +123,12 @@ FIT_FORMS = {
                                           _share_of_length("pocket_width_ratio"),
                                           _share_of_length("depth_ratio", "pocket_width_ratio"),
                                           _share_of_length("depth_ratio", "pocket_width_ratio", "clamp_near")],
-                         "stress": [NEUBER, _neuber("pocket_width_ratio"), _neuber("clamp_near"),
+                         "stress": [NEUBER, _neuber("pocket_width_ratio"), _neuber("clamp_near"), SLOT_KT,
                                     ("notch_ratio", "depth_ratio"),
                                     ("notch_ratio", "depth_ratio", "pocket_width_ratio"),
                                     ("notch_ratio", "depth_ratio", "clamp_near")]},
     "round-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
-                                ("depth_ratio", "length_ratio", "grid_ratio")],
+                                ("depth_ratio", "length_ratio", "grid_ratio"), FLAT_GAP],
                      "extra_length": [("depth_ratio", "length_ratio"), ("depth_ratio", "length_ratio", "grid_ratio"),
                                       _share_of_length("depth_ratio"), ("depth_ratio", "length_ratio", "clamp_near"),
                                       _share_of_length("depth_ratio", "clamp_near")],
@@ -267,10 +280,17 @@ def rough_ships(quantity: str, loo_max: float, uncorrected: float) -> bool:
 
 
 def with_nearness(rows: list[dict]) -> list[dict]:
-    """The study's rows with the ``clamp_near`` the fits use, computed from each row's clamp ratio."""
-    from designer.model.corrections import CLAMP_NEAR, clamp_nearness
+    """The study's rows with the parameters the fits compute from its columns: ``clamp_near``
+    from each row's clamp ratio, and a pocket's grid-gap decays (``corrections.grid_gap_decays``)."""
+    from designer.model.corrections import CLAMP_NEAR, clamp_nearness, grid_gap_decays
 
-    return [{**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else r for r in rows]
+    out = []
+    for r in rows:
+        r = {**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else dict(r)
+        if "depth_ratio" in r and "grid_ratio" in r:     # a pocket's row
+            r.update({k: float(v) for k, v in grid_gap_decays(r["length_ratio"], r["grid_ratio"]).items()})
+        out.append(r)
+    return out
 
 
 def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None):
@@ -328,7 +348,7 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
         report.append(("plain", "clamp", "sech", clamp))
     for fam, candidates in NEAR_CLAMP_FORMS.items():
         mine = [r for r in rows if r["family"] == fam]
-        near = fit_near_clamp(mine, candidates, clamp)
+        near = fit_near_clamp(mine, candidates, clamp, edge=fam in EDGE_FAMILIES)
         if near is not None:
             report.append((fam, "near_clamp", len(near.poly.exponents), near))
             # as a rough gauge-strain factor ships (its left-out error is room under the
@@ -349,6 +369,7 @@ NEAR_CLAMP_FORMS = {
     "rectangle-pocket": [(), ("depth_ratio",), ("width_ratio",), ("depth_ratio", "width_ratio")],
 }
 DECAY_RATES = tuple(1.0 * 1.1 ** k for k in range(36))    # 1 to 28 per size
+EDGE_FAMILIES = ("tube-none",)      # also tried as a shell's edge layer (EdgeFit)
 
 
 def near_clamp_target(row: dict, clamp) -> float:
@@ -359,11 +380,12 @@ def near_clamp_target(row: dict, clamp) -> float:
     return row["strain_near"] / row["strain_far"] / c
 
 
-def fit_near_clamp(rows: list[dict], candidates, clamp):
-    """The DecayFit of a family's near-station strains: for each form (the fewest terms first) the
-    decay rate of the smallest leave-one-out error; the form of fewest terms within PARSIMONY of
-    the best. None without rows near the clamp."""
-    from designer.model.corrections import DecayFit
+def fit_near_clamp(rows: list[dict], candidates, clamp, edge: bool = False):
+    """The DecayFit of a family's near-station strains (with ``edge``, an EdgeFit too): for each
+    form the decay rate (k0) of the smallest leave-one-out error; the form of fewest terms that
+    meets FIT_ACCEPT, else the fewest within PARSIMONY of the best. None without rows near the
+    clamp."""
+    from designer.model.corrections import DecayFit, grid_mean
 
     rows = [r for r in rows if "clamp_ratio" in r and math.isfinite(r.get("strain_near", math.nan))]
     if not rows or min(r["clamp_ratio"] for r in rows) >= 1.0:
@@ -376,13 +398,49 @@ def fit_near_clamp(rows: list[dict], candidates, clamp):
             best = None
             for rate in DECAY_RATES:
                 def decay(r, k=rate):
-                    return math.exp(-k * r["clamp_ratio"])
+                    # at the grid's centre (the feature's), averaged over the grid
+                    centre = r["clamp_ratio"] + r["length_ratio"] / 2
+                    return math.exp(-k * centre) * float(grid_mean(k, r["grid_ratio"] / 2))
                 fit, _ = fit_terms(rows, terms, lambda r, d=decay: (near_clamp_target(r, clamp) - 1) / d(r),
                                    weight=decay)
-                if best is None or fit.loo_max < best[1].loo_max:
-                    best = (rate, fit)
+                if best is None or fit.loo_max < best[0].loo_max:
+                    best = (fit, rate)
             tried.append(best)
-    least = min(f.loo_max for _, f in tried)
-    rate, poly = next(t for t in tried if t[1].loo_max <= PARSIMONY * least)
     near = min(r["clamp_ratio"] for r in rows)
-    return DecayFit(rate, poly, {**poly.domain, NEAR_CLAMP: (near, math.inf)})
+    tried = [(DecayFit(rate, poly, {**poly.domain, NEAR_CLAMP: (near, math.inf)}), poly) for poly, rate in tried]
+    if edge:
+        tried += [(f, f.poly) for f in _edge_fits(rows, clamp, near)]
+    tried.sort(key=lambda t: len(t[1].exponents))
+    meets = [f for f, poly in tried if poly.loo_max <= FIT_ACCEPT["strain"]]
+    if meets:
+        return meets[0]
+    least = min(poly.loo_max for _, poly in tried)
+    return next(f for f, poly in tried if poly.loo_max <= PARSIMONY * least)
+
+
+# A tube's edge layer at the clamp (``corrections.EdgeFit``): the cosine and sine terms' amplitudes
+# as polynomials in the wall ratio, from the fewest terms up, over these k0.
+EDGE_FORMS = tuple(Terms(("osc_c", "osc_s", "wall_ratio"), tuple(e for j in range(n) for e in ((1, 0, j), (0, 1, j))))
+                   for n in (1, 2, 3))
+EDGE_K0 = tuple(1.0 * 1.05 ** k for k in range(40))     # 1 to 6.7 (shell theory: 1.82)
+
+
+def _edge_fits(rows: list[dict], clamp, near: float) -> list:
+    """The best EdgeFit (over EDGE_K0) of each of EDGE_FORMS."""
+    from designer.model.corrections import EdgeFit, edge_means
+
+    out = []
+    for terms in EDGE_FORMS:
+        if 2 * len(terms.exponents) > len(rows):
+            continue
+        best = None
+        for k0 in EDGE_K0:
+            data = [{**r, **{k: float(v) for k, v in edge_means(k0, r["wall_ratio"], r["clamp_ratio"] + r["length_ratio"] / 2,
+                                                                  r["grid_ratio"] / 2).items()}} for r in rows]
+            fit, _ = fit_terms(data, terms, lambda r: near_clamp_target(r, clamp) - 1)
+            if best is None or fit.loo_max < best[1].loo_max:
+                best = (k0, fit)
+        k0, poly = best
+        domain = {"wall_ratio": poly.domain["wall_ratio"], NEAR_CLAMP: (near, math.inf)}
+        out.append(EdgeFit(k0, poly, domain))
+    return out

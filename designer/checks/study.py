@@ -282,11 +282,13 @@ class Row:
 
 
 def geometry_parameters(g) -> dict:
-    """A case's dimensionless parameters (``corrections.parameters``, but ``clamp_near``, which
-    the fits compute from it) and its near station's clamp ratio, as the table records them."""
+    """A case's dimensionless parameters (``corrections.parameters``, but ``clamp_near`` and the
+    grid-gap decays, which the fits compute from the others) and its near station's clamp ratio,
+    as the table records them."""
     from designer.model import corrections
 
-    params = {k: float(val) for k, val in corrections.parameters(g).items() if k != corrections.CLAMP_NEAR}
+    derived = {corrections.CLAMP_NEAR, *corrections.GAP_RATES}    # what fits.with_nearness computes
+    params = {k: float(val) for k, val in corrections.parameters(g).items() if k not in derived}
     params["clamp_ratio"] = float(corrections.clamp_ratios(g)[0])
     return params
 

@@ -60,11 +60,28 @@ def parameters(g: Geometry) -> dict:
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":
         out["wall_ratio"] = g.wall / size
-    if g.feature == "pocket":
+    if g.feature != "none":
         # the first feature's nearness to the clamp, exp(-3 u) of its clamp-side end u sizes out
         # (``clamp_ratios``): 0.05 one size out, and the clamp's effect on a feature fades faster
         out[CLAMP_NEAR] = clamp_nearness(clamp_ratios(g)[0], ops_for(g.stations[0]))
+    if g.feature == "pocket":
+        out.update(grid_gap_decays(out["length_ratio"], out["grid_ratio"], ops_for(g.stations[0])))
     return out
+
+
+# How the end effects of a short flat reach its gauge grid: exp(-k g) of the gap g between the
+# grid's end and the flat's, in section sizes, at a slow and a fast rate (per size), chosen by
+# the round flats' strain fit's left-out error (docs/model.md §7). A flat's floor strain rises
+# well above the beam model's as its ends close on the grid (+9 % at g = 0.11 D).
+GAP_RATES = {"gap_slow": 3.7, "gap_fast": 27.0}
+
+
+def grid_gap_decays(length_ratio, grid_ratio, ops=None) -> dict:
+    """``{gap_slow, gap_fast}``: ``exp(-k (l_f - l_grid) / (2 size))`` at GAP_RATES."""
+    from designer.model.ops import NUMERIC
+
+    gap = (length_ratio - grid_ratio) / 2
+    return {name: (ops or NUMERIC).exp(-rate * gap) for name, rate in GAP_RATES.items()}
 
 
 # ``parameters``' measure of the first feature's nearness to the clamp: its extra length and K_t
@@ -217,11 +234,15 @@ class Fit:
 
 @dataclass(frozen=True)
 class DecayFit:
-    """``C = 1 + exp(-rate u) P``, ``P`` a polynomial (``poly``, a Fit) in the feature's
-    parameters and ``u`` the station's ``clamp_ratio`` (``clamp_ratios``): the strain of a station
-    near the clamp over the same station far from it, beyond what ``ClampFit`` gives. A round bar
-    or tube held in a rigid clamp reads up to 7 % less within a fifth of its diameter of the clamp
-    face, and the clamp's effect fades over about a third of a diameter."""
+    """``C = 1 + exp(-rate u) A(rate, h) P``, ``P`` a polynomial (``poly``, a Fit) in the feature's
+    parameters, ``u`` the station's (the gauge grid's centre's) distance from the clamp face in
+    section sizes (``station_ratios``) and ``A = sinh(rate h) / (rate h)`` the mean of the local
+    decay over the grid, ``h`` half its length in sizes (``grid_ratio / 2``): the strain of a
+    station near the clamp over the same station far from it, beyond what ``ClampFit`` gives. A
+    round bar or tube held in a rigid clamp reads up to 13 % less within a fifth of its diameter
+    of the clamp face, and the clamp's effect fades over about a third of a diameter. The clamp's
+    effect is local to the grid: a short grid a quarter diameter out reads what a long one
+    reaching from the same backing's end does not."""
 
     rate: float
     poly: Fit
@@ -243,7 +264,73 @@ class DecayFit:
         from designer.model.ops import NUMERIC
 
         ops = ops or NUMERIC
-        return 1 + ops.exp(-self.rate * u) * self.poly(values)
+        k = self.rate
+        return 1 + ops.exp(-k * u) * grid_mean(k, values["grid_ratio"] / 2, ops) * self.poly(values)
+
+
+@dataclass(frozen=True)
+class EdgeFit:
+    """``C = 1 + mean over the grid of exp(-b s) (A cos(b s) + B sin(b s))``, ``s`` the distance
+    from the clamp face in section sizes, ``b = k0 / sqrt(w (1 - w))`` per size (``w = wall_ratio``)
+    and ``A``, ``B`` polynomials in ``w``: a tube's edge layer at the clamp, the damped bending wave
+    of a thin shell held at its edge, which decays over ``sqrt(R t)`` (Timoshenko & Woinowsky-
+    Krieger, Theory of Plates and Shells, ch. 15: ``b = (3 (1 - nu^2))^(1/4) sqrt(2) / sqrt(w (1 - w))``,
+    k0 = 1.82 for nu = 0.33). A thin tube's strain dips to 0.89 of the far station's a tenth of a
+    diameter from the clamp face and overshoots a little beyond; no monotone decay follows it.
+    ``poly`` is a Fit over ``osc_c``, ``osc_s`` (the grid means of the cosine and sine terms) and
+    ``wall_ratio``."""
+
+    k0: float
+    poly: Fit
+    domain: dict
+
+    @property
+    def variables(self):
+        return self.poly.variables
+
+    @property
+    def rms(self):
+        return self.poly.rms
+
+    @property
+    def loo_max(self):
+        return self.poly.loo_max
+
+    def __call__(self, values: dict, u, ops=None):
+        return 1 + self.poly({**values, **edge_means(self.k0, values["wall_ratio"], u, values["grid_ratio"] / 2, ops)})
+
+
+def edge_means(k0, wall_ratio, u, half, ops=None) -> dict:
+    """``{osc_c, osc_s}``: the means of ``exp(-b s) cos(b s)`` and ``exp(-b s) sin(b s)`` over
+    ``s`` in ``[u - half, u + half]``, ``b = k0 / sqrt(w (1 - w))`` (closed-form antiderivatives
+    ``exp(-b s) (sin - cos) / (2 b)`` and ``-exp(-b s) (sin + cos) / (2 b)``)."""
+    from designer.model.ops import NUMERIC
+
+    ops = ops or NUMERIC
+    b = k0 / ops.sqrt(wall_ratio * (1 - wall_ratio))
+
+    def at(s):
+        e = ops.exp(-b * s) / (2 * b)
+        return e * (ops.sin(b * s) - ops.cos(b * s)), -e * (ops.sin(b * s) + ops.cos(b * s))
+
+    (c0, s0), (c1, s1) = at(u - half), at(u + half)
+    width = 2 * half
+    return {"osc_c": (c1 - c0) / width, "osc_s": (s1 - s0) / width}
+
+
+def grid_mean(rate, half, ops=None):
+    """``sinh(rate half) / (rate half)``: the mean of ``exp(-rate s)`` over a grid ``2 half`` long
+    over its value at the grid's centre."""
+    from designer.model.ops import NUMERIC
+
+    ops = ops or NUMERIC
+    z = ops.fmax(rate * half, 1e-6)   # a grid of no length (a point gauge): the value at its centre
+    return (ops.exp(z) - ops.exp(-z)) / (2 * z)
+
+
+def station_ratios(g: Geometry) -> tuple:
+    """Each station's (gauge grid centre's) distance from the clamp face in section sizes."""
+    return tuple(d / g.size for d in g.stations)
 
 
 @dataclass(frozen=True)
@@ -294,6 +381,8 @@ def _fit_from_dict(f: dict):
     if f.get("form") == "clamp":
         return ClampFit(*(float(f["coefficients"][k]) for k in CLAMP_COEFFICIENTS), domain,
                         float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
+    if f.get("form") == "edge":
+        return EdgeFit(float(f["k0"]), _fit_from_dict({k: v for k, v in f.items() if k not in ("form", "k0")}), domain)
     if f.get("form") == "decay":
         return DecayFit(float(f["rate"]), _fit_from_dict({k: v for k, v in f.items() if k not in ("form", "rate")}),
                         domain)
@@ -306,6 +395,8 @@ def _fit_from_dict(f: dict):
 
 
 def _fit_to_dict(f) -> dict:
+    if isinstance(f, EdgeFit):
+        return {"form": "edge", "k0": f.k0, **_fit_to_dict(f.poly), "domain": {k: list(v) for k, v in f.domain.items()}}
     if isinstance(f, DecayFit):
         return {"form": "decay", "rate": f.rate, **_fit_to_dict(f.poly), "domain": {k: list(v) for k, v in f.domain.items()}}
     for cls, form, names in ((ClampFit, "clamp", CLAMP_COEFFICIENTS), (StiffnessFit, "stiffness", STIFFNESS_COEFFICIENTS)):
@@ -346,7 +437,7 @@ def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
     if clamp is not None:
         factors = [f * clamp(values["width_ratio"], u, ops) for f, u in zip(factors, station_width_ratios(g))]
     if near is not None:
-        factors = [f * near(values, u, ops) for f, u in zip(factors, clamp_ratios(g))]
+        factors = [f * near(values, u, ops) for f, u in zip(factors, station_ratios(g))]
     return tuple(factors)
 
 
