@@ -60,7 +60,12 @@ def row(name: str, kind: str, record: dict, mesh: str) -> dict:
     return {"name": name, "kind": kind, "design": label, "strain": v.ratios,
             "deflection": v.deflection_fea / v.deflection_model,
             "stress": stress, "where": where, "stress_converged": v.stress_converged,
-            "failed": [c.name for c in v.limits if not c.satisfied], "seconds": time.perf_counter() - t0}
+            # limits the 3-D figures break where the model says they hold; a fixed design's limits
+            # that the model already reports broken (the paper's prototypes miss some targets) are
+            # listed apart: there the 3-D check agrees with the model
+            "failed": [c.name for c in v.limits if not c.satisfied and c.model_satisfied],
+            "known": [c.name for c in v.limits if not c.satisfied and not c.model_satisfied],
+            "seconds": time.perf_counter() - t0}
 
 
 def holds(r: dict) -> bool:
@@ -72,19 +77,21 @@ def markdown(rows: list[dict], mesh: str) -> str:
     lines = [f"3-D check (`verify --mesh {mesh}`) of the designs fpdesign reports (optimize without --verify).",
              f"Tolerances: gauge strain ±{STRAIN_TOLERANCE:.0%}, deflection ±{DEFLECTION_TOLERANCE:.0%}, "
              f"peak stress ±{STRESS_TOLERANCE:.0%}.", "",
-             "| spec | kind | design | gauge strain 3-D/model | deflection | peak stress (where) | limits broken in 3-D | holds | s |",
-             "|---|---|---|---|---:|---|---|---|---:|"]
+             "| spec | kind | design | gauge strain 3-D/model | deflection | peak stress (where) | limits broken in 3-D "
+             "(model: met) | broken in both | holds | s |",
+             "|---|---|---|---|---:|---|---|---|---|---:|"]
     for r in rows:
         if "error" in r:  # the 3-D check could not run: the design does not hold as far as anyone knows
-            lines.append(f"| {r['name']} | {r['kind']} | {r['design']} | the 3-D check failed: {r['error']} | | | | no | |")
+            lines.append(f"| {r['name']} | {r['kind']} | {r['design']} | the 3-D check failed: {r['error']} | | | | | no | |")
             continue
         lines.append(f"| {r['name']} | {r['kind']} | {r['design']} | {', '.join(f'{s:.3f}' for s in r['strain'])} | "
                      f"{r['deflection']:.3f} | {r['stress']:.2f} ({r['where']}) | {', '.join(r['failed']) or '-'} | "
+                     f"{', '.join(r.get('known', [])) or '-'} | "
                      f"{'yes' if holds(r) else 'no'} | {r['seconds']:.1f} |")
     n = sum(holds(r) for r in rows)
     meet = sum("error" not in r and not r["failed"] for r in rows)
-    lines += ["", f"{meet} of {len(rows)} designs meet every limit in 3-D; {n} of them also agree with the model within "
-              "the tolerances."]
+    lines += ["", f"{meet} of {len(rows)} designs meet in 3-D every limit the model says they meet; {n} of them also "
+              "agree with the model within the tolerances."]
     return "\n".join(lines) + "\n"
 
 

@@ -112,11 +112,13 @@ SLOT_KT = Terms(("notch_ratio", "depth_ratio", "pocket_width_ratio", "length_rat
 # about 0.6), and a rigid clamp close by lowers it.
 HOLE_KT = Terms(("hole_ratio", "clamp_near"), ((0, 0), (0, 2), (2, 1), (3, 1), (2, 2)))
 FIT_FORMS = {
-    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio")],
-                       "stress": [("hole_ratio",), ("hole_ratio", "clamp_near"), HOLE_KT]},
+    "rectangle-hole": {"strain": [("hole_ratio", "grid_ratio"), ("hole_ratio", "grid_ratio", "width_ratio")],
+                       "stress": [("hole_ratio",), ("hole_ratio", "clamp_near"), HOLE_KT, ("hole_ratio", "width_ratio"),
+                                  ("hole_ratio", "width_ratio", "clamp_near")]},
     "rectangle-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
                                     ("depth_ratio", "length_ratio", "pocket_width_ratio"),
-                                    ("depth_ratio", "length_ratio", "width_ratio")],
+                                    ("depth_ratio", "length_ratio", "width_ratio"),
+                                    ("depth_ratio", "length_ratio", "side_wall_ratio")],
                          "extra_length": [("depth_ratio", "length_ratio"),
                                           ("depth_ratio", "length_ratio", "pocket_width_ratio"),
                                           ("length_ratio", "pocket_width_ratio", "width_ratio"),
@@ -265,12 +267,13 @@ PARSIMONY = 1.25
 
 
 def _parsimonious(tried: list):
-    """``(fit, rows, left-out predictions)`` of the fewest terms among ``tried`` (sorted by their
-    number of terms) whose left-out error is within PARSIMONY of the smallest; None if none."""
+    """``(fit, rows, left-out predictions)`` of the fewest terms among ``tried`` whose left-out
+    error is within PARSIMONY of the smallest (of as many terms, the smallest); None if none."""
     if not tried:
         return None
     least = min(f.loo_max for f, _, _ in tried)
-    return next(t for t in tried if t[0].loo_max <= PARSIMONY * least)
+    near = [t for t in tried if t[0].loo_max <= PARSIMONY * least]
+    return min(near, key=lambda t: (len(t[0].exponents), t[0].loo_max))
 
 
 def rough_ships(quantity: str, loo_max: float, uncorrected: float) -> bool:
@@ -289,6 +292,8 @@ def with_nearness(rows: list[dict]) -> list[dict]:
         r = {**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else dict(r)
         if "depth_ratio" in r and "grid_ratio" in r:     # a pocket's row
             r.update({k: float(v) for k, v in grid_gap_decays(r["length_ratio"], r["grid_ratio"]).items()})
+        if "pocket_width_ratio" in r and "width_ratio" in r:     # a slot's
+            r["side_wall_ratio"] = (1 - r["pocket_width_ratio"]) * r["width_ratio"]
         out.append(r)
     return out
 

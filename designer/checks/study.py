@@ -225,7 +225,21 @@ def cases(families=None) -> list[Case]:
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
     out += clamp_cases()
     out += round_clamp_cases()
+    out += hole_width_cases()
     return [c for c in out if families is None or c.family in families]
+
+
+# Holes in bars narrower and wider than they are high (a long beam's 0.3:1 bar): the square bars
+# above leave the hole fits' width unbounded by any study point.
+HOLE_WIDTH_RATIOS = (0.3, 0.5, 2.0)
+HOLE_WIDTH_HEIGHTS = (12e-3, 16e-3)    # 0.3 x 12 mm still holds the gauge's 3.5 mm backing
+HOLE_WIDTH_HOLES = (0.4, 0.55, 0.7)
+
+
+def hole_width_cases() -> list[Case]:
+    """Holes of ``HOLE_WIDTH_HOLES`` of the height in bars ``HOLE_WIDTH_RATIOS`` times as wide as high."""
+    return [Case("rectangle-hole", width=w * h, height=h, hole=d * h)
+            for w in HOLE_WIDTH_RATIOS for h in HOLE_WIDTH_HEIGHTS for d in HOLE_WIDTH_HOLES]
 
 
 def near_clamp_cases() -> list[Case]:
@@ -287,7 +301,7 @@ def geometry_parameters(g) -> dict:
     as the table records them."""
     from designer.model import corrections
 
-    derived = {corrections.CLAMP_NEAR, *corrections.GAP_RATES}    # what fits.with_nearness computes
+    derived = {corrections.CLAMP_NEAR, *corrections.GAP_RATES, "side_wall_ratio"}    # fits.with_nearness's
     params = {k: float(val) for k, val in corrections.parameters(g).items() if k not in derived}
     params["clamp_ratio"] = float(corrections.clamp_ratios(g)[0])
     return params
@@ -451,6 +465,7 @@ def main(argv=None) -> int:
     p.add_argument("--family", action="append", help="only these families (repeatable)")
     p.add_argument("--near-clamp", action="store_true", help="only the features near the clamp (NEAR_CLAMP_GROUPS)")
     p.add_argument("--round-clamp", action="store_true", help="only the round bars and tubes near the clamp")
+    p.add_argument("--hole-width", action="store_true", help="only the holes in bars narrower or wider than high")
     p.add_argument("--fit", type=Path, metavar="CSV", help="fit this study table instead of running the study")
     p.add_argument("--refresh", action="store_true",
                    help="solve the table's (-o) extra lengths again from its 3-D deflections with today's beam model "
@@ -493,7 +508,8 @@ def main(argv=None) -> int:
     rows = []
     from designer.errors import FpdError
 
-    chosen = near_clamp_cases() if args.near_clamp else round_clamp_cases() if args.round_clamp else cases(args.family)
+    chosen = (near_clamp_cases() if args.near_clamp else round_clamp_cases() if args.round_clamp
+              else hole_width_cases() if args.hole_width else cases(args.family))
     for case in chosen:
         try:
             row = run_case(case, args.mesh)

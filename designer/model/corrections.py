@@ -56,6 +56,8 @@ def parameters(g: Geometry) -> dict:
             out["notch_ratio"] = (g.depth / g.floor_radius) ** 0.5
         if g.section == "rectangle":
             out["pocket_width_ratio"] = g.pocket_width / g.width
+            # the slot's side walls, (b - w_p) / h: what carries the load past a part-width slot
+            out["side_wall_ratio"] = (g.width - g.pocket_width) / size
     if g.feature == "hole":
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":
