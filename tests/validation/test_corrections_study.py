@@ -123,6 +123,53 @@ def test_fresh_3d_runs_reproduce_points_of_the_clamp_series(index):
     assert fresh.strain_near / fresh.strain_far == pytest.approx(row["strain_near"] / row["strain_far"], rel=1e-4)
 
 
+@pytest.mark.slow
+def test_a_fresh_3d_run_reproduces_a_large_thin_tube_near_the_clamp():
+    # the Ø60 mm tube of wall 0.05 D with its 3 mm grid 0.2 D from the clamp: the gauge grid is
+    # shorter than the wall-sized elements, so the check refines the mesh round it
+    # (checks.fea.geometry_mesh.GRID_ELEMENTS); the same figures again, and the two meshes of the
+    # check agree within 1 % (without the refinement such grids moved 1-3 %)
+    case = next(c for c in study.round_clamp_cases() if c.diameter == study.LARGE_CLAMP_DIAMETER
+                and c.wall == pytest.approx(0.05 * c.diameter) and c.clamp_clearance == pytest.approx(0.2 * c.diameter))
+    row = next(r for r in _rows() if r["family"] == "tube-none" and r["grid_ratio"] == pytest.approx(0.05)
+               and r["wall_ratio"] == pytest.approx(0.05) and r["clamp_ratio"] == pytest.approx(0.2))
+    fresh = study.run_case(case, mesh=row["mesh"])
+    assert fresh.strain_near == pytest.approx(row["strain_near"], rel=1e-4)
+    assert fresh.strain_far == pytest.approx(row["strain_far"], rel=1e-4)
+    assert fresh.strain_mesh_change < 0.01
+
+
+def _two_holes(gap: float) -> str:
+    """The bench suite's 037-imperial design (a 4.19 x 13.96 mm 2024-T3 bar, three Ø6.03 mm holes)
+    with its last two holes ``gap`` heights apart, edge to edge."""
+    h, d, last = 13.96, 6.03, 58.48
+    return ("name: two-holes\nload: {force: [2.14 N, 81 N], position: [66.5 mm, 115.9 mm]}\n"
+            "electronics: {excitation: 3.3 V, gain: 500, noise: 0.19 mV}\ngauge: BF120-3AA\nbridge: half\n"
+            f"limits: {{load_clearance: 0 mm}}\ndesign:\n  material: 2024-T3\n"
+            f"  section: {{kind: rectangle, width: 4.19 mm, height: {h} mm}}\n"
+            f"  stations: [31.0 mm, {last - d - gap * h:.2f} mm, {last} mm]\n  feature: {{kind: hole, diameter: {d} mm}}\n")
+
+
+@pytest.mark.slow
+def test_neighbouring_holes_read_as_isolated_ones_only_half_a_height_apart():
+    # The hole fits are of isolated holes (the study's far hole 4 heights beyond the near one):
+    # 0.15 h apart (the web the bench suite's 037 design had) the two holes' gauges read 6 % over
+    # and 3 % under the corrected model in 3-D; 0.4 h apart within 1 %. The limit hole_gap_i
+    # keeps designs 0.5 h apart (model.limits.HOLE_GAP).
+    from designer.checks.fea import verify_design
+    from designer.model.limits import HOLE_GAP
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    close = verify_design(evaluate_fixed(parse_spec_text(_two_holes(0.15), source="t")).record, mesh="normal")
+    assert max(abs(r - 1) for r in close.ratios) > 0.03
+    apart = evaluate_fixed(parse_spec_text(_two_holes(0.4), source="t"))
+    assert all(abs(r - 1) <= 0.01 for r in verify_design(apart.record, mesh="normal").ratios)
+    assert HOLE_GAP > 0.4
+    gap = next(c for c in apart.record["constraints"] if c["name"] == "hole_gap_2")
+    assert not gap["satisfied"] and gap["limit"] == pytest.approx(HOLE_GAP * 13.96e-3)
+
+
 def test_the_pocket_families_rows_are_of_the_normal_mesh():
     # the table says its mesh per row; the pocket families were run on the normal mesh, with
     # the floor radius resolved (the coarse-mesh rows of the first grid are gone)
