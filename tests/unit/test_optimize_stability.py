@@ -70,20 +70,14 @@ def test_optimum_on_several_limits_at_once_is_found_and_meets_all_of_them():
     constraints = outcome.best.constraint_records()
     assert all(c["satisfied"] for c in constraints)
     active = {c["name"] for c in constraints if c["active"]}
-    # within 0.5 % of the limit (model.ACTIVE_TOLERANCE): the geometric limits bind exactly ...
-    assert {"load_clearance", "width_min"} <= active
-    # ... and stress (fatigue at the hole) and accuracy as well: five limits meet at this optimum.
-    # Rounding to 0.01 mm broke one; the section held at its neighbouring grid sizes and the rest
-    # solved again leaves each within what one 0.01 mm step of a 3-4 mm section moves it (under
-    # 1 %), where tightening every limit at once (the old retry) left them 1-2 % off
+    # within 0.5 % of the limit (model.ACTIVE_TOLERANCE): a geometric limit, the fatigue limit at
+    # the holes (with their K_t, docs/model.md §7) and the edge of the hole fits' width domain
+    # bind at once
+    assert {"clamp_clearance", "fatigue_feature", "domain_width_ratio_min"} <= active
     margins = {c["name"]: c["margin"] for c in constraints}
-    assert all(0 <= margins[n] <= 0.01 for n in ("stress_root", "fatigue_feature", "force_error"))
+    assert all(0 <= margins[n] <= 0.01 for n in active)
     assert _recheck(outcome, SEVERAL_LIMITS).feasible
-    # the retry is on record: the first answer broke a limit once rounded (here the smallest
-    # tightening, 1e-4, mends it where the section's neighbouring grid sizes do not)
-    assert any("the section held at its neighbouring 0.01 mm sizes" in f or "re-solved with every limit tightened by 1e-04" in f
-               for f in outcome.solver["fallbacks"])
-    ref = reference.reference_best(SEVERAL_LIMITS, levels=5)
+    ref = reference.reference_best(SEVERAL_LIMITS, levels=9)
     assert ref.feasible
     assert outcome.best.objective <= ref.objective * (1 + REFERENCE_GAP)
 

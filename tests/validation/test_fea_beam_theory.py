@@ -161,9 +161,10 @@ def test_prototype_b_hole_net_section_over_predicts_the_gauge_strain(prototype_b
         assert g.mesh_change < 0.03
     # the hole barely changes the beam's deflection: 1 % with the coarse mesh
     assert r.deflection_fea / r.deflection_model == pytest.approx(1.0, abs=0.01)
-    # the peak stress sits at a hole and exceeds the net-section estimate at its edge
+    # the peak stress sits at a hole and exceeds the net-section estimate at its edge; the model's
+    # K_t of a hole (docs/model.md §7, shifted to its safe side) is within the check's 10 % above it
     assert r.stress_peak.where.startswith("hole at station 1")
-    assert r.stress_peak.value > r.stress_model
+    assert r.stress_feature_nominal < r.stress_peak.value <= 1.1 * r.stress_model
     text = " ".join(r.messages)
     assert "over-predicts this gauge's strain" not in text
     # the model already predicts the hole's strain: the accuracy re-checked with the 3-D
