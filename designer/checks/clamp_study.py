@@ -30,6 +30,12 @@ def series() -> list[dict]:
             for w in WIDTH_RATIOS for c in CLEARANCES]
 
 
+def near_station(row: dict) -> float:
+    """A study row's near station (its gauge grid's centre) from the clamp face, in section sizes:
+    half the feature beyond the clamp-side end the row records."""
+    return row["clamp_ratio"] + row["length_ratio"] / 2
+
+
 def points(rows: list[dict]) -> list[tuple]:
     """``(width_ratio, station_width_ratio, near/far strain ratio)`` of the study's plain-bar rows
     (``checks.study.read_csv``): the station is the gauge's centre, half the feature length beyond
@@ -39,7 +45,7 @@ def points(rows: list[dict]) -> list[tuple]:
         if r["family"] != "rectangle-none":
             continue
         w = r["width_ratio"]
-        u = (r["clamp_ratio"] + r["length_ratio"] / 2) / w
+        u = near_station(r) / w
         out.append((w, u, r["strain_near"] / r["strain_far"]))
     return out
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+from designer.checks.clamp_study import near_station
 from designer.model import corrections
 
 
@@ -283,19 +284,12 @@ def rough_ships(quantity: str, loo_max: float, uncorrected: float) -> bool:
 
 
 def with_nearness(rows: list[dict]) -> list[dict]:
-    """The study's rows with the parameters the fits compute from its columns: ``clamp_near``
-    from each row's clamp ratio, and a pocket's grid-gap decays (``corrections.grid_gap_decays``)."""
-    from designer.model.corrections import CLAMP_NEAR, clamp_nearness, grid_gap_decays
+    """The study's rows with the parameters the fits compute from its columns
+    (``corrections.derived_parameters``: ``clamp_near`` from each row's clamp ratio, a pocket's
+    grid-gap decays, a slot's side walls)."""
+    from designer.model.corrections import derived_parameters
 
-    out = []
-    for r in rows:
-        r = {**r, CLAMP_NEAR: float(clamp_nearness(r["clamp_ratio"]))} if "clamp_ratio" in r else dict(r)
-        if "depth_ratio" in r and "grid_ratio" in r:     # a pocket's row
-            r.update({k: float(v) for k, v in grid_gap_decays(r["length_ratio"], r["grid_ratio"]).items()})
-        if "pocket_width_ratio" in r and "width_ratio" in r:     # a slot's
-            r["side_wall_ratio"] = (1 - r["pocket_width_ratio"]) * r["width_ratio"]
-        out.append(r)
-    return out
+    return [{**r, **{k: float(v) for k, v in derived_parameters(r, r.get("clamp_ratio")).items()}} for r in rows]
 
 
 def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None):
@@ -380,7 +374,7 @@ EDGE_FAMILIES = ("tube-none",)      # also tried as a shell's edge layer (EdgeFi
 def near_clamp_target(row: dict, clamp) -> float:
     """A study row's near-station strain over its far station's, over the ClampFit's factor there."""
     w = row.get("width_ratio", 1.0)
-    u = (row["clamp_ratio"] + row["length_ratio"] / 2) / w     # the station's centre, in widths
+    u = near_station(row) / w     # in widths
     c = float(clamp(w, u)) if clamp is not None else 1.0
     return row["strain_near"] / row["strain_far"] / c
 
@@ -400,17 +394,12 @@ def fit_near_clamp(rows: list[dict], candidates, clamp, edge: bool = False):
         for terms in (_forms([c]) if c else [Terms((), ((),))]):
             if 2 * len(terms.exponents) > len(rows):
                 continue
-            best = None
-            for rate in DECAY_RATES:
-                def decay(r, k=rate):
-                    # at the grid's centre (the feature's), averaged over the grid
-                    centre = r["clamp_ratio"] + r["length_ratio"] / 2
-                    return math.exp(-k * centre) * float(grid_mean(k, r["grid_ratio"] / 2))
-                fit, _ = fit_terms(rows, terms, lambda r, d=decay: (near_clamp_target(r, clamp) - 1) / d(r),
-                                   weight=decay)
-                if best is None or fit.loo_max < best[0].loo_max:
-                    best = (fit, rate)
-            tried.append(best)
+            def decay_fit(k):
+                def decay(r):      # at the grid's centre (the feature's), averaged over the grid
+                    return math.exp(-k * near_station(r)) * float(grid_mean(k, r["grid_ratio"] / 2))
+                return fit_terms(rows, terms, lambda r: (near_clamp_target(r, clamp) - 1) / decay(r), weight=decay)[0]
+
+            tried.append(min(((decay_fit(k), k) for k in DECAY_RATES), key=lambda t: t[0].loo_max))
     near = min(r["clamp_ratio"] for r in rows)
     tried = [(DecayFit(rate, poly, {**poly.domain, NEAR_CLAMP: (near, math.inf)}), poly) for poly, rate in tried]
     if edge:
@@ -438,14 +427,12 @@ def _edge_fits(rows: list[dict], clamp, near: float) -> list:
     for terms in EDGE_FORMS:
         if 2 * len(terms.exponents) > len(rows):
             continue
-        best = None
-        for k0 in EDGE_K0:
-            data = [{**r, **{k: float(v) for k, v in edge_means(k0, r["wall_ratio"], r["clamp_ratio"] + r["length_ratio"] / 2,
+        def edge_fit(k0):
+            data = [{**r, **{k: float(v) for k, v in edge_means(k0, r["wall_ratio"], near_station(r),
                                                                   r["grid_ratio"] / 2).items()}} for r in rows]
-            fit, _ = fit_terms(data, terms, lambda r: near_clamp_target(r, clamp) - 1)
-            if best is None or fit.loo_max < best[1].loo_max:
-                best = (k0, fit)
-        k0, poly = best
+            return fit_terms(data, terms, lambda r: near_clamp_target(r, clamp) - 1)[0]
+
+        k0, poly = min(((k0, edge_fit(k0)) for k0 in EDGE_K0), key=lambda t: t[1].loo_max)
         domain = {"wall_ratio": poly.domain["wall_ratio"], NEAR_CLAMP: (near, math.inf)}
         out.append(EdgeFit(k0, poly, domain))
     return out

@@ -301,8 +301,7 @@ def geometry_parameters(g) -> dict:
     as the table records them."""
     from designer.model import corrections
 
-    derived = {corrections.CLAMP_NEAR, *corrections.GAP_RATES, "side_wall_ratio"}    # fits.with_nearness's
-    params = {k: float(val) for k, val in corrections.parameters(g).items() if k not in derived}
+    params = {k: float(val) for k, val in corrections.parameters(g).items() if k not in corrections.DERIVED}
     params["clamp_ratio"] = float(corrections.clamp_ratios(g)[0])
     return params
 

@@ -56,18 +56,29 @@ def parameters(g: Geometry) -> dict:
             out["notch_ratio"] = (g.depth / g.floor_radius) ** 0.5
         if g.section == "rectangle":
             out["pocket_width_ratio"] = g.pocket_width / g.width
-            # the slot's side walls, (b - w_p) / h: what carries the load past a part-width slot
-            out["side_wall_ratio"] = (g.width - g.pocket_width) / size
     if g.feature == "hole":
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":
         out["wall_ratio"] = g.wall / size
-    if g.feature != "none":
-        # the first feature's nearness to the clamp, exp(-3 u) of its clamp-side end u sizes out
-        # (``clamp_ratios``): 0.05 one size out, and the clamp's effect on a feature fades faster
-        out[CLAMP_NEAR] = clamp_nearness(clamp_ratios(g)[0], ops_for(g.stations[0]))
-    if g.feature == "pocket":
-        out.update(grid_gap_decays(out["length_ratio"], out["grid_ratio"], ops_for(g.stations[0])))
+    clamp_ratio = clamp_ratios(g)[0] if g.feature != "none" else None
+    return {**out, **derived_parameters(out, clamp_ratio, ops_for(g.stations[0]))}
+
+
+def derived_parameters(values: dict, clamp_ratio=None, ops=None) -> dict:
+    """The parameters computed from the others (``DERIVED``), for the model and the study's rows alike:
+    - ``clamp_near``, the first feature's nearness to the clamp, exp(-3 u) of its clamp-side end
+      ``clamp_ratio`` = u sizes out (``clamp_ratios``): 0.05 one size out, and the clamp's effect
+      on a feature fades faster (none without a clamp ratio);
+    - a pocket's grid-gap decays (``grid_gap_decays``);
+    - a slot's ``side_wall_ratio`` = (b - w_p)/h: the side walls that carry the load past a
+      part-width slot."""
+    out = {}
+    if clamp_ratio is not None:
+        out[CLAMP_NEAR] = clamp_nearness(clamp_ratio, ops)
+    if "depth_ratio" in values:
+        out.update(grid_gap_decays(values["length_ratio"], values["grid_ratio"], ops))
+    if "pocket_width_ratio" in values:
+        out["side_wall_ratio"] = (1 - values["pocket_width_ratio"]) * values["width_ratio"]
     return out
 
 
@@ -90,6 +101,8 @@ def grid_gap_decays(length_ratio, grid_ratio, ops=None) -> dict:
 # change within about a section size of the clamp face.
 CLAMP_NEAR = "clamp_near"
 CLAMP_NEAR_RATE = 3.0
+# The parameters ``derived_parameters`` computes from the others (the study's table leaves them out).
+DERIVED = (CLAMP_NEAR, *GAP_RATES, "side_wall_ratio")
 
 
 def clamp_nearness(clamp_ratio, ops=None):
@@ -234,8 +247,24 @@ class Fit:
         return total
 
 
+class _OverPolynomial:
+    """A fit whose variables and residuals are its polynomial's (``poly``, a Fit)."""
+
+    @property
+    def variables(self):
+        return self.poly.variables
+
+    @property
+    def rms(self):
+        return self.poly.rms
+
+    @property
+    def loo_max(self):
+        return self.poly.loo_max
+
+
 @dataclass(frozen=True)
-class DecayFit:
+class DecayFit(_OverPolynomial):
     """``C = 1 + exp(-rate u) A(rate, h) P``, ``P`` a polynomial (``poly``, a Fit) in the feature's
     parameters, ``u`` the station's (the gauge grid's centre's) distance from the clamp face in
     section sizes (``station_ratios``) and ``A = sinh(rate h) / (rate h)`` the mean of the local
@@ -250,28 +279,15 @@ class DecayFit:
     poly: Fit
     domain: dict            # clamp_ratio and the poly's variables -> (low, high)
 
-    @property
-    def variables(self):
-        return self.poly.variables
-
-    @property
-    def rms(self):
-        return self.poly.rms
-
-    @property
-    def loo_max(self):
-        return self.poly.loo_max
-
     def __call__(self, values: dict, u, ops=None):
         from designer.model.ops import NUMERIC
 
         ops = ops or NUMERIC
-        k = self.rate
-        return 1 + ops.exp(-k * u) * grid_mean(k, values["grid_ratio"] / 2, ops) * self.poly(values)
+        return 1 + ops.exp(-self.rate * u) * grid_mean(self.rate, values["grid_ratio"] / 2, ops) * self.poly(values)
 
 
 @dataclass(frozen=True)
-class EdgeFit:
+class EdgeFit(_OverPolynomial):
     """``C = 1 + mean over the grid of exp(-b s) (A cos(b s) + B sin(b s))``, ``s`` the distance
     from the clamp face in section sizes, ``b = k0 / sqrt(w (1 - w))`` per size (``w = wall_ratio``)
     and ``A``, ``B`` polynomials in ``w``: a tube's edge layer at the clamp, the damped bending wave
@@ -285,18 +301,6 @@ class EdgeFit:
     k0: float
     poly: Fit
     domain: dict
-
-    @property
-    def variables(self):
-        return self.poly.variables
-
-    @property
-    def rms(self):
-        return self.poly.rms
-
-    @property
-    def loo_max(self):
-        return self.poly.loo_max
 
     def __call__(self, values: dict, u, ops=None):
         return 1 + self.poly({**values, **edge_means(self.k0, values["wall_ratio"], u, values["grid_ratio"] / 2, ops)})

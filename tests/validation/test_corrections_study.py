@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from designer.checks import fits, study
+from designer.checks import clamp_study, fits, study
 from designer.model import corrections
 
 STUDY = Path(corrections.__file__).resolve().parents[2] / "materials" / "corrections_study.csv"
@@ -97,8 +97,6 @@ def _same_clamp(a, b) -> bool:
 def test_the_clamp_fit_reproduces_the_series():
     # every plain-bar point of the study inside the fit's domain within 1 % (the 3-D acceptance
     # on gauge strain is 2 %), and the points left out of the fit within 2 %
-    from designer.checks import clamp_study
-
     fit = corrections.clamp_fit(corrections.load())
     inside = [(w, u, c) for w, u, c in clamp_study.points(_rows()) if u >= fit.domain["station_width_ratio"][0]]
     assert len(inside) >= 25
@@ -259,7 +257,7 @@ def test_the_near_clamp_fits_reproduce_the_study():
         assert len(mine) >= 2 * len(fit.poly.coefficients), fam
         for r in mine:
             measured = fits.near_clamp_target(r, clamp)
-            centre = r["clamp_ratio"] + r["length_ratio"] / 2      # the grid's, in sizes
+            centre = clamp_study.near_station(r)      # the grid's centre, in sizes
             assert float(fit(r, centre)) == pytest.approx(measured, abs=fit.loo_max + 1e-9), (fam, r)
     nearest = min((r for r in rows if r["family"] == "round-none"), key=lambda r: r["clamp_ratio"])
     assert nearest["strain_near"] / nearest["strain_far"] < 0.95
@@ -281,7 +279,7 @@ def test_a_thin_tube_near_the_clamp_follows_a_shells_edge_layer():
                and r["grid_ratio"] == pytest.approx(0.05) and r["clamp_ratio"] == pytest.approx(0.2))
     measured = row["strain_near"] / row["strain_far"]
     assert measured < 0.93
-    assert float(fit(row, row["clamp_ratio"] + row["length_ratio"] / 2)) == pytest.approx(measured, abs=0.01)
+    assert float(fit(row, clamp_study.near_station(row))) == pytest.approx(measured, abs=0.01)
 
 
 def _plain_geometry(fam):

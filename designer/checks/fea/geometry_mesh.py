@@ -20,10 +20,9 @@ alone holds about 0.5 GB, which is then free for the solve.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
-
-import math
 
 import numpy as np
 
@@ -338,10 +337,9 @@ def _grid_size(pb: Problem, refinement: float) -> float:
 
 def _gauge_boxes(pb: Problem) -> list:
     """Each gauge grid's footprint on the gauge face (the quarter model's half width), one grid
-    length deep: ``(low corner, high corner)`` arrays."""
-    half = pb.grid_length / 2
-    return [(np.array([d - half, 0.0, pb.gauge_z - pb.grid_length]), np.array([d + half, pb.grid_width / 2, pb.gauge_z]))
-            for d in pb.stations]
+    length deep: ``(low corner, high corner)`` float tuples, for ``_box_distance``."""
+    half, z = pb.grid_length / 2, float(pb.gauge_z)
+    return [((float(d) - half, 0.0, z - pb.grid_length), (float(d) + half, pb.grid_width / 2, z)) for d in pb.stations]
 
 
 def _set_up(step_path: Path, pb: Problem, refinement: float) -> None:
@@ -423,7 +421,7 @@ def _set_up(step_path: Path, pb: Problem, refinement: float) -> None:
         min_size = MIN_SIZE_FRACTION * s_d
     s_grid = pb.grid_length / (GRID_ELEMENTS * refinement)
     if _grid_size(pb, refinement) > pb.grid_length / GRID_SPANS:
-        grid_boxes = _plain_boxes(_gauge_boxes(pb))
+        grid_boxes = _gauge_boxes(pb)
 
         def grid(dim, x, y, z, lc):
             return min(lc, s_grid + GRADING * _box_distance(grid_boxes, x, y, z))
