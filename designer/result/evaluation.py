@@ -177,7 +177,7 @@ def channelled(g: Geometry, cad) -> Geometry:
 def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometry:
     """A Geometry from spec dataclasses (Section, Feature) and station positions."""
     lp, wp = spec.pocket_size()
-    return Geometry(
+    return channelled(Geometry(
         section=section.kind, feature=feature.kind, stations=tuple(stations), length=length,
         width=section.width, height=section.height, diameter=section.diameter, wall=section.wall,
         depth=feature.depth if feature.kind == "pocket" else 0.0,
@@ -186,10 +186,7 @@ def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometr
         pocket_width=feature.width if feature.kind == "pocket" else wp,
         gauge_length=spec.gauge.length, grid_length=spec.gauge.grid_length,
         grid_width=spec.gauge.grid_width, axes=axes or spec.axes,
-        floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0,
-        **dict(zip(("channel_width", "channel_depth"),
-                   wire_channel(spec.cad, feature.kind, feature.depth if feature.kind == "pocket" else 0.0,
-                                feature.width if feature.kind == "pocket" else wp))))
+        floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0), spec.cad)
 
 
 def fixed_design(spec) -> Design:

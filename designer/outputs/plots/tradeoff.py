@@ -30,7 +30,8 @@ def plot_tradeoff(points: Sequence[Mapping], chosen: Mapping | None = None, x: s
 
     ``points``: solved designs, each ``{"material", "section", "x": limit value (SI), "objective",
     "feasible": bool}`` and optionally ``"value"``, the design's own deflection or frequency
-    (SI), where it is drawn (the deflection limit keeps room below ``x``, docs/model.md §4); ``x``: ``"max_deflection"`` (m, drawn in mm) or ``"min_frequency"`` (Hz);
+    (SI), where it is drawn (the deflection limit keeps room below ``x``, docs/model.md §4);
+    ``x``: ``"max_deflection"`` (m, drawn in mm) or ``"min_frequency"`` (Hz);
     ``by``: one line per ``"material"`` (best section at each x, marked by its shape), per
     ``"section"`` (best material) or per material and section (``"both"``). The lower envelope of
     the feasible points is the front; ``chosen`` (``{"x", "objective"}``) is starred.
