@@ -19,8 +19,10 @@ How the check is made:
   those faces are meshed again by gmsh's MeshAdapt (and the convergence mesh likewise).
 - Linear elasticity with quadratic tetrahedra (scikit-fem's ``ElementTetP2``), assembled here
   in vectorised form, a chunk of elements at a time, and solved by conjugate gradients
-  preconditioned with a two-level (quadratic / linear) cycle; a thin wide plate, on which the
-  linear level locks, by a sparse LU. Either solution must leave a small true residual
+  preconditioned with a two-level (quadratic / linear) cycle, in which the unknowns of the
+  mesh's slivers (tetrahedra far flatter than a regular one, which gmsh leaves where a floor
+  radius's narrow faces meet their neighbours) are also solved exactly; a thin wide plate, on
+  which the linear level locks, by a sparse LU. Either solution must leave a small true residual
   ``||f - K u|| / ||f||``, checked here rather than taken from the solver.
 - The load ``F_max`` at ``x_max`` enters at the cut face as its resultant (Saint-Venant): a
   uniform shear ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with
@@ -36,7 +38,8 @@ How the check is made:
 - The peak stress is the von Mises stress averaged at the mesh vertices, away from the
   clamp face, whose idealised full fixity is singular at its edges; the root stress stays
   the beam model's.
-- Every run is repeated on a mesh one step coarser, and the change is reported as the
+- Every run is repeated on a mesh one step coarser (solved in a child process at the same
+  time as the requested one), and the change is reported as the
   mesh-convergence check: one verdict for the gauge strains and the deflection, one for the
   peak stress (measured at the same place on both meshes, and only where the mesh edges
   resolve a pocket's floor radius).

@@ -1,7 +1,8 @@
 """The 3-D check against the beam model: one run per mesh, the comparison, the verdict.
 
 ``verify_design`` meshes and solves the design twice (the requested mesh and one a step
-coarser, for the convergence check), sets the figures beside the beam model's (gauge strains,
+coarser, for the convergence check; the coarser in a child process at the same time, on the
+machine's other core), sets the figures beside the beam model's (gauge strains,
 the surface strain with ``EI(s)`` from ``model.rigidity_segments``, deflection, stresses) and
 re-checks every limit of the model with the 3-D figures where the check gives them.
 """
@@ -10,7 +11,7 @@ from __future__ import annotations
 
 import tempfile
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +21,7 @@ from designer.checks.fea.geometry_mesh import (CONVERGENCE_COARSENING, MESH_LEVE
 from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_strains, stress_near, stress_peaks,
                                          surface_profile)
 from designer.checks.fea.report import GaugeCheck, LimitCheck, MeshRun, VerifyResult, with_messages, write_outputs
-from designer.checks.fea.solve import solve
+from designer.checks.fea.solve import solution, solve
 from designer.errors import InputError, describe_allowed
 
 
@@ -42,25 +43,64 @@ class Figures:
     mesh_adapt: bool        # faces with a flat surface mesh were meshed by MeshAdapt
 
 
-def _run(step_path: Path, pb: Problem, level: str, refinement: float, peak_at=None,
-         mesh_adapt: bool = False) -> Figures:
-    """Mesh, solve and read the design at one refinement; ``peak_at``: a point (m) where the
-    stress is also read (the finer run's peak, for the convergence check); ``mesh_adapt``: mesh
-    the faces whose surface mesh is flat with MeshAdapt from the start (``mesh_quarter``). Only
-    the figures outlive the call, so the two meshes of a check are never held at once."""
+def _run(step_path: Path, pb: Problem, level: str, refinement: float, mesh_adapt: bool = False):
+    """Mesh, solve and read the design at one refinement: its Figures (``at_peak`` not read yet)
+    and its Solution. ``mesh_adapt``: mesh the faces whose surface mesh is flat with MeshAdapt
+    from the start (``mesh_quarter``)."""
     start = time.perf_counter()
     points, tets, adapted = mesh_quarter(step_path, pb, refinement, mesh_adapt)
     sol = solve(points, tets, pb)
     gauges = tuple(gauge_strains(sol, pb))
     deflection = free_end_deflection(sol, pb)
     peak, feature_peak, station_peaks = stress_peaks(sol, pb, refinement)
-    at_peak = None if peak_at is None else stress_near(sol, pb, refinement, peak_at)
     profile = surface_profile(sol, pb, refinement)
     run = MeshRun(level=level, refinement=refinement, global_size=pb.global_size / refinement,
                   detail_size=pb.detail_size / refinement, elements=int(tets.shape[1]),
                   vertices=int(points.shape[1]), dofs=int(3 * sol.basis.N), cg_iterations=sol.iterations,
                   seconds=time.perf_counter() - start)
-    return Figures(gauges, deflection, peak, feature_peak, station_peaks, at_peak, profile, run, adapted)
+    return Figures(gauges, deflection, peak, feature_peak, station_peaks, None, profile, run, adapted), sol
+
+
+def _partner_run(step_path: Path, pb: Problem, level: str, refinement: float):
+    """The convergence mesh's run, in a child process: its Figures and its solution as plain
+    arrays ``(points, tets, u, iterations)``, from which the parent reads the stress at the main
+    mesh's peak once that is known."""
+    figures, sol = _run(step_path, pb, level, refinement)
+    return figures, (sol.mesh.p, sol.mesh.t, sol.u, sol.iterations)
+
+
+def _with_stress_at(figures: Figures, sol, pb: Problem, refinement: float, point) -> Figures:
+    """``figures`` with the stress read at ``point`` (m) of ``sol`` (the main mesh's peak)."""
+    start = time.perf_counter()
+    at_peak = stress_near(sol, pb, refinement, point)
+    run = replace(figures.run, seconds=figures.run.seconds + time.perf_counter() - start)
+    return replace(figures, at_peak=at_peak, run=run)
+
+
+def _both_meshes(step_path: Path, pb: Problem, mesh: str, refinement: float) -> tuple[Figures, Figures]:
+    """The requested mesh here and the convergence mesh (CONVERGENCE_COARSENING coarser) in a
+    child process at the same time; the convergence mesh's stress read at the main mesh's peak.
+    Each process holds one mesh: the child's peak memory is the smaller mesh's. A main mesh that
+    needed MeshAdapt on its flat faces has its convergence mesh made alike (again, here, should
+    the child's not have needed it)."""
+    from skfem import MeshTet
+
+    from designer.outputs.background import Background
+
+    level = f"{mesh} / {CONVERGENCE_COARSENING:g}"
+    coarse = refinement / CONVERGENCE_COARSENING
+    job = Background(_partner_run, step_path, pb, level, coarse)
+    try:
+        main, sol = _run(step_path, pb, mesh, refinement)
+        del sol
+        partner, (points, tets, u, iterations) = job.result()
+    finally:
+        job.stop()
+    if main.mesh_adapt and not partner.mesh_adapt:
+        partner, sol = _run(step_path, pb, level, coarse, mesh_adapt=True)
+    else:
+        sol = solution(MeshTet(points, tets), u, iterations)
+    return main, _with_stress_at(partner, sol, pb, coarse, main.peak.location)
 
 
 def model_profile(x: np.ndarray, z: np.ndarray, pb: Problem, segments) -> np.ndarray:
@@ -105,10 +145,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
         step_path = Path(tmp) / f"{beam.file_stem}.step"
         write_step_apart(design, step_path)
-        main = _run(step_path, pb, mesh, refinement)
-        # a main mesh that needed MeshAdapt on its flat faces has its convergence mesh made alike
-        partner = _run(step_path, pb, f"{mesh} / {CONVERGENCE_COARSENING:g}", refinement / CONVERGENCE_COARSENING,
-                       peak_at=main.peak.location, mesh_adapt=main.mesh_adapt)
+        main, partner = _both_meshes(step_path, pb, mesh, refinement)
 
     a = ev.analysis
     gauges = tuple(GaugeCheck(d, fea, float(m), coarse)
