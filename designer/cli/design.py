@@ -296,16 +296,27 @@ def run_simulate(args) -> int:
     return 0
 
 
+def _stock_entry(table, stock) -> dict:
+    """One stock table for ``materials --json``: its figures, its family's materials and its rows,
+    each with its sizes in SI and as the supplier writes them."""
+    return {"name": table.name, "family": table.family, "materials": list(stock.families[table.family]),
+            "shape": table.shape, "system": table.system, "unit": table.unit, "standard": table.standard,
+            "source": table.source,
+            "items": [{"designation": item.designation, "sizes": [float(v) for v in item.sizes]}
+                      for item in table.items]}
+
+
 def run_materials(args) -> int:
     import json
     from dataclasses import asdict
 
     from designer.spec import catalogue
 
-    mats, gauges = catalogue.materials(), catalogue.gauges()
+    mats, gauges, stock = catalogue.materials(), catalogue.gauges(), catalogue.stock()
     if args.json:
         print(json.dumps({"materials": [asdict(m) for m in mats.values()],
-                          "gauges": [asdict(g) for g in gauges.values()]}, indent=2))
+                          "gauges": [asdict(g) for g in gauges.values()],
+                          "stock": [_stock_entry(t, stock) for t in stock.tables]}, indent=2))
         return 0
     from rich.console import Console
     from rich.table import Table
@@ -334,10 +345,19 @@ def run_materials(args) -> int:
         g.add_row(x.name, f"{x.factor:.3g}", f"{x.resistance:.0f}", f"{x.length * 1e3:.1f} × {x.width * 1e3:.1f}",
                   f"{x.grid_length * 1e3:.1f} × {x.grid_width * 1e3:.1f}", f"{x.max_strain * 1e6:.0f}",
                   note(x.source))
+    b = Table(title="stock (search: {stock: metric | imperial | any})", box=None, padding=(0, 1))
+    for col in ("table", "materials", "shape", "standard", "sizes", "source"):
+        b.add_column(col, justify="left", no_wrap=col not in ("materials", "sizes"))
+    for table in stock.tables:
+        items = [item.designation for item in table.items]
+        b.add_row(table.name, ", ".join(stock.families[table.family]), table.shape, table.standard,
+                  f"{len(items)}: {items[0]} … {items[-1]}", note(table.source))
     console = Console(highlight=False)
     console.print(t)
     console.print()
     console.print(g)
+    console.print()
+    console.print(b)
     console.print()
     console.print("sources:")
     for i, source in enumerate(sources, 1):

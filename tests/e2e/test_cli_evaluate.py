@@ -305,6 +305,13 @@ def test_materials_json_from_another_folder(tmp_path):
     # SI in the JSON: 6061-T6 at 68.9 GPa and 2700 kg/m^3 (MatWeb), the BF120-3AA backing 6.9 mm.
     assert materials["6061-T6"]["E"] == pytest.approx(68.9e9) and materials["6061-T6"]["density"] == 2700
     assert gauges["BF120-3AA"]["length"] == pytest.approx(6.9e-3)
+    # the stock tables, each with its source, its family's materials and its rows in SI: EN 754-3's
+    # Ø10 mm drawn aluminium round bar is 0.010 m, ASTM B211's Ø3/8 in one 9.525 mm (25.4 mm/in)
+    stock = {t["name"]: t for t in listing["stock"]}
+    assert all(t["source"].strip() and t["items"] for t in stock.values())
+    assert "6061-T6" in stock["al-round-metric"]["materials"]
+    rows = {i["designation"]: i["sizes"] for t in stock.values() for i in t["items"]}
+    assert rows["Ø10 mm"] == [pytest.approx(0.010)] and rows["Ø3/8 in"] == [pytest.approx(9.525e-3)]
 
 
 def test_materials_table_from_another_folder(tmp_path, monkeypatch, capsys):
@@ -312,7 +319,7 @@ def test_materials_table_from_another_folder(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("COLUMNS", "300")  # one row per entry in the terminal table
     assert main(["materials"]) == 0
     out = capsys.readouterr().out
-    for name in [*REQUIRED_MATERIALS, "BF120-3AA", "BF350-3AA"]:
+    for name in [*REQUIRED_MATERIALS, "BF120-3AA", "BF350-3AA", "al-round-metric", "EN 754-3"]:
         assert name in out
 
 
