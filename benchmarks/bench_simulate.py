@@ -38,7 +38,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
 
     spec = load_spec(args.spec)
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     k = [float(ev.analysis.sensitivity)] * len(ev.design.geometry.stations)
     d = list(ev.design.geometry.stations)
     forces, positions = grid(spec.load.force_min, spec.load.force_max, spec.load.position_min,

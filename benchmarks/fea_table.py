@@ -73,7 +73,7 @@ def record_for(name: str) -> dict:
            "electronics": ELECTRONICS, "bridge": "half", "limits": {"fatigue": False}}
     raw.update(json.loads(json.dumps(CASES[name])))
     spec = parse_spec(raw)
-    ev = evaluate(fixed_design(spec).rounded(), spec)
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     return json.loads(json.dumps(build_record("feasible" if ev.feasible else "infeasible", spec, ev)))
 
 

@@ -37,3 +37,14 @@ def proto_c() -> dict:
     from designer.result.designfile import load_design
 
     return load_design(ROOT / "tests" / "data" / "plot_prototype_c.json")
+
+
+@pytest.fixture(autouse=True)
+def shipped_catalogue():
+    """Each test starts and ends with the shipped catalogue alone in force: a spec with a user
+    catalogue (``catalogue:``) puts it in force for the process (designer.spec.catalogue.use)."""
+    from designer.spec import catalogue
+
+    catalogue.use(())
+    yield
+    catalogue.use(())

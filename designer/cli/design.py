@@ -28,6 +28,9 @@ def register(sub) -> None:
                    help="with --verify: corrected rounds when the design fails in 3-D (the model adjusted by the "
                         "3-D/model ratios and solved again) [3]")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--catalogue", action="append", default=[], metavar="FILE",
+                   help="a catalogue of your own materials, gauges and stock, beside the shipped one "
+                        "(docs/spec.md 2.9); may be given more than once")
     p.set_defaults(func=run_optimize)
 
     e = sub.add_parser("evaluate", help="evaluate the fixed design: block of a spec")
@@ -36,6 +39,8 @@ def register(sub) -> None:
     e.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
     e.add_argument("--no-plots", action="store_true", help="do not write the plots")
     e.add_argument("--svg", action="store_true", help="also write the plots as SVG")
+    e.add_argument("--catalogue", action="append", default=[], metavar="FILE",
+                   help="a catalogue of your own materials, gauges and stock (docs/spec.md 2.9)")
     e.set_defaults(func=run_evaluate)
 
     s = sub.add_parser("simulate", help="Monte Carlo of the estimator over the operating region")
@@ -49,8 +54,10 @@ def register(sub) -> None:
     s.add_argument("--scheme", default="paper", help="loads for --readings: paper, 4, 9 or grid [paper]")
     s.set_defaults(func=run_simulate)
 
-    m = sub.add_parser("materials", help="list the material and gauge catalogue")
+    m = sub.add_parser("materials", help="list the material, gauge and stock catalogue")
     m.add_argument("--json", action="store_true", help="machine-readable output")
+    m.add_argument("--catalogue", action="append", default=[], metavar="FILE",
+                   help="list a catalogue of your own beside the shipped one (docs/spec.md 2.9)")
     m.set_defaults(func=run_materials)
 
 
@@ -129,7 +136,7 @@ def run_evaluate(args) -> int:
     from designer.spec.reader import load_spec
 
     out_dir = output_folder(args.output, what="design.json and the report")
-    spec = load_spec(args.spec)
+    spec = load_spec(args.spec, _user_catalogues(args))
     if spec.design is None:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
@@ -155,7 +162,7 @@ def run_optimize(args) -> int:
     if rounds < 0:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
     out_dir = output_folder(args.output, what="design.json and the report")
-    spec = load_spec(args.spec)
+    spec = load_spec(args.spec, _user_catalogues(args))
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
         result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
                                             verify_rounds=rounds, tradeoff=False, progress=progress))
@@ -296,6 +303,13 @@ def run_simulate(args) -> int:
     return 0
 
 
+def _user_catalogues(args) -> list:
+    """The ``--catalogue`` files, read (``catalogue.read_user``)."""
+    from designer.spec import catalogue
+
+    return [catalogue.read_user(path) for path in args.catalogue]
+
+
 def _stock_entry(table, stock) -> dict:
     """One stock table for ``materials --json``: its figures, its family's materials and its rows,
     each with its sizes in SI and as the supplier writes them."""
@@ -312,6 +326,7 @@ def run_materials(args) -> int:
 
     from designer.spec import catalogue
 
+    catalogue.use(_user_catalogues(args))
     mats, gauges, stock = catalogue.materials(), catalogue.gauges(), catalogue.stock()
     if args.json:
         print(json.dumps({"materials": [asdict(m) for m in mats.values()],

@@ -1,4 +1,13 @@
-"""The material and strain-gauge catalogue, shipped as YAML in ``designer.materials``."""
+"""The material, strain-gauge and stock catalogue, shipped as YAML in ``designer.materials``,
+and the users' own catalogues beside it.
+
+A user catalogue (``catalogue:`` in a spec, ``--catalogue FILE`` on the command line) is a
+mapping with any of ``materials`` and ``gauges`` (lists of entries written as in the shipped
+files) and ``stock`` (``families`` and ``tables`` as in stock.yaml). Its entries join the
+shipped ones under names of their own; ``use`` puts the catalogues a spec names in force for the
+process (a spec that names none puts the shipped catalogue alone back). Every problem with a
+file is a CatalogueError naming the file, the entry and the key.
+"""
 
 from __future__ import annotations
 
@@ -78,6 +87,15 @@ def data_folder() -> Path:
         return Path(__file__).resolve().parents[2] / "materials"
 
 
+USER_KEYS = ("file", "materials", "gauges", "stock")
+MATERIAL_KEYS = ("name", "description", "source", *_MATERIAL_FIELDS)
+OPTIONAL_MATERIAL_FIELDS = {"notch_length": 0.0}   # 0: fully notch sensitive (K_f = K_t)
+GAUGE_KEYS = ("name", "description", "source", *GAUGE_FIELDS)
+
+# The user catalogues in force: ``(file, content)`` pairs (``use``).
+_user: tuple = ()
+
+
 def _read(name: str) -> list[dict]:
     path = data_folder() / name
     try:
@@ -87,31 +105,162 @@ def _read(name: str) -> list[dict]:
     return entries
 
 
+def use(catalogues) -> None:
+    """Put the user catalogues ``catalogues`` (``(file, content)`` pairs, as ``read_user`` gives
+    them) in force, beside the shipped one; ``()`` leaves the shipped catalogue alone. Each is
+    checked at once: CatalogueError names the file, the entry and the key."""
+    global _user
+    catalogues = tuple((str(f), c) for f, c in catalogues)
+    if catalogues == _user:
+        return
+    previous, _user = _user, catalogues
+    for table in (materials, gauges, stock):
+        table.cache_clear()
+    try:
+        materials(), gauges()
+        if any(c.get("stock") is not None for _, c in catalogues):
+            stock()
+    except BaseException:
+        use(previous)
+        raise
+
+
+def in_use() -> tuple:
+    """The user catalogues in force, ``(file, content)`` pairs."""
+    return _user
+
+
+def read_user(path: str | Path, shown: str | None = None) -> tuple[str, dict]:
+    """A user catalogue file as ``(file, content)``: ``file`` is how messages name it (``shown``,
+    else the path as given). CatalogueError for a file that cannot be read or is not a mapping
+    of USER_KEYS; its entries are checked by ``use``."""
+    from designer.errors import read_text
+    from designer.spec import strict_yaml
+
+    shown = shown or str(path)
+    text = read_text(Path(path), CatalogueError)
+    try:
+        raw = strict_yaml.load(text)
+    except (yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
+        raise CatalogueError(f"{shown}: cannot be read as YAML: {exc}") from exc
+    return shown, user_content(raw, shown)
+
+
+def user_content(raw, shown: str) -> dict:
+    """A user catalogue's content checked for its shape: a mapping of materials, gauges and stock."""
+    if not isinstance(raw, dict) or not raw:
+        raise CatalogueError(f"{shown}: a catalogue must be a mapping with any of the keys "
+                             f"{describe_allowed(USER_KEYS[1:])}")
+    unknown = [k for k in raw if k not in USER_KEYS]
+    if unknown:
+        raise CatalogueError(f"{shown}.{unknown[0]}: unknown key; allowed keys are "
+                             f"{describe_allowed(USER_KEYS[1:])}")
+    for key in ("materials", "gauges"):
+        if raw.get(key) is not None and (not isinstance(raw[key], list) or not raw[key]):
+            raise CatalogueError(f"{shown}.{key}: must be a list of entries, each a mapping with a name")
+    return {k: v for k, v in raw.items() if k != "file"}
+
+
+def _entries(entries, where: str, keys, required) -> list[tuple[str, str, dict]]:
+    """``(name, key prefix, entry)`` for each entry of a list, its keys checked."""
+    out = []
+    for i, entry in enumerate(entries):
+        if not isinstance(entry, dict):
+            raise CatalogueError(f"{where}[{i}]: {entry!r} must be a mapping with keys {describe_allowed(keys)}")
+        name = entry.get("name")
+        if not isinstance(name, str) or not name.strip():
+            raise CatalogueError(f"{where}[{i}].name: {name!r} must be a name (text)")
+        key = f"{where}[{i}] ({name})"
+        unknown = [k for k in entry if k not in keys]
+        if unknown:
+            raise CatalogueError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(keys)}")
+        missing = [k for k in required if entry.get(k) is None]
+        if missing:
+            raise CatalogueError(f"{key}.{missing[0]}: missing; it is required")
+        out.append((name.strip(), key, entry))
+    return out
+
+
+def _quantity(value, kind: str, key: str) -> float:
+    """A figure with its unit, in SI: positive, except Poisson's ratio (checked by its caller) and
+    a notch length (0: fully notch sensitive)."""
+    try:
+        if key.endswith(".poisson"):
+            return units.parse(value, kind, key)
+        return units.parse_positive(value, kind, key, allow_zero=key.endswith(".notch_length"))
+    except SpecError as exc:
+        raise CatalogueError(str(exc)) from exc
+
+
+def _text(entry: dict, key: str, where: str, required: bool) -> str:
+    value = entry.get(key, "")
+    if not isinstance(value, str) or (required and not value.strip()):
+        raise CatalogueError(f"{where}.{key}: {value!r} must be " + ("a text saying where the figures come from"
+                                                                     if key == "source" else "text"))
+    return value
+
+
+def _materials_from(entries, where: str, user: bool) -> list[Material]:
+    required = [k for k in MATERIAL_KEYS if k not in ("description", *OPTIONAL_MATERIAL_FIELDS)]
+    required = required if user else [k for k in required if k != "source"]
+    out = []
+    for name, key, entry in _entries(entries, f"{where} materials" if user else where, MATERIAL_KEYS, required):
+        values = {field: (_quantity(entry[k], kind, f"{key}.{k}") if entry.get(k) is not None
+                          else OPTIONAL_MATERIAL_FIELDS[k])
+                  for k, (field, kind) in _MATERIAL_FIELDS.items()}
+        if not 0 <= values["poisson"] < 0.5:
+            raise CatalogueError(f"{key}.poisson: {values['poisson']!r} must be at least 0 and less than 0.5")
+        out.append(Material(name=name, description=_text(entry, "description", key, False),
+                            source=_text(entry, "source", key, user), **values))
+    return out
+
+
+def _gauges_from(entries, where: str, user: bool) -> list[Gauge]:
+    required = ["name", *GAUGE_FIELDS] + (["source"] if user else [])
+    out = []
+    for name, key, entry in _entries(entries, f"{where} gauges" if user else where, GAUGE_KEYS, required):
+        values = {k: _quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}
+        out.append(Gauge(name=name, description=_text(entry, "description", key, False),
+                         source=_text(entry, "source", key, user), **values))
+    return out
+
+
+def _joined(shipped: list, file: str, kind: str, user_entries) -> dict:
+    """The shipped entries and every user catalogue's, by name; a name given twice is refused."""
+    out = {x.name: x for x in shipped}
+    owner = {x.name: file for x in shipped}
+    for where, entries in user_entries:
+        for i, x in enumerate(entries):
+            if x.name in out:
+                raise CatalogueError(f"{where} {kind}[{i}] ({x.name}).name: {x.name!r} is already in "
+                                     f"{owner[x.name]}; give the entry a name of its own")
+            out[x.name], owner[x.name] = x, where
+    return out
+
+
 @functools.lru_cache(maxsize=1)
 def materials() -> dict[str, Material]:
-    out = {}
-    for entry in _read("materials.yaml"):
-        values = {field: units.parse(entry[key], kind, f"materials.yaml {entry['name']}.{key}")
-                  for key, (field, kind) in _MATERIAL_FIELDS.items()}
-        out[entry["name"]] = Material(name=entry["name"], description=entry.get("description", ""),
-                                      source=entry.get("source", ""), **values)
-    return out
+    """Every material: the shipped ones, then the user catalogues' in force."""
+    return _joined(_materials_from(_read("materials.yaml"), "materials.yaml", False), "materials.yaml", "materials",
+                   [(f, _materials_from(c["materials"], f, True)) for f, c in _user if c.get("materials")])
 
 
 @functools.lru_cache(maxsize=1)
 def gauges() -> dict[str, Gauge]:
-    out = {}
-    for entry in _read("gauges.yaml"):
-        values = {key: units.parse(entry[key], kind, f"gauges.yaml {entry['name']}.{key}")
-                  for key, kind in GAUGE_FIELDS.items()}
-        out[entry["name"]] = Gauge(name=entry["name"], description=entry.get("description", ""),
-                                   source=entry.get("source", ""), **values)
-    return out
+    """Every strain gauge: the shipped ones, then the user catalogues' in force."""
+    return _joined(_gauges_from(_read("gauges.yaml"), "gauges.yaml", False), "gauges.yaml", "gauges",
+                   [(f, _gauges_from(c["gauges"], f, True)) for f, c in _user if c.get("gauges")])
+
+
+def shipped_material_names() -> tuple:
+    """The names of the materials that ship with the package (materials.yaml)."""
+    return tuple(entry["name"] for entry in _read("materials.yaml"))
 
 
 @functools.lru_cache(maxsize=1)
 def stock():
-    """The stock catalogue (``materials/stock.yaml``, ``spec.stock``), read and checked once."""
+    """The stock catalogue (``materials/stock.yaml``, ``spec.stock``) with the user catalogues'
+    families and tables, read and checked once."""
     from designer.spec import stock as stock_file, strict_yaml
 
     path = data_folder() / stock_file.FILE
@@ -119,7 +268,11 @@ def stock():
         raw = strict_yaml.load(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
         raise CatalogueError(f"{stock_file.FILE}: cannot be read ({path}): {exc}") from exc
-    return stock_file.parse(raw, tuple(materials()))
+    table = stock_file.parse(raw, shipped_material_names())
+    for file, content in _user:
+        if content.get("stock") is not None:
+            table = stock_file.extend(table, content["stock"], tuple(materials()), f"{file} stock")
+    return table
 
 
 def material(name: str, key: str = "material") -> Material:

@@ -166,6 +166,7 @@ class Spec:
     objective: str = "error"
     cad: CadOptions = field(default_factory=CadOptions)
     design: FixedDesign | None = None
+    catalogue: tuple = ()     # the user catalogues: (file, content) pairs (spec.catalogue.use)
 
     @property
     def bridge_factor(self) -> int:
@@ -206,6 +207,9 @@ class Spec:
             "objective": self.objective,
             "cad": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self.cad).items()},
         }
+        if self.catalogue:
+            # the content itself, so that design.json is read again without the files
+            out["catalogue"] = [{"file": f, **content} for f, content in self.catalogue]
         if self.design is not None:
             out["design"] = {"material": self.design.material, "section": self.design.section.as_dict(),
                              "stations": list(self.design.stations), "feature": self.design.feature.as_dict(),
@@ -216,16 +220,20 @@ class Spec:
 # --------------------------------------------------------------------------- reading
 
 _TOP_KEYS = ("name", "load", "electronics", "gauge", "bridge", "stations", "axes", "limits",
-             "targets", "search", "objective", "design", "cad")
+             "targets", "search", "objective", "design", "cad", "catalogue")
 
 
-def load_spec(path: str | Path) -> Spec:
+def load_spec(path: str | Path, catalogues=()) -> Spec:
+    """The spec file at ``path``; its ``catalogue`` files are read from its folder, and the user
+    catalogues ``catalogues`` (``catalogue.read_user`` pairs, from the command line) join them."""
     path = Path(path)
     text = read_text(path, SpecError)
-    return parse_spec_text(text, source=str(path), default_name=path.stem)
+    return parse_spec_text(text, source=str(path), default_name=path.stem, folder=path.parent,
+                           catalogues=catalogues)
 
 
-def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor") -> Spec:
+def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor", folder: Path | None = None,
+                    catalogues=()) -> Spec:
     try:
         raw = strict_yaml.load(text)
     except strict_yaml.StrictYamlError as exc:
@@ -243,7 +251,7 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
     if not isinstance(raw, dict):
         raise SpecError(f"{source}: a spec must be a mapping of keys such as 'load' and 'electronics', "
                         f"not {type(raw).__name__}")
-    return parse_spec(raw, default_name=default_name)
+    return parse_spec(raw, default_name=default_name, folder=folder, catalogues=catalogues)
 
 
 def _mapping(raw, key: str, allowed) -> dict:
@@ -296,8 +304,14 @@ def _boolean(value, key: str) -> bool:
     return value
 
 
-def parse_spec(raw: dict, default_name: str = "sensor") -> Spec:
+def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = None, catalogues=()) -> Spec:
+    """The spec of a loaded mapping. ``folder``: where its ``catalogue`` files are (the spec
+    file's folder; None: the working folder); ``catalogues``: user catalogues given besides
+    (``catalogue.read_user`` pairs). The spec's user catalogues are put in force first
+    (``catalogue.use``; none: the shipped catalogue alone)."""
     raw = _mapping(raw, "spec", _TOP_KEYS)
+    user = _parse_catalogue(raw.get("catalogue"), folder) + tuple(catalogues)
+    catalogue.use(user)
     name = raw.get("name", default_name)
     if not isinstance(name, str) or not name.strip():
         raise SpecError(f"name: {name!r} must be a non-empty text")
@@ -336,11 +350,36 @@ def parse_spec(raw: dict, default_name: str = "sensor") -> Spec:
                         "sections: [rectangle]")
     spec = Spec(name=name.strip(), load=load, electronics=electronics, gauge=gauge, bridge=bridge,
                 stations=len(design.stations) if design else stations, axes=axes, limits=limits,
-                targets=targets, search=search, objective=objective, cad=cad, design=design)
+                targets=targets, search=search, objective=objective, cad=cad, design=design, catalogue=user)
     if design is not None and spec.free_length < x_max:
         raise SpecError(f"design.length: {spec.free_length * 1e3:g} mm is shorter than the largest load "
                         f"position load.position[1] = {x_max * 1e3:g} mm")
     return spec
+
+
+def _parse_catalogue(raw, folder: Path | None) -> tuple:
+    """``catalogue``: a user catalogue file (a path, relative to the spec's folder), a catalogue
+    written out (a mapping, as design.json records it), or a list of either; ``(file, content)``
+    pairs."""
+    if raw is None:
+        return ()
+    items = raw if isinstance(raw, list) else [raw]
+    if not items:
+        raise SpecError("catalogue: [] must name at least one catalogue file")
+    out = []
+    for i, item in enumerate(items):
+        key = "catalogue" if not isinstance(raw, list) else f"catalogue[{i}]"
+        if isinstance(item, str) and item.strip():
+            path = Path(item).expanduser()
+            out.append(catalogue.read_user(path if path.is_absolute() or folder is None else folder / path, item))
+        elif isinstance(item, dict):
+            shown = item.get("file", key)
+            if not isinstance(shown, str) or not shown.strip():
+                raise SpecError(f"{key}.file: {shown!r} must be the catalogue's file name (text)")
+            out.append((shown, catalogue.user_content(item, shown)))
+        else:
+            raise SpecError(f"{key}: {item!r} must be the path of a catalogue file (text), or a list of them")
+    return tuple(out)
 
 
 def _parse_electronics(raw) -> Electronics:

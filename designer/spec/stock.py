@@ -136,10 +136,40 @@ def parse(raw, materials, where: str = FILE) -> StockCatalogue:
     return StockCatalogue(families, tuple(tables))
 
 
-def _families(raw, materials, where: str) -> dict:
+def extend(base: StockCatalogue, raw, materials, where: str) -> StockCatalogue:
+    """``base`` with a user catalogue's stock (``raw``: ``tables`` and, optionally, new
+    ``families``): a table may list a shipped family or a new one; a family's name, a table's
+    name and a material's family are each given once. ``materials``: every material name."""
+    if not isinstance(raw, dict) or "tables" not in raw or not set(raw) <= {"families", "tables"}:
+        raise CatalogueError(f"{where}: must be a mapping with the key 'tables' (and 'families' for new families)")
+    families = dict(base.families)
+    if raw.get("families") is not None:
+        taken = {m: f for f, names in base.families.items() for m in names}
+        for family, names in _families(raw["families"], materials, where, taken).items():
+            if family in families:
+                raise CatalogueError(f"{where} families.{family}: the family is already in {FILE}; give yours a "
+                                     "name of its own")
+            families[family] = names
+    if not isinstance(raw["tables"], list) or not raw["tables"]:
+        raise CatalogueError(f"{where} tables: must be a list of tables")
+    tables, names = list(base.tables), {t.name for t in base.tables}
+    for i, entry in enumerate(raw["tables"]):
+        table = _table(entry, i, families, where)
+        if table.name in names:
+            raise CatalogueError(f"{where} tables[{i}].name: {table.name!r} is already a table name; give the "
+                                 "table a name of its own")
+        names.add(table.name)
+        tables.append(table)
+    return StockCatalogue(families, tuple(tables))
+
+
+def _families(raw, materials, where: str, taken: dict | None = None) -> dict:
+    """Family name -> its material names. ``taken``: materials already in a family (of the shipped
+    file, for a user's families), which need not be in one of these; without it every material
+    must be."""
     if not isinstance(raw, dict) or not raw:
         raise CatalogueError(f"{where} families: must be a mapping of family names to their materials")
-    out, owner = {}, {}
+    out, owner = {}, dict(taken or {})
     for family, entry in raw.items():
         key = f"{where} families.{family}"
         if not isinstance(entry, dict):
@@ -150,7 +180,7 @@ def _families(raw, materials, where: str) -> dict:
             raise CatalogueError(f"{key}.materials: {names!r} must be a list of materials.yaml names")
         for name in names:
             if name not in materials:
-                raise CatalogueError(f"{key}.materials: {name!r} is not in materials.yaml; must be "
+                raise CatalogueError(f"{key}.materials: {name!r} is not in the catalogue; must be "
                                      f"{describe_allowed(materials)}")
             if name in owner:
                 raise CatalogueError(f"{key}.materials: {name!r} is already in the family {owner[name]!r}; a "
@@ -158,7 +188,7 @@ def _families(raw, materials, where: str) -> dict:
             owner[name] = family
         out[family] = tuple(names)
     missing = [m for m in materials if m not in owner]
-    if missing:
+    if missing and taken is None:
         raise CatalogueError(f"{where} families: the material {missing[0]!r} of materials.yaml is in no family; "
                              "add it to the family whose stock it is sold as")
     return out

@@ -1,0 +1,187 @@
+"""Users' own catalogues beside the shipped one (designer.spec.catalogue.use, spec key
+``catalogue``, ``--catalogue FILE``): tests/data/user-catalogue.yaml adds a material (6082-T6), a
+gauge (KFGS-2-120) and a stock table of 6082-T6 round bar."""
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+
+DATA = Path(__file__).resolve().parent.parent / "data"
+USER = DATA / "user-catalogue.yaml"
+
+SPEC = """name: shop-finger
+{catalogue}
+load:
+  force: [0.5 N, 20 N]
+  position: [40 mm, 110 mm]
+electronics:
+  excitation: 5 V
+  gain: 128
+  noise_rti: 50 nV
+gauge: {gauge}
+bridge: half
+limits:
+  max_deflection: 1 mm
+  width: [4 mm, 16 mm]
+  height: [3 mm, 16 mm]
+{rest}
+"""
+DESIGN = """design:
+  material: {material}
+  section: {{kind: round, diameter: 10 mm}}
+  stations: [10 mm, 30 mm]
+  feature: {{kind: none}}
+"""
+
+
+def _spec(tmp_path: Path, material="6082-T6", gauge="KFGS-2-120", catalogue="catalogue: shop.yaml", rest=None) -> Path:
+    shutil.copy(USER, tmp_path / "shop.yaml")
+    path = tmp_path / "spec.yaml"
+    rest = DESIGN.format(material=material) if rest is None else rest
+    path.write_text(SPEC.format(catalogue=catalogue, gauge=gauge, rest=rest))
+    return path
+
+
+def test_a_user_material_and_gauge_are_read_in_si_from_the_spec_s_folder(tmp_path, monkeypatch):
+    """The file's figures in SI (70 GPa, 2.1, 6.4 x 3.0 mm backing, 1500 ue), read from the spec's
+    folder whatever the working folder."""
+    from designer.spec.reader import load_spec
+
+    monkeypatch.chdir(DATA.parent)
+    spec = load_spec(_spec(tmp_path))
+    from designer.spec import catalogue
+
+    alloy = catalogue.material("6082-T6")
+    assert alloy.E == pytest.approx(70e9) and alloy.notch_length == pytest.approx(0.51e-3)
+    assert alloy.source.startswith("EN 755-2")
+    g = spec.gauge
+    assert (g.name, g.factor, g.length, g.width, g.grid_length, g.max_strain) == \
+        ("KFGS-2-120", 2.1, pytest.approx(6.4e-3), pytest.approx(3.0e-3), pytest.approx(2e-3), pytest.approx(1.5e-3))
+
+
+def test_the_model_uses_the_user_material_s_modulus(tmp_path):
+    """Reference: a beam's deflection and gauge strain go as 1/E (Euler-Bernoulli, and Timoshenko's
+    shear term too, with G = E / 2(1 + nu) at the same nu = 0.33): the same bar in the user's
+    6082-T6 (70 GPa) and the shipped 6061-T6 (68.9 GPa) differ by exactly 68.9/70."""
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.spec.reader import load_spec
+
+    results = {}
+    for material in ("6082-T6", "6061-T6"):
+        spec = load_spec(_spec(tmp_path, material=material))
+        ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
+        results[material] = ev.analysis
+    a, b = results["6082-T6"], results["6061-T6"]
+    assert float(a.deflection) / float(b.deflection) == pytest.approx(68.9 / 70, rel=1e-9)
+    assert float(a.gauge_strain[0]) / float(b.gauge_strain[0]) == pytest.approx(68.9 / 70, rel=1e-9)
+
+
+def test_design_json_carries_the_catalogue_and_is_read_again_without_the_file(tmp_path):
+    """The record's spec holds the user catalogue itself: the design is rebuilt after the file is
+    gone and with the shipped catalogue alone in force."""
+    from designer.result.designfile import parse_design
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.result.record import build_record
+    from designer.spec import catalogue
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(_spec(tmp_path))
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
+    record = json.loads(json.dumps(build_record("feasible", spec, ev)))
+    assert record["spec"]["catalogue"][0]["file"] == "shop.yaml"
+    (tmp_path / "shop.yaml").unlink()
+    catalogue.use(())
+    again = parse_design(record)
+    assert again.design.material.name == "6082-T6" and again.design.material.E == pytest.approx(70e9)
+    assert again.spec.gauge.factor == 2.1
+
+
+def test_a_spec_without_a_catalogue_puts_the_shipped_one_back(tmp_path, examples):
+    """The user's entries are in force for the spec that names them, not for the next one."""
+    from designer.spec.reader import load_spec
+
+    with_user = load_spec(_spec(tmp_path, rest="search: {materials: all}"))
+    assert "6082-T6" in with_user.search.materials
+    plain = load_spec(examples / "gripper-finger.yaml")
+    assert "6082-T6" not in plain.search.materials
+
+
+def test_a_user_stock_table_gives_the_section(tmp_path):
+    """With ``stock: metric`` the user's 6082-T6 is cut from its own table's round bar: the
+    reported diameter is one of the table's rows (8, 10, 12, 16, 20 mm)."""
+    from designer.search import optimize
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(_spec(tmp_path, rest="search: {materials: [6082-T6], sections: [round], stock: metric}\n"
+                                          "targets: {force_error: 1 %, position_error: 1 mm}"))
+    found = optimize(spec)
+    best = found.best
+    assert best is not None and best.feasible
+    assert best.design.stock.table == "shop-6082-round"
+    assert round(best.design.geometry.diameter * 1e3, 6) in (8, 10, 12, 16, 20)
+
+
+BAD = {
+    # id: (change to the user catalogue, words the message must contain)
+    "wrong unit": (lambda t: t.replace("E: 70 GPa", "E: 70 kg"), ["shop.yaml", "materials[0]", "6082-T6", ".E", "70 kg"]),
+    "missing field": (lambda t: t.replace("    density: 2700 kg/m^3\n", ""), ["shop.yaml", "6082-T6", "density", "missing"]),
+    "no source": (lambda t: t.replace('    source: "Kyowa KFGS datasheet"\n', ""), ["shop.yaml", "KFGS-2-120", "source"]),
+    "shipped name": (lambda t: t.replace("- name: 6082-T6", "- name: 6061-T6"), ["shop.yaml", "6061-T6", "already in materials.yaml"]),
+    "unknown key": (lambda t: t.replace("    factor: 2.1", "    factor: 2.1\n    colour: red"), ["shop.yaml", "KFGS-2-120", "colour", "unknown key"]),
+    "twice in the file": (lambda t: t.replace("gauges:\n", "gauges:\n  - {name: KFGS-2-120, factor: 2.1, resistance: 120 ohm, "
+                                              "grid_length: 2 mm, grid_width: 1.6 mm, length: 6.4 mm, width: 3 mm, "
+                                              "max_strain: 1500 ue, source: x}\n"), ["shop.yaml", "gauges[1]", "KFGS-2-120", "already in shop.yaml"]),
+    "shipped table name": (lambda t: t.replace("name: shop-6082-round", "name: al-round-metric"), ["shop.yaml", "al-round-metric", "already a table name"]),
+    "unknown family": (lambda t: t.replace("family: shop-aluminium", "family: nope"), ["shop.yaml", "family", "nope"]),
+    "not a mapping": (lambda t: "- 1\n- 2\n", ["shop.yaml", "mapping"]),
+}
+
+
+@pytest.mark.parametrize("key", BAD)
+def test_a_bad_user_catalogue_exits_2_naming_file_entry_and_key(tmp_path, capsys, key):
+    from designer.cli import main
+
+    change, words = BAD[key]
+    spec = _spec(tmp_path)
+    (tmp_path / "shop.yaml").write_text(change(USER.read_text()))
+    assert main(["evaluate", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "Traceback" not in err[0]
+    for word in words:
+        assert word in err[0], (word, err[0])
+    assert not (tmp_path / "out" / "design.json").exists()
+
+
+def test_a_missing_catalogue_file_and_a_bad_key_exit_2(tmp_path, capsys):
+    from designer.cli import main
+
+    spec = _spec(tmp_path, catalogue="catalogue: nowhere.yaml")
+    assert main(["evaluate", str(spec), "-o", str(tmp_path / "out")]) == 2
+    assert "nowhere.yaml: no such file" in capsys.readouterr().err
+    spec = _spec(tmp_path, catalogue="catalogue: 5")
+    assert main(["evaluate", str(spec), "-o", str(tmp_path / "out")]) == 2
+    assert "catalogue: 5 must be the path of a catalogue file" in capsys.readouterr().err
+    spec = _spec(tmp_path, catalogue="")
+    assert main(["evaluate", str(spec), "-o", str(tmp_path / "out"), "--catalogue", str(tmp_path / "none.yaml")]) == 2
+    assert "none.yaml: no such file" in capsys.readouterr().err
+
+
+def test_the_command_line_catalogue_joins_the_spec_and_the_listing(tmp_path, capsys, monkeypatch):
+    """``--catalogue FILE``: the spec needs no ``catalogue:`` key, and ``materials`` lists the
+    user's entries beside the shipped ones."""
+    from designer.cli import main
+
+    spec = _spec(tmp_path, catalogue="")
+    out = tmp_path / "out"
+    assert main(["evaluate", str(spec), "-o", str(out), "--no-cad", "--no-plots",
+                 "--catalogue", str(tmp_path / "shop.yaml")]) == 0
+    record = json.loads((out / "design.json").read_text())
+    assert record["design"]["material"] == "6082-T6"
+    capsys.readouterr()
+    assert main(["materials", "--json", "--catalogue", str(tmp_path / "shop.yaml")]) == 0
+    listing = json.loads(capsys.readouterr().out)
+    assert "6082-T6" in {m["name"] for m in listing["materials"]}
+    assert "KFGS-2-120" in {g["name"] for g in listing["gauges"]}
+    assert "shop-6082-round" in {t["name"] for t in listing["stock"]}
