@@ -120,20 +120,11 @@ def parse(raw, materials, where: str = FILE) -> StockCatalogue:
     if not isinstance(raw, dict) or set(raw) != {"families", "tables"}:
         raise CatalogueError(f"{where}: must be a mapping with the keys 'families' and 'tables'")
     families = _families(raw["families"], materials, where)
-    tables, names = [], set()
-    if not isinstance(raw["tables"], list) or not raw["tables"]:
-        raise CatalogueError(f"{where} tables: must be a list of tables")
-    for i, entry in enumerate(raw["tables"]):
-        table = _table(entry, i, families, where)
-        if table.name in names:
-            raise CatalogueError(f"{where} tables[{i}].name: {table.name!r} is used twice; each table needs a name "
-                                 "of its own")
-        names.add(table.name)
-        tables.append(table)
+    tables = _with_tables((), raw["tables"], families, where)
     for family in families:
         if not any(t.family == family for t in tables):
             raise CatalogueError(f"{where} families.{family}: no table lists this family; add one or remove it")
-    return StockCatalogue(families, tuple(tables))
+    return StockCatalogue(families, tables)
 
 
 def extend(base: StockCatalogue, raw, materials, where: str) -> StockCatalogue:
@@ -150,17 +141,22 @@ def extend(base: StockCatalogue, raw, materials, where: str) -> StockCatalogue:
                 raise CatalogueError(f"{where} families.{family}: the family is already in {FILE}; give yours a "
                                      "name of its own")
             families[family] = names
-    if not isinstance(raw["tables"], list) or not raw["tables"]:
+    return StockCatalogue(families, _with_tables(base.tables, raw["tables"], families, where))
+
+
+def _with_tables(tables: tuple, raw, families: dict, where: str) -> tuple:
+    """``tables`` and the tables of the list ``raw``, each name used once."""
+    if not isinstance(raw, list) or not raw:
         raise CatalogueError(f"{where} tables: must be a list of tables")
-    tables, names = list(base.tables), {t.name for t in base.tables}
-    for i, entry in enumerate(raw["tables"]):
+    out, names = list(tables), {t.name for t in tables}
+    for i, entry in enumerate(raw):
         table = _table(entry, i, families, where)
         if table.name in names:
-            raise CatalogueError(f"{where} tables[{i}].name: {table.name!r} is already a table name; give the "
-                                 "table a name of its own")
+            raise CatalogueError(f"{where} tables[{i}].name: {table.name!r} is used twice; each table needs a name "
+                                 "of its own")
         names.add(table.name)
-        tables.append(table)
-    return StockCatalogue(families, tuple(tables))
+        out.append(table)
+    return tuple(out)
 
 
 def _families(raw, materials, where: str, taken: dict | None = None) -> dict:

@@ -133,7 +133,7 @@ BAD = {
     "twice in the file": (lambda t: t.replace("gauges:\n", "gauges:\n  - {name: KFGS-2-120, factor: 2.1, resistance: 120 ohm, "
                                               "grid_length: 2 mm, grid_width: 1.6 mm, length: 6.4 mm, width: 3 mm, "
                                               "max_strain: 1500 ue, source: x}\n"), ["shop.yaml", "gauges[1]", "KFGS-2-120", "already in shop.yaml"]),
-    "shipped table name": (lambda t: t.replace("name: shop-6082-round", "name: al-round-metric"), ["shop.yaml", "al-round-metric", "already a table name"]),
+    "shipped table name": (lambda t: t.replace("name: shop-6082-round", "name: al-round-metric"), ["shop.yaml", "al-round-metric", "used twice"]),
     "unknown family": (lambda t: t.replace("family: shop-aluminium", "family: nope"), ["shop.yaml", "family", "nope"]),
     "not a mapping": (lambda t: "- 1\n- 2\n", ["shop.yaml", "mapping"]),
 }
