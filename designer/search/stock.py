@@ -51,9 +51,12 @@ def stock_rows(problem: FamilyProblem, material) -> tuple[list, str]:
     rows = table.rows(material.name, fam.section, spec.search.stock, spec.axes)
     systems = "metric and imperial" if spec.search.stock == "any" else spec.search.stock
     shapes = {"round": "round bar", "tube": "round tube", "rectangle": "flat or square bar"}[fam.section]
+    if family is None:
+        return [], (f"{material.name} is in no stock family (a catalogue of your own gives its materials one "
+                    "under stock.families): this family is infeasible on stock")
     if not rows:
-        return [], (f"no {systems} stock {shapes} of {material.name} ({family}) in stock.yaml: this family "
-                    "is infeasible on stock")
+        return [], (f"no {systems} stock {shapes} of {material.name} ({family}) in the stock catalogue: this "
+                    "family is infeasible on stock")
     index = {name: i for i, name in enumerate(problem.names)}
     fitting = []
     for item, values in rows:

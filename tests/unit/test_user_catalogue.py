@@ -185,3 +185,14 @@ def test_the_command_line_catalogue_joins_the_spec_and_the_listing(tmp_path, cap
     assert "6082-T6" in {m["name"] for m in listing["materials"]}
     assert "KFGS-2-120" in {g["name"] for g in listing["gauges"]}
     assert "shop-6082-round" in {t["name"] for t in listing["stock"]}
+
+
+def test_a_user_material_without_a_stock_family_has_no_stock_and_says_so(tmp_path, capsys):
+    from designer.cli import main
+
+    spec = _spec(tmp_path, rest="search: {materials: [6082-T6], sections: [round], stock: metric}")
+    text = (tmp_path / "shop.yaml").read_text()
+    (tmp_path / "shop.yaml").write_text(text[:text.index("stock:")])
+    assert main(["optimize", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "6082-T6 is in no stock family" in err and "stock.families" in err
