@@ -178,8 +178,11 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
 
 
 # The variables that rounding holds at their grid values (and a stock row holds at its sizes)
-# while the others are solved again.
+# while the others are solved again; the grid step in the NLP's units (mm), and how many steps
+# the search on the grid takes at most from the rounded sizes' best combination.
 SECTION_VARIABLES = ("width", "height", "side", "diameter", "wall")
+GRID_MM = 0.01
+GRID_STEPS = 10
 
 
 def on_stock(problems: dict, candidates: list) -> list:
@@ -218,24 +221,40 @@ def _continuous_key(cand: Candidate):
 
 def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list):
     """``(Solve, Evaluation)``: the best checked design with the section sizes on the 0.01 mm grid
-    next to the answer (each combination of rounding down and up) and the other variables solved
-    again with them held; None when no combination gives a design that meets every limit (or,
-    under the error objective, misses only the targets)."""
+    near the answer and the other variables solved again with them held; None when no such design
+    meets every limit (or, under the error objective, misses only the targets). The sizes start
+    from each combination of rounding down and up; from the best of those, a step of 0.01 mm up
+    or down in one size at a time is taken while it gives a better design (at most
+    GRID_STEPS steps): the rounded sizes' best neighbour need not be the grid's best point (the
+    bench suite's 029-long-beam: 0.12 % better two steps away)."""
     index = [i for i, name in enumerate(problem.names) if name in SECTION_VARIABLES]
     choices = [[v / MM for v in floor_ceil(float(s.x[i]) * MM)] for i in index]
-    found = []
-    for combo in itertools.product(*choices):
-        s2 = problem.solve_ipopt(params, s.x, fixed=dict(zip(index, combo)))
-        solves.append(s2)
-        if not s2.success:
-            continue
-        ev2 = round_and_check(problem.design(s2.x, material), problem.spec)
-        if ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph)):
-            found.append((s2, ev2))
+    tried: dict = {}
+
+    def held(combo):
+        key = tuple(round(v / GRID_MM) for v in combo)
+        if key not in tried:
+            s2 = problem.solve_ipopt(params, s.x, fixed=dict(zip(index, combo)))
+            solves.append(s2)
+            ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
+            ok = ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph))
+            tried[key] = (s2, ev2) if ok else None
+        return tried[key]
+
+    found = [f for f in map(held, itertools.product(*choices)) if f is not None]
     if not found:
         return None
     best = pick([ev for _, ev in found])
-    return next((s2, ev2) for s2, ev2 in found if ev2 is best)
+    here = next(f for f in found if f[1] is best)
+    for _ in range(GRID_STEPS):
+        centre = [here[0].x[i] for i in index]
+        steps = [centre[:k] + [centre[k] + sign * GRID_MM] + centre[k + 1:] for k in range(len(index)) for sign in (-1, 1)]
+        moves = [f for f in map(held, steps) if f is not None]
+        better = pick([here[1]] + [ev for _, ev in moves])
+        if better is here[1] or not better.objective < here[1].objective:
+            break
+        here = next(f for f in moves if f[1] is better)
+    return here
 
 
 def _unmachinable(spec, fam: Family) -> str:
