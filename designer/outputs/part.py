@@ -80,6 +80,7 @@ class BeamCad:
     clamp: Clamp
     channels: Channels | None
     grooves: Grooves | None
+    stock: str = ""            # the stock item the section is cut from ("round bar Ø10 mm (EN 754-3)"); "" if none
 
     @property
     def radius(self) -> float:

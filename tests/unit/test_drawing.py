@@ -40,6 +40,23 @@ def test_drawing_of_slot_pockets_gives_pocket_length_width_depth_and_tool():
     assert "3x LOAD GROOVE 0.5 WIDE x 0.3 DEEP ALL AROUND" in texts
 
 
+def test_a_stock_design_s_drawing_names_its_stock_item_and_a_bad_one_is_refused():
+    """The section of a stock design is the supplier's: the notes name the item as design.json
+    records it; a design without stock names none; a stock entry without its label is refused."""
+    from designer.errors import DesignFileError
+    from designer.outputs import drawing
+
+    r = record("prototype_b")
+    label = "flat bar 1/2 × 1/2 in (ASTM B211 / B221)"
+    r["design"]["stock"] = {"label": label, "shape": "square bar"}
+    fig = drawing.plot_drawing(cad.resolve(r))
+    assert f"Stock: {label}; its section is used as supplied." in "\n".join(t.get_text() for t in fig.axes[0].texts)
+    assert "Stock:" not in drawing_texts("prototype_b")
+    r["design"]["stock"] = {"shape": "square bar"}
+    with pytest.raises(DesignFileError, match="design.stock"):
+        cad.resolve(r)
+
+
 def test_drawing_of_flats_gives_across_flats_and_bore():
     lines = drawing_texts("tube_flats").splitlines()
     for expected in ["18", "Ø15", "Ø20", "(8.72)", "20", "50", "80", "200"]:

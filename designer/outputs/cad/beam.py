@@ -173,7 +173,18 @@ def resolve(record: dict) -> BeamCad:
                    width=width, height=height, wall=wall, length=length, stations=stations, axes=axes,
                    feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
                    hole_diameter=hole, end_mill=end_mill, floor_radius=corner, gauge_name=gauge_name,
-                   gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves)
+                   gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves,
+                   stock=_stock_label(d.get("stock")))
+
+
+def _stock_label(stock) -> str:
+    """The stock item's label of a design.json ``design.stock`` ("" when the section is not from stock)."""
+    if stock is None:
+        return ""
+    label = stock.get("label") if isinstance(stock, dict) else None
+    if not isinstance(label, str) or not label.strip():
+        raise DesignFileError(f"design.stock: {stock!r} must be a stock item with its label, as optimize writes it")
+    return label.strip()
 
 
 def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:

@@ -277,6 +277,8 @@ def _notes(pen, beam: BeamCad, X) -> None:
     if beam.section == "tube":
         lines.append(f"{len(lines)}. Bore Ø{fmt_mm(beam.width - 2 * beam.wall)} from the free end to the clamp face; "
                      "the clamp block is solid.")
+    if beam.stock:
+        lines.append(f"{len(lines)}. Stock: {beam.stock}; its section is used as supplied.")
     if X.gaps:
         lines.append(f"{len(lines)}. Long plain lengths are shown broken; the dimensions give the true lengths.")
     y = 60.0
