@@ -12,7 +12,7 @@ from scipy.optimize import OptimizeResult
 
 from designer import model
 from designer.errors import SolverError, SpecError, describe_allowed
-from designer.result.evaluation import Evaluation
+from designer.result.evaluation import ROUNDING, Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
 from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
@@ -181,7 +181,7 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
 # while the others are solved again; the grid step in the NLP's units (mm), and how many steps
 # the search on the grid takes at most from the rounded sizes' best combination.
 SECTION_VARIABLES = ("width", "height", "side", "diameter", "wall")
-GRID_MM = 0.01
+GRID_MM = ROUNDING / MM
 GRID_STEPS = 10
 
 
@@ -248,7 +248,8 @@ def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: lis
     here = next(f for f in found if f[1] is best)
     for _ in range(GRID_STEPS):
         centre = [here[0].x[i] for i in index]
-        steps = [centre[:k] + [centre[k] + sign * GRID_MM] + centre[k + 1:] for k in range(len(index)) for sign in (-1, 1)]
+        steps = [centre[:k] + [centre[k] + sign * GRID_MM] + centre[k + 1:]
+                 for k in range(len(index)) for sign in (-1, 1)]
         moves = [f for f in map(held, steps) if f is not None]
         better = pick([here[1]] + [ev for _, ev in moves])
         if better is here[1] or not better.objective < here[1].objective:

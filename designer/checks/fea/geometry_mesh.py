@@ -454,12 +454,19 @@ def _tetrahedra():
     return np.ascontiguousarray(points), np.ascontiguousarray(t.reshape(4, -1))
 
 
-def _flat_tetrahedra(points: np.ndarray, tets: np.ndarray) -> bool:
-    """Whether a tetrahedron's volume is below FLAT_TETRAHEDRON of a regular one's on its longest edge."""
+def tetrahedron_shapes(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The squared lengths of the six edges (6, E) and the volumes (E,) of the tetrahedra ``tets``
+    (4, E); a regular tetrahedron on edge ``L`` has ``L^3 / (6 sqrt 2)``."""
     x = points[:, tets]                                                   # (3, 4, E)
     edges = x[:, [1, 2, 3, 2, 3, 3]] - x[:, [0, 0, 0, 1, 1, 2]]           # (3, 6, E)
-    longest = np.sqrt(np.max(np.sum(edges ** 2, axis=0), axis=0))
     volume = np.abs(np.einsum("ie,ie->e", edges[:, 0], np.cross(edges[:, 1], edges[:, 2], axis=0))) / 6
+    return np.sum(edges ** 2, axis=0), volume
+
+
+def _flat_tetrahedra(points: np.ndarray, tets: np.ndarray) -> bool:
+    """Whether a tetrahedron's volume is below FLAT_TETRAHEDRON of a regular one's on its longest edge."""
+    squared, volume = tetrahedron_shapes(points, tets)
+    longest = np.sqrt(np.max(squared, axis=0))
     return bool(np.any(volume < FLAT_TETRAHEDRON * longest ** 3 / (6 * np.sqrt(2))))
 
 

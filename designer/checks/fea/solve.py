@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from designer.checks.fea.geometry_mesh import PLANE_TOLERANCE, Problem
+from designer.checks.fea.geometry_mesh import PLANE_TOLERANCE, Problem, tetrahedron_shapes
 from designer.errors import SolverError
 
 # Conjugate gradients: relative residual, iteration cap; damping of the Jacobi smoother as a
@@ -210,10 +210,8 @@ def _sliver_dofs(points: np.ndarray, tets: np.ndarray, element_dofs: np.ndarray,
     """The free dofs of the tetrahedra whose volume is below SLIVER_QUALITY of a regular one's on
     their root-mean-square edge, at most the worst MAX_SLIVER_SHARE of the tetrahedra (sorted;
     empty when the mesh has none)."""
-    x = points[:, tets]                                                   # (3, 4, E)
-    edges = x[:, [1, 2, 3, 2, 3, 3]] - x[:, [0, 0, 0, 1, 1, 2]]           # (3, 6, E)
-    rms = np.sqrt(np.mean(np.sum(edges ** 2, axis=0), axis=0))
-    volume = np.abs(np.einsum("ie,ie->e", edges[:, 0], np.cross(edges[:, 1], edges[:, 2], axis=0))) / 6
+    squared, volume = tetrahedron_shapes(points, tets)
+    rms = np.sqrt(np.mean(squared, axis=0))
     quality = volume / (rms ** 3 / (6 * np.sqrt(2)))
     worst = np.argsort(quality)[:int(MAX_SLIVER_SHARE * len(quality))]
     slivers = worst[quality[worst] < SLIVER_QUALITY]
