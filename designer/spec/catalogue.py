@@ -19,7 +19,7 @@ from pathlib import Path
 
 import yaml
 
-from designer.spec import units
+from designer.spec import stock as stock_file, units
 from designer.errors import CatalogueError, FpdError, SpecError, describe_allowed
 
 
@@ -90,13 +90,16 @@ def data_folder() -> Path:
 USER_KEYS = ("file", "materials", "gauges", "stock")
 MATERIAL_KEYS = ("name", "description", "source", *_MATERIAL_FIELDS)
 OPTIONAL_MATERIAL_FIELDS = {"notch_length": 0.0}   # 0: fully notch sensitive (K_f = K_t)
+MATERIAL_SIGNS = {"poisson": "any", "notch_length": "zero or positive"}   # the others: positive
 GAUGE_KEYS = ("name", "description", "source", *GAUGE_FIELDS)
 
 # The user catalogues in force: ``(file, content)`` pairs (``use``).
 _user: tuple = ()
 
 
+@functools.lru_cache(maxsize=None)
 def _read(name: str) -> list[dict]:
+    """A shipped catalogue file's entries, read once (never changed by their readers)."""
     path = data_folder() / name
     try:
         entries = yaml.safe_load(path.read_text(encoding="utf-8"))
@@ -123,11 +126,6 @@ def use(catalogues) -> None:
     except BaseException:
         use(previous)
         raise
-
-
-def in_use() -> tuple:
-    """The user catalogues in force, ``(file, content)`` pairs."""
-    return _user
 
 
 def read_user(path: str | Path, shown: str | None = None) -> tuple[str, dict]:
@@ -171,23 +169,20 @@ def _entries(entries, where: str, keys, required) -> list[tuple[str, str, dict]]
         if not isinstance(name, str) or not name.strip():
             raise CatalogueError(f"{where}[{i}].name: {name!r} must be a name (text)")
         key = f"{where}[{i}] ({name})"
-        unknown = [k for k in entry if k not in keys]
-        if unknown:
-            raise CatalogueError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(keys)}")
-        missing = [k for k in required if entry.get(k) is None]
-        if missing:
-            raise CatalogueError(f"{key}.{missing[0]}: missing; it is required")
+        stock_file.known_keys(entry, keys, key)
+        for k in required:
+            stock_file.required(entry, k, key)
         out.append((name.strip(), key, entry))
     return out
 
 
-def _quantity(value, kind: str, key: str) -> float:
-    """A figure with its unit, in SI: positive, except Poisson's ratio (checked by its caller) and
-    a notch length (0: fully notch sensitive)."""
+def _quantity(value, kind: str, key: str, sign: str = "positive") -> float:
+    """A figure with its unit, in SI; ``sign``: ``positive``, ``zero or positive`` (a notch length:
+    0 is fully notch sensitive) or ``any`` (Poisson's ratio, whose range its caller checks)."""
     try:
-        if key.endswith(".poisson"):
+        if sign == "any":
             return units.parse(value, kind, key)
-        return units.parse_positive(value, kind, key, allow_zero=key.endswith(".notch_length"))
+        return units.parse_positive(value, kind, key, allow_zero=sign == "zero or positive")
     except SpecError as exc:
         raise CatalogueError(str(exc)) from exc
 
@@ -205,8 +200,8 @@ def _materials_from(entries, where: str, user: bool) -> list[Material]:
     required = required if user else [k for k in required if k != "source"]
     out = []
     for name, key, entry in _entries(entries, f"{where} materials" if user else where, MATERIAL_KEYS, required):
-        values = {field: (_quantity(entry[k], kind, f"{key}.{k}") if entry.get(k) is not None
-                          else OPTIONAL_MATERIAL_FIELDS[k])
+        values = {field: (_quantity(entry[k], kind, f"{key}.{k}", MATERIAL_SIGNS.get(k, "positive"))
+                          if entry.get(k) is not None else OPTIONAL_MATERIAL_FIELDS[k])
                   for k, (field, kind) in _MATERIAL_FIELDS.items()}
         if not 0 <= values["poisson"] < 0.5:
             raise CatalogueError(f"{key}.poisson: {values['poisson']!r} must be at least 0 and less than 0.5")
@@ -261,7 +256,7 @@ def shipped_material_names() -> tuple:
 def stock():
     """The stock catalogue (``materials/stock.yaml``, ``spec.stock``) with the user catalogues'
     families and tables, read and checked once."""
-    from designer.spec import stock as stock_file, strict_yaml
+    from designer.spec import strict_yaml
 
     path = data_folder() / stock_file.FILE
     try:

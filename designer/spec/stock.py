@@ -170,8 +170,8 @@ def _families(raw, materials, where: str, taken: dict | None = None) -> dict:
         key = f"{where} families.{family}"
         if not isinstance(entry, dict):
             raise CatalogueError(f"{key}: must be a mapping with keys {describe_allowed(FAMILY_KEYS)}")
-        _known_keys(entry, FAMILY_KEYS, key)
-        names = _required(entry, "materials", key)
+        known_keys(entry, FAMILY_KEYS, key)
+        names = required(entry, "materials", key)
         if not isinstance(names, list) or not names:
             raise CatalogueError(f"{key}.materials: {names!r} must be a list of materials.yaml names")
         for name in names:
@@ -197,8 +197,8 @@ def _table(entry, i: int, families: dict, where: str) -> StockTable:
     if not isinstance(name, str) or not name.strip():
         raise CatalogueError(f"{where} tables[{i}].name: {name!r} must be a name (text)")
     key = f"{where} {name}"
-    _known_keys(entry, TABLE_KEYS, key)
-    values = {k: _required(entry, k, key) for k in TABLE_KEYS}
+    known_keys(entry, TABLE_KEYS, key)
+    values = {k: required(entry, k, key) for k in TABLE_KEYS}
     for k in ("family", "shape", "system", "unit", "standard", "source"):
         if not isinstance(values[k], str) or not values[k].strip():
             raise CatalogueError(f"{key}.{k}: {values[k]!r} must be text")
@@ -264,13 +264,13 @@ def _size(value, key: str) -> float:
     return float(value)
 
 
-def _required(entry: dict, k: str, key: str):
+def required(entry: dict, k: str, key: str):
     if entry.get(k) is None:
         raise CatalogueError(f"{key}.{k}: missing; it is required")
     return entry[k]
 
 
-def _known_keys(entry: dict, allowed, key: str) -> None:
+def known_keys(entry: dict, allowed, key: str) -> None:
     unknown = [k for k in entry if k not in allowed]
     if unknown:
         raise CatalogueError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(allowed)}")
