@@ -29,8 +29,15 @@ IPOPT_MAX_ITER = 300
 #: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
 #: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
 #: "NaN detected" on standard error for every such trial, which is noise to the user.
+#: ``expect_infeasible_problem``: IPOPT turns to its restoration phase as soon as the constraint
+#: violation stops falling, and so ends a locally infeasible solve in about a third of the
+#: iterations. With the feature corrections' fitted domain most materials x families of a
+#: tightly specified spec are infeasible (the weigh-bar example: 22 of 27), and proving it was
+#: most of the search's time; on the bench suite every feasible spec gets the same answer
+#: (benchmarks/bench_optimize.py).
 IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.constr_viol_tol": 1e-9,
-                 "ipopt.mu_strategy": "adaptive", "error_on_fail": False, "show_eval_warnings": False}
+                 "ipopt.mu_strategy": "adaptive", "ipopt.expect_infeasible_problem": "yes",
+                 "error_on_fail": False, "show_eval_warnings": False}
 EPIGRAPH_UPPER = 1e6
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
