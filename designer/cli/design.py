@@ -320,18 +320,29 @@ def _stock_entry(table, stock) -> dict:
                       for item in table.items]}
 
 
+def _span(values) -> str:
+    """A few values listed, more as their range and count: ``10, 80``; ``1–128 (8)``."""
+    if len(values) <= 2:
+        return ", ".join(f"{v:g}" for v in values)
+    return f"{values[0]:g}–{values[-1]:g} ({len(values)})"
+
+
 def run_materials(args) -> int:
     import json
     from dataclasses import asdict
 
     from designer.spec import catalogue
 
+    from designer.spec import frontends
+
     catalogue.use(_user_catalogues(args))
     mats, gauges, stock = catalogue.materials(), catalogue.gauges(), catalogue.stock()
+    fronts = frontends.catalogue()
     if args.json:
         print(json.dumps({"materials": [asdict(m) for m in mats.values()],
                           "gauges": [asdict(g) for g in gauges.values()],
-                          "stock": [_stock_entry(t, stock) for t in stock.tables]}, indent=2))
+                          "stock": [_stock_entry(t, stock) for t in stock.tables],
+                          "front_ends": [asdict(f) for f in fronts.values()]}, indent=2))
         return 0
     from rich.console import Console
     from rich.table import Table
@@ -367,12 +378,25 @@ def run_materials(args) -> int:
         items = [item.designation for item in table.items]
         b.add_row(table.name, ", ".join(stock.families[table.family]), table.shape, table.standard,
                   f"{len(items)}: {items[0]} … {items[-1]}", note(table.source))
+    f = Table(title="front-ends (electronics: {adc: NAME, rate: ..., gain: ...})", box=None, padding=(0, 1))
+    for col in ("name", "kind", "gains", "rates\nHz", "noise\nnV RMS", "range\n±V_ref/gain", "source"):
+        f.add_column(col, justify="left" if col in ("name", "kind") else "right", no_wrap=True)
+    for fe in fronts.values():
+        if fe.kind == "adc":
+            noise = [rms for _, _, rms in fe.noise]
+            f.add_row(fe.name, fe.kind, _span(fe.gains()), _span(fe.rates()),
+                      f"{min(noise) * 1e9:.3g}–{max(noise) * 1e9:.0f}", f"{fe.full_scale:g}", note(fe.source))
+        else:
+            f.add_row(fe.name, fe.kind, f"{fe.gain_range[0]:g}–{fe.gain_range[1]:g}", "any",
+                      f"{fe.noise_density * 1e9:.3g}/√Hz", f"{fe.full_scale:g}", note(fe.source))
     console = Console(highlight=False)
     console.print(t)
     console.print()
     console.print(g)
     console.print()
     console.print(b)
+    console.print()
+    console.print(f)
     console.print()
     console.print("sources:")
     for i, source in enumerate(sources, 1):

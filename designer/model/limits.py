@@ -85,6 +85,13 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]
+    front_end = spec.front_end_noise
+    if front_end is not None:
+        # the bridge's output at F_max, x_max (station 1, the largest) inside the front-end's input range
+        e = spec.electronics
+        signal = e.excitation * spec.gauge.factor * spec.bridge_factor * a.gauge_strain[0] / 4
+        out.append(Limit("adc_range", signal, front_end.full_scale / (1 + allowance), unit="V",
+                         rating=front_end.full_scale))
     if lim.fatigue and g.feature != "none":
         room = corrections.stress_allowance(g, table)
         out.append(Limit("fatigue_feature", a.stress_fatigue, m.allowable / (1 + room), unit="Pa", rating=m.allowable))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 # How each limit's unit is shown: (SI unit) -> (label, factor)
-_DISPLAY = {"Pa": ("MPa", 1e-6), "m": ("mm", 1e3), "strain": ("µε", 1e6), "Hz": ("Hz", 1.0), "": ("", 1.0)}
+_DISPLAY = {"V": ("mV", 1e3), "Pa": ("MPa", 1e-6), "m": ("mm", 1e3), "strain": ("µε", 1e6), "Hz": ("Hz", 1.0), "": ("", 1.0)}
 _PERCENT_LIMITS = {"force_error"}
 
 
@@ -72,6 +72,8 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("mass (free length)", f"{p['mass'] * 1e3:.4g} g"),
         ("first natural frequency", f"{p['natural_frequency']:.4g} Hz"),
     ]
+    if p.get("front_end"):
+        rows += front_end_rows(p["front_end"])
     if d.get("stock"):
         rows.insert(3, ("stock", d["stock"]["label"]))
     if record.get("stock"):
@@ -82,6 +84,23 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
     if rounds:
         rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def front_end_rows(fe: dict) -> list[tuple[str, str]]:
+    """The front-end's setting, the full-load output in mV/V and counts, and its noise."""
+    n = fe["noise"]
+    setting = f"{fe['name']}, gain {fe['gain']:g}, {fe['rate']:g} Hz, {fe['bits']} bits"
+    output = " / ".join(f"{v * 1e3:.3g}" for v in fe["output_per_volt"])
+    counts = " / ".join(f"{c:,.0f}" for c in fe["output_counts"])
+    half = 2 ** (fe["bits"] - 1)
+    return [
+        ("front-end", setting),
+        ("output at F_max, x_max", f"{output} mV/V of ±{fe['full_scale_per_volt'] * 1e3:.3g} mV/V "
+                                   f"({counts} counts of ±{half:,})"),
+        ("noise (bridge output, RMS)", f"{n['total'] * 1e9:.3g} nV = {fe['noise_counts']:.3g} counts "
+                                       f"(converter {n['converter'] * 1e9:.3g}, bridge Johnson "
+                                       f"{n['johnson'] * 1e9:.2g}, quantisation {n['quantisation'] * 1e9:.2g} nV)"),
+    ]
 
 
 def objective_text(value: float, objective: str) -> str:

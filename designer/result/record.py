@@ -21,11 +21,38 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
         "solver": dict(solver or {"method": "none", "seconds": 0.0, "evaluations": 0}),
         "messages": list(messages),
     }
+    front_end = front_end_record(spec, evaluation)
+    if front_end is not None:
+        record["predicted"]["front_end"] = front_end
     if evaluation.large_deflection:
         record["messages"].append(large_deflection_message(evaluation))
     if extra:
         record.update(extra)
     return record
+
+
+def front_end_record(spec, evaluation: Evaluation) -> dict | None:
+    """The catalogue front-end's figures for the design (docs/spec.md §4): its setting, the
+    bridge output at F_max, x_max per station in V/V and in counts, the input range, and the
+    noise referred to the bridge output, part by part (V RMS) and in counts; None without one."""
+    fe = spec.front_end_noise
+    if fe is None:
+        return None
+    e = spec.electronics
+    per_strain = spec.gauge.factor * spec.bridge_factor / 4
+    output = [per_strain * float(s) for s in evaluation.analysis.gauge_strain]
+    entry = e.front_end
+    return {
+        "name": e.adc, "kind": entry.kind, "gain": e.gain, "rate": e.rate,
+        "bits": entry.resolution if e.bits is None else e.bits,
+        "full_scale": fe.full_scale, "full_scale_per_volt": fe.full_scale / e.excitation,
+        "output_per_volt": output, "output_counts": [v * e.excitation / fe.step for v in output],
+        "counts_per_volt": fe.counts_per_volt,
+        "noise": {"converter": fe.converter, "johnson": fe.johnson, "quantisation": fe.quantisation,
+                  "total": fe.total},
+        "noise_counts": fe.total / fe.step,
+        "source": entry.source,
+    }
 
 
 def search_record(spec, found) -> dict:

@@ -18,6 +18,8 @@ from designer.spec.catalogue import Gauge
 from designer.spec.stock import STOCK_CHOICES
 from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
+from designer.spec.electronics import Electronics, parse_electronics
+from designer.spec.keys import mapping as _mapping, required as _required
 
 SECTION_KINDS = ("rectangle", "round", "tube")
 FEATURE_KINDS = ("pocket", "hole", "none")
@@ -43,15 +45,6 @@ class Load:
     force_max: float
     position_min: float    # m from the clamp face
     position_max: float
-
-
-@dataclass(frozen=True)
-class Electronics:
-    excitation: float                  # V
-    gain: float
-    noise: float | None = None         # sigma_V at the amplifier output, V
-    noise_rti: float | None = None     # referred to the bridge input, V
-    noise_strain: float | None = None  # as an equivalent strain
 
 
 @dataclass(frozen=True)
@@ -177,8 +170,20 @@ class Spec:
     def sigma_v(self) -> float:
         """Noise per channel at the amplifier output, V (docs/model.md §3)."""
         e = self.electronics
+        if e.adc is not None:
+            return e.gain * self.front_end_noise.total
         return output_noise(e.excitation, e.gain, self.gauge.factor, self.bridge_factor, e.noise, e.noise_rti,
                             e.noise_strain)
+
+    @property
+    def front_end_noise(self):
+        """The catalogue front-end's noise and range (``model.FrontEndNoise``), None without one."""
+        e = self.electronics
+        if e.adc is None:
+            return None
+        from designer.model.electronics import front_end_noise
+
+        return front_end_noise(e.front_end, e.gain, e.rate, e.excitation, self.gauge.resistance, e.bits, e.reference)
 
     @property
     def free_length(self) -> float:
@@ -254,23 +259,6 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
     return parse_spec(raw, default_name=default_name, folder=folder, catalogues=catalogues)
 
 
-def _mapping(raw, key: str, allowed) -> dict:
-    if raw is None:
-        return {}
-    if not isinstance(raw, dict):
-        raise SpecError(f"{key}: {raw!r} must be a mapping with keys {describe_allowed(allowed)}")
-    unknown = [k for k in raw if k not in allowed]
-    if unknown:
-        raise SpecError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(allowed)}")
-    return raw
-
-
-def _required(raw: dict, key: str, parent: str):
-    if key not in raw or raw[key] is None:
-        raise SpecError(f"{parent}.{key}: missing; it is required" if parent else f"{key}: missing; it is required")
-    return raw[key]
-
-
 def _catalogue_name(value, key: str, lookup):
     """A catalogue entry by name; a name that is not text is refused before the look-up."""
     if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -321,7 +309,7 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
     x_min, x_max = units.parse_range(_required(load_raw, "position", "load"), "length", "load.position")
     load = Load(f_min, f_max, x_min, x_max)
 
-    electronics = _parse_electronics(_required(raw, "electronics", ""))
+    electronics = parse_electronics(_required(raw, "electronics", ""))
     gauge = _parse_gauge(raw.get("gauge"))
     bridge = _choice(raw.get("bridge", "half"), tuple(BRIDGES), "bridge")
     stations = _integer(raw.get("stations", 2), "stations", 2, 10)
@@ -380,22 +368,6 @@ def _parse_catalogue(raw, folder: Path | None) -> tuple:
         else:
             raise SpecError(f"{key}: {item!r} must be the path of a catalogue file (text), or a list of them")
     return tuple(out)
-
-
-def _parse_electronics(raw) -> Electronics:
-    keys = ("excitation", "gain", "noise", "noise_rti", "noise_strain")
-    raw = _mapping(raw, "electronics", keys)
-    excitation = units.parse_positive(_required(raw, "excitation", "electronics"), "voltage",
-                                      "electronics.excitation")
-    gain = units.parse_positive(raw.get("gain", 1.0), "ratio", "electronics.gain")
-    given = [k for k in ("noise", "noise_rti", "noise_strain") if raw.get(k) is not None]
-    if len(given) != 1:
-        what = "none is given" if not given else f"{len(given)} are given ({', '.join(given)})"
-        raise SpecError("electronics: give exactly one of [noise, noise_rti, noise_strain] "
-                        f"(RMS noise per channel); {what}")
-    kind = "strain" if given[0] == "noise_strain" else "voltage"
-    value = units.parse_positive(raw[given[0]], kind, f"electronics.{given[0]}")
-    return Electronics(excitation=excitation, gain=gain, **{given[0]: value})
 
 
 def _parse_gauge(raw) -> Gauge:

@@ -24,6 +24,8 @@ KINDS = {
     "pressure": ("[pressure]", "Pa", "a stress such as '276 MPa' or '68.9 GPa'"),
     "density": ("[mass] / [length] ** 3", "kg/m^3", "a density such as '2700 kg/m^3'"),
     "mass": ("[mass]", "kg", "a mass such as '500 g'"),
+    "voltage_drift": ("[electric_potential] / [temperature]", "V/K", "a drift such as '6 nV/K'"),
+    "drift": ("1 / [temperature]", "1/K", "a drift such as '5 ppm/K'"),
 }
 
 # A quantity is a number and, after it, a unit made of unit names with optional small integer
@@ -41,7 +43,7 @@ MAX_TEXT = 100   # characters of a quantity's text
 RANGES = {
     "force": (1e-9, 1e6), "length": (1e-9, 100.0), "voltage": (1e-15, 1e3), "strain": (1e-12, 1.0),
     "frequency": (1e-6, 1e9), "ratio": (1e-12, 1e10), "resistance": (1e-3, 1e9), "pressure": (1.0, 1e13),
-    "density": (1e-3, 1e6), "mass": (1e-12, 1e5),
+    "density": (1e-3, 1e6), "mass": (1e-12, 1e5), "voltage_drift": (1e-15, 1.0), "drift": (1e-12, 1.0),
 }
 
 _SUBSTITUTIONS = (

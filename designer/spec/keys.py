@@ -1,0 +1,24 @@
+"""Checks of a spec's mappings and keys, shared by the readers of its parts."""
+
+from __future__ import annotations
+
+from designer.errors import SpecError, describe_allowed
+
+
+def mapping(raw, key: str, allowed) -> dict:
+    """``raw`` as a mapping of the ``allowed`` keys (None: empty); SpecError names the first unknown key."""
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        raise SpecError(f"{key}: {raw!r} must be a mapping with keys {describe_allowed(allowed)}")
+    unknown = [k for k in raw if k not in allowed]
+    if unknown:
+        raise SpecError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(allowed)}")
+    return raw
+
+
+def required(raw: dict, key: str, parent: str):
+    """``raw[key]``; SpecError ``parent.key: missing`` when it is absent or null."""
+    if key not in raw or raw[key] is None:
+        raise SpecError(f"{parent}.{key}: missing; it is required" if parent else f"{key}: missing; it is required")
+    return raw[key]
