@@ -21,6 +21,8 @@ from designer.model.sections import Geometry, SectionProperties, channel_inertia
 E_UNIT = 1e9
 STRESS_UNIT = 1e6
 LENGTH_UNIT = 1e-3
+PPM = 1e-6
+PERCENT = 1e-2
 
 
 @dataclass(frozen=True)
@@ -34,6 +36,9 @@ class MaterialParams:
                                   # None: the same as ``allowable``
     notch_length: Any = 0.0       # Peterson's characteristic length a, m (materials.yaml notch_length)
     poisson: Any = 0.3            # Poisson's ratio: the shear modulus G = E / (2 (1 + nu)) of the shear deflection
+    modulus_tc: Any = 0.0         # (1/E) dE/dT, 1/K (the error budget's span drift)
+    expansion: Any = 0.0          # thermal expansion coefficient, 1/K (the gauges' thermal output)
+    creep: Any = 0.0              # the output's creep under a constant load over 30 min, as a fraction
 
     def __post_init__(self):
         if self.static_allowable is None:
@@ -43,18 +48,22 @@ class MaterialParams:
     def of(cls, material, limits) -> "MaterialParams":
         """A catalogue material under the spec's ``limits`` (safety factor, fatigue)."""
         return cls(material.E, material.allowable_stress(limits.safety_factor, limits.fatigue), material.density,
-                   material.allowable_stress(limits.safety_factor, False), material.notch_length, material.poisson)
+                   material.allowable_stress(limits.safety_factor, False), material.notch_length, material.poisson,
+                   *(getattr(material, k) or 0.0 for k in ("modulus_tc", "expansion", "creep")))
 
     def scaled(self) -> list:
-        """``[E, allowable, density, static allowable, notch length, Poisson's ratio]`` in the
-        optimiser's parameter units (GPa, MPa, kg/m^3, MPa, mm, 1)."""
+        """``[E, allowable, density, static allowable, notch length, Poisson's ratio, modulus_tc,
+        expansion, creep]`` in the optimiser's parameter units (GPa, MPa, kg/m^3, MPa, mm, 1,
+        ppm/K, ppm/K, %)."""
         return [self.E / E_UNIT, self.allowable / STRESS_UNIT, self.density, self.static_allowable / STRESS_UNIT,
-                self.notch_length / LENGTH_UNIT, self.poisson]
+                self.notch_length / LENGTH_UNIT, self.poisson, self.modulus_tc / PPM, self.expansion / PPM,
+                self.creep / PERCENT]
 
     @classmethod
     def from_scaled(cls, p) -> "MaterialParams":
         """The inverse of ``scaled``: ``p`` may be numbers, arrays or casadi parameters."""
-        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2], p[3] * STRESS_UNIT, p[4] * LENGTH_UNIT, p[5])
+        return cls(p[0] * E_UNIT, p[1] * STRESS_UNIT, p[2], p[3] * STRESS_UNIT, p[4] * LENGTH_UNIT, p[5],
+                   p[6] * PPM, p[7] * PPM, p[8] * PERCENT)
 
 
 @dataclass(frozen=True)

@@ -21,15 +21,16 @@ class Ops:
     fmax: Callable
     fmin: Callable
     exp: Callable = np.exp
+    fabs: Callable = np.abs
 
 
-NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin, np.exp)
+NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin, np.exp, np.abs)
 
 
 def casadi_ops() -> Ops:
     import casadi
 
-    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin, casadi.exp)
+    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin, casadi.exp, casadi.fabs)
 
 
 def ops_for(value) -> Ops:

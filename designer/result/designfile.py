@@ -106,7 +106,8 @@ def _positive(obj, key: str, where: str, largest: float = math.inf) -> float:
 
 # Material properties a design.json may carry beyond E, yield and density, with their bounds (SI).
 OPTIONAL_PROPERTIES = {"poisson": (-0.99, 0.4999), "ultimate": RANGES["pressure"], "fatigue": RANGES["pressure"],
-                       "fatigue_cycles": (1.0, 1e12), "notch_length": (0.0, 0.1)}
+                       "fatigue_cycles": (1.0, 1e12), "notch_length": (0.0, 0.1), "modulus_tc": (-0.01, 0.01),
+                       "expansion": (0.0, 1e-3), "creep": (0.0, 0.1)}
 # A section or feature size beyond this is not a sensor beam (and overflows the model).
 LARGEST_SIZE = RANGES["length"][1]   # m
 
@@ -132,7 +133,7 @@ def validate(record, source: str = "design.json") -> None:
     for key in ("E", "yield", "density"):
         _positive(props, key, "design.material_properties")
     for key, (low, high) in OPTIONAL_PROPERTIES.items():
-        if key in props:
+        if props.get(key) is not None:
             value = props[key]
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
                 raise DesignFileError(f"design.material_properties.{key}: {value!r} must be a number from "
@@ -204,7 +205,8 @@ def rebuild(record: dict):
                         poisson=props.get("poisson", 0.3), yield_strength=props["yield"],
                         ultimate=props.get("ultimate", props["yield"]), fatigue=props.get("fatigue", props["yield"]),
                         fatigue_cycles=props.get("fatigue_cycles", 1e7), density=props["density"], source="design.json",
-                        notch_length=props.get("notch_length", 0.0))
+                        notch_length=props.get("notch_length", 0.0), modulus_tc=props.get("modulus_tc"),
+                        expansion=props.get("expansion"), creep=props.get("creep"))
     section = Section(kind=d["section"]["kind"], **{k: d["section"][k] for k in SECTION_KEYS[d["section"]["kind"]]})
     f = d["feature"]
     feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})

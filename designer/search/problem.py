@@ -185,7 +185,7 @@ def in_nlp_units(value, objective: str):
 
 
 # The NLP's parameters: the material's (MaterialParams.scaled), then the cap on the primary objective.
-CAP = 6
+CAP = 9
 
 
 def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
@@ -207,7 +207,8 @@ class FamilyProblem:
         self.spec, self.family = spec, family
         n, epigraph = len(variables.names), variables.epigraph
         x = ca.SX.sym("x", variables.size)
-        # the material (MaterialParams.scaled: GPa, MPa, kg/m^3, MPa, mm, 1), then the cap on the primary objective
+        # the material (MaterialParams.scaled: GPa, MPa, kg/m^3, MPa, mm, 1, ppm/K, ppm/K, %), then the cap on
+        # the primary objective
         par = ca.SX.sym("p", CAP + 1)
         ops = model.casadi_ops()
         geometry = variables.geometry([x[i] * MM for i in range(n)])

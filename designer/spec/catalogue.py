@@ -36,6 +36,9 @@ class Material:
     density: float           # kg/m^3
     source: str
     notch_length: float = 0.0  # Peterson's characteristic length a, m; 0: fully notch sensitive (q = 1)
+    modulus_tc: float | None = None  # (1/E) dE/dT, 1/K; None: not known (the error budget needs it)
+    expansion: float | None = None   # thermal expansion coefficient, 1/K
+    creep: float | None = None       # the output's creep under constant load over 30 min, fraction
 
     def allowable_stress(self, safety_factor: float, use_fatigue: bool) -> float:
         """``min(yield, fatigue if used) / safety_factor`` (MODEL.md section 4)."""
@@ -45,7 +48,12 @@ class Material:
     def properties(self) -> dict:
         return {"E": self.E, "poisson": self.poisson, "yield": self.yield_strength,
                 "ultimate": self.ultimate, "fatigue": self.fatigue, "density": self.density,
-                "notch_length": self.notch_length}
+                "notch_length": self.notch_length, "modulus_tc": self.modulus_tc, "expansion": self.expansion,
+                "creep": self.creep}
+
+    def thermal_missing(self) -> list[str]:
+        """The figures the error budget needs that this material does not give."""
+        return [k for k in THERMAL_MATERIAL_FIELDS if getattr(self, k) is None]
 
 
 @dataclass(frozen=True)
@@ -60,23 +68,54 @@ class Gauge:
     max_strain: float        # fatigue-rated strain
     description: str = ""
     source: str = ""
+    # the error budget's figures (None: not known): the gauge factor's temperature coefficient,
+    # 1/K; the expansion coefficient its self-temperature compensation matches, 1/K; the
+    # residual thermal output on a matched material and the scatter between gauges of a lot,
+    # each a bound in strain per K
+    factor_tc: float | None = None
+    compensated_for: float | None = None
+    thermal_output: float | None = None
+    thermal_match: float | None = None
 
     def as_dict(self) -> dict:
-        return {"name": self.name, "factor": self.factor, "resistance": self.resistance,
-                "length": self.length, "width": self.width, "grid_length": self.grid_length,
-                "grid_width": self.grid_width, "max_strain": self.max_strain}
+        out = {"name": self.name, "factor": self.factor, "resistance": self.resistance,
+               "length": self.length, "width": self.width, "grid_length": self.grid_length,
+               "grid_width": self.grid_width, "max_strain": self.max_strain}
+        return out | {k: getattr(self, k) for k in GAUGE_THERMAL if getattr(self, k) is not None}
+
+    def thermal_missing(self) -> list[str]:
+        """The figures the error budget needs that this gauge does not give."""
+        return [k for k in GAUGE_THERMAL if getattr(self, k) is None]
 
 
 _MATERIAL_FIELDS = {  # yaml key -> (dataclass field, kind of quantity)
     "E": ("E", "pressure"), "poisson": ("poisson", "ratio"), "yield": ("yield_strength", "pressure"),
     "ultimate": ("ultimate", "pressure"), "fatigue": ("fatigue", "pressure"),
     "fatigue_cycles": ("fatigue_cycles", "ratio"), "density": ("density", "density"),
-    "notch_length": ("notch_length", "length"),
+    "notch_length": ("notch_length", "length"), "modulus_tc": ("modulus_tc", "drift"),
+    "expansion": ("expansion", "drift"), "creep": ("creep", "ratio"),
 }
+THERMAL_MATERIAL_FIELDS = ("modulus_tc", "expansion", "creep")
 GAUGE_FIELDS = {
     "factor": "ratio", "resistance": "resistance", "length": "length", "width": "length",
     "grid_length": "length", "grid_width": "length", "max_strain": "strain",
 }
+# The optional thermal figures of a gauge (per K) and the sign each may have.
+GAUGE_THERMAL = {"factor_tc": "any", "compensated_for": "positive", "thermal_output": "zero or positive",
+                 "thermal_match": "zero or positive"}
+
+
+def gauge_thermal(entry: dict, key: str, in_spec: bool = False) -> dict:
+    """The thermal figures an entry gives, in 1/K (``"1.8 ue/K"``, ``"11 ppm/K"``); a bad one is a
+    CatalogueError, or in a spec (``in_spec``) a SpecError."""
+    read = _spec_quantity if in_spec else (lambda v, k, sign: _quantity(v, "drift", k, sign))
+    return {k: read(entry[k], f"{key}.{k}", sign) for k, sign in GAUGE_THERMAL.items() if entry.get(k) is not None}
+
+
+def _spec_quantity(value, key: str, sign: str) -> float:
+    if sign == "any":
+        return units.parse(value, "drift", key)
+    return units.parse_positive(value, "drift", key, allow_zero=sign == "zero or positive")
 
 
 def data_folder() -> Path:
@@ -89,9 +128,11 @@ def data_folder() -> Path:
 
 USER_KEYS = ("file", "materials", "gauges", "stock")
 MATERIAL_KEYS = ("name", "description", "source", *_MATERIAL_FIELDS)
-OPTIONAL_MATERIAL_FIELDS = {"notch_length": 0.0}   # 0: fully notch sensitive (K_f = K_t)
-MATERIAL_SIGNS = {"poisson": "any", "notch_length": "zero or positive"}   # the others: positive
-GAUGE_KEYS = ("name", "description", "source", *GAUGE_FIELDS)
+# 0: fully notch sensitive (K_f = K_t); the thermal figures: None, not known (only the error budget needs them)
+OPTIONAL_MATERIAL_FIELDS = {"notch_length": 0.0, "modulus_tc": None, "expansion": None, "creep": None}
+MATERIAL_SIGNS = {"poisson": "any", "notch_length": "zero or positive", "modulus_tc": "any",
+                  "creep": "zero or positive"}   # the others: positive
+GAUGE_KEYS = ("name", "description", "source", *GAUGE_FIELDS, *GAUGE_THERMAL)
 
 # The user catalogues in force: ``(file, content)`` pairs (``use``).
 _user: tuple = ()
@@ -216,7 +257,7 @@ def _gauges_from(entries, where: str, user: bool) -> list[Gauge]:
     for name, key, entry in _entries(entries, f"{where} gauges" if user else where, GAUGE_KEYS, required):
         values = {k: _quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}
         out.append(Gauge(name=name, description=_text(entry, "description", key, False),
-                         source=_text(entry, "source", key, user), **values))
+                         source=_text(entry, "source", key, user), **values, **gauge_thermal(entry, key)))
     return out
 
 

@@ -19,6 +19,7 @@ from designer.spec.stock import STOCK_CHOICES
 from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
 from designer.spec.electronics import Electronics, parse_electronics
+from designer.spec.environment import CalibrationSetup, Environment, parse_calibration, parse_environment
 from designer.spec.keys import mapping as _mapping, required as _required
 
 SECTION_KINDS = ("rectangle", "round", "tube")
@@ -160,6 +161,8 @@ class Spec:
     cad: CadOptions = field(default_factory=CadOptions)
     design: FixedDesign | None = None
     catalogue: tuple = ()     # the user catalogues: (file, content) pairs (spec.catalogue.use)
+    environment: Environment | None = None   # the error budget's temperatures (docs/model.md §13)
+    calibration: CalibrationSetup = field(default_factory=CalibrationSetup)
 
     @property
     def bridge_factor(self) -> int:
@@ -212,6 +215,11 @@ class Spec:
             "objective": self.objective,
             "cad": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self.cad).items()},
         }
+        if self.environment is not None:
+            env = self.environment
+            out["environment"] = {"temperature": list(env.temperature), "calibrated_at": env.calibrated_at,
+                                  "hold": env.hold}
+        out["calibration"] = asdict(self.calibration)
         if self.catalogue:
             # the content itself, so that design.json is read again without the files
             out["catalogue"] = [{"file": f, **content} for f, content in self.catalogue]
@@ -225,7 +233,7 @@ class Spec:
 # --------------------------------------------------------------------------- reading
 
 _TOP_KEYS = ("name", "load", "electronics", "gauge", "bridge", "stations", "axes", "limits",
-             "targets", "search", "objective", "design", "cad", "catalogue")
+             "targets", "search", "objective", "design", "cad", "catalogue", "environment", "calibration")
 
 
 def load_spec(path: str | Path, catalogues=()) -> Spec:
@@ -338,7 +346,9 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
                         "sections: [rectangle]")
     spec = Spec(name=name.strip(), load=load, electronics=electronics, gauge=gauge, bridge=bridge,
                 stations=len(design.stations) if design else stations, axes=axes, limits=limits,
-                targets=targets, search=search, objective=objective, cad=cad, design=design, catalogue=user)
+                targets=targets, search=search, objective=objective, cad=cad, design=design, catalogue=user,
+                environment=parse_environment(raw.get("environment")),
+                calibration=parse_calibration(raw.get("calibration")))
     if design is not None and spec.free_length < x_max:
         raise SpecError(f"design.length: {spec.free_length * 1e3:g} mm is shorter than the largest load "
                         f"position load.position[1] = {x_max * 1e3:g} mm")
@@ -375,10 +385,11 @@ def _parse_gauge(raw) -> Gauge:
         return catalogue.gauge(DEFAULT_GAUGE)
     if isinstance(raw, str):
         return catalogue.gauge(raw, "gauge")
-    keys = ("name",) + tuple(catalogue.GAUGE_FIELDS)
+    keys = ("name",) + tuple(catalogue.GAUGE_FIELDS) + tuple(catalogue.GAUGE_THERMAL)
     raw = _mapping(raw, "gauge", keys)
     fields = {k: units.parse_positive(v, catalogue.GAUGE_FIELDS[k], f"gauge.{k}")
-              for k, v in raw.items() if k != "name"}
+              for k, v in raw.items() if k in catalogue.GAUGE_FIELDS}
+    fields |= catalogue.gauge_thermal(raw, "gauge", in_spec=True)
     name = raw.get("name")
     if name is not None and not isinstance(name, str):
         _catalogue_name(name, "gauge.name", catalogue.gauge)

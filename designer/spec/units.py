@@ -26,6 +26,8 @@ KINDS = {
     "mass": ("[mass]", "kg", "a mass such as '500 g'"),
     "voltage_drift": ("[electric_potential] / [temperature]", "V/K", "a drift such as '6 nV/K'"),
     "drift": ("1 / [temperature]", "1/K", "a drift such as '5 ppm/K'"),
+    "temperature": ("[temperature]", "K", "a temperature such as '23 °C' or '296 K'"),
+    "time": ("[time]", "s", "a time such as '30 min'"),
 }
 
 # A quantity is a number and, after it, a unit made of unit names with optional small integer
@@ -44,6 +46,7 @@ RANGES = {
     "force": (1e-9, 1e6), "length": (1e-9, 100.0), "voltage": (1e-15, 1e3), "strain": (1e-12, 1.0),
     "frequency": (1e-6, 1e9), "ratio": (1e-12, 1e10), "resistance": (1e-3, 1e9), "pressure": (1.0, 1e13),
     "density": (1e-3, 1e6), "mass": (1e-12, 1e5), "voltage_drift": (1e-15, 1.0), "drift": (1e-12, 1.0),
+    "temperature": (1.0, 2000.0), "time": (1e-3, 1e9),
 }
 
 _SUBSTITUTIONS = (

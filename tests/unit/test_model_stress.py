@@ -92,7 +92,7 @@ def test_the_optimiser_sees_the_fatigue_limit_with_exact_derivatives():
     spec, design, params, *_ = _analysis()
     g0 = design.geometry
     x = ca.SX.sym("x", 2)   # diameter and depth, m
-    p = ca.SX.sym("p", 6)
+    p = ca.SX.sym("p", len(MaterialParams(1.0, 1.0, 1.0).scaled()))
     g = Geometry(section="round", feature="pocket", stations=g0.stations, length=g0.length, diameter=x[0],
                  depth=x[1], pocket_length=g0.pocket_length, pocket_width=g0.pocket_width,
                  gauge_length=g0.gauge_length, grid_length=g0.grid_length, floor_radius=g0.floor_radius)
