@@ -9,6 +9,7 @@ from typing import Any
 
 from designer.model import corrections
 from designer.model.adjust import Adjustment
+from designer.model.budget import region_budget
 from designer.model.beam import channel_deflection, natural_frequency, tip_deflection
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
@@ -86,6 +87,9 @@ class Analysis:
     natural_frequency: Any
     mass: Any
     noise_strain: Any         # the noise as an equivalent gauge strain
+    noise_force_error: Any = None     # sigma_F / F_min and sigma_x(F_min, x_max) of the noise alone
+    noise_position_error: Any = None
+    budget: Any = None        # with spec.environment: each corner's (F, x, contributions) (model.budget)
 
     @property
     def max_stress(self):
@@ -136,12 +140,16 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     f_min, f_max, x_min, x_max = load.force_min, load.force_max, load.position_min, load.position_max
     sigma_f, position_error = sigmas(ks, d, sigma_v, f_min, x_max, ops)
     force_error = sigma_f / f_min
+    noise_errors = (force_error, position_error)
 
     l_f = g.feature_length
     # the wire channels, where there are any, run into the clamp
     stress_root = f_max * x_max * sp.y_root / (sp.I - channel_inertia(g, ops))
     stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
     strains = _scaled([f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d], station_factors)
+    budget_points = None
+    if spec.environment is not None:  # the whole error budget (docs/model.md §13) replaces the noise alone
+        force_error, position_error, budget_points = region_budget(ks, d, strains, spec, m, ops)
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
     widened = corrections.widened(g, table)
@@ -159,7 +167,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
         kt = kt * adjust.stress_concentration
     q = notch_sensitivity(notch_radius(g), m.notch_length)
     return Analysis(sp, k, ks, sigma_v, force_error, position_error, stress_root, stress_feature, kt, q,
-                    strains, snr, deflection, frequency, mass, noise_strain)
+                    strains, snr, deflection, frequency, mass, noise_strain, *noise_errors, budget_points)
 
 
 def _scaled(values: list, factor_lists: list) -> tuple:

@@ -135,3 +135,98 @@ def contributions(k, d, force, position, strains, inputs: BudgetInputs) -> list[
 def combined(terms: list[Contribution], ops: Ops = NUMERIC):
     """``(u_c(F)/F, u_c(x))``: the root sum of squares of every term."""
     return ops.sqrt(sum(t.force_var for t in terms)), ops.sqrt(sum(t.position_var for t in terms))
+
+
+def calibration_leverage(force_range, position_range):
+    """``h(F, x)``: the variance the calibration fit leaves in a bridge's output at the load ``F``
+    at ``x``, as a multiple of ``σ_V²``. The fit is the 9-point scheme that ``plan`` proposes
+    (forces and positions at the ends and the middle of the region, each load hung once), each
+    bridge fitted to ``V = a·F·x + b·F + c`` by least squares: ``h = uᵀ (XᵀX)⁻¹ u`` with
+    ``u = (F x, F, 1)``."""
+    import numpy as np
+
+    (f0, f1), (x0, x1) = force_range, position_range
+    forces, positions = np.meshgrid([f0, (f0 + f1) / 2, f1], [x0, (x0 + x1) / 2, x1], indexing="ij")
+    rows = np.column_stack([(forces * positions).ravel(), forces.ravel(), np.ones(forces.size)])
+    inverse = np.linalg.inv(rows.T @ rows)
+
+    def leverage(force, position):
+        u = np.array([force * position, force, 1.0])
+        return float(u @ inverse @ u)
+
+    return leverage
+
+
+def budget_inputs(spec, material, ops: Ops = NUMERIC) -> BudgetInputs:
+    """The budget's figures for ``spec`` (with an ``environment``) and ``material`` (a
+    ``MaterialParams``: numbers or the optimiser's parameters); docs/model.md §13.
+
+    - A gauge on a material whose expansion its self-temperature compensation does not match
+      reads ``|α_S − α_STC|`` of apparent strain per K (Micro-Measurements TN-504, transverse
+      sensitivity aside), plus its residual ``thermal_output``. A quarter bridge carries all of it,
+      the same on every bridge; a half or full bridge's arms cancel it but for the scatter
+      between gauges, ``thermal_match`` per gauge, ``sqrt(n)`` of it for ``n`` active gauges.
+    - The span follows ``k(T) = k(T_cal)·(1 + (α_G − α_E)(T − T_cal))``.
+    - The front-end's offset and gain drift (its catalogue figures) differ between channels.
+    - Creep is the material's figure over 30 min, scaled to the hold as ``(hold / 30 min)^(1/3)``
+      (Andrade's law of primary creep).
+    - With ``environment.tare`` the offsets are measured again, unloaded, at the operating
+      temperature: no zero drift remains.
+    """
+    env, e, gauge = spec.environment, spec.electronics, spec.gauge
+    swing = env.swing
+    per_strain = e.excitation * gauge.factor * e.gain / 4   # output of one active gauge per unit strain
+    apparent = ops.fabs(material.expansion - gauge.compensated_for) + gauge.thermal_output
+    quarter = spec.bridge == "quarter"
+    fe = e.front_end
+    offset_drift = fe.offset_drift if fe is not None and fe.offset_drift is not None else 0.0
+    gain_drift = fe.gain_drift if fe is not None and fe.gain_drift is not None else 0.0
+    load = spec.load
+    zero_common = per_strain * apparent * swing if quarter else 0.0 * apparent
+    zero_each = per_strain * spec.bridge_factor ** 0.5 * gauge.thermal_match * swing + offset_drift * e.gain * swing
+    if env.tare:  # the offsets are measured again, unloaded, at the operating temperature
+        zero_common, zero_each = 0.0 * zero_common, 0.0
+    return BudgetInputs(
+        sigma_v=spec.sigma_v,
+        calibration_leverage=calibration_leverage((load.force_min, load.force_max),
+                                                  (load.position_min, load.position_max)),
+        zero_common=zero_common,
+        zero_each=zero_each,
+        span=ops.fabs(gauge.factor_tc - material.modulus_tc) * swing,
+        gain_each=gain_drift * swing,
+        creep=material.creep * (env.hold / CREEP_HOLD) ** (1 / 3),
+        weights=spec.calibration.weights_error,
+        placement=spec.calibration.placement,
+        quarter=quarter,
+        gauge_factor=gauge.factor,
+    )
+
+
+CREEP_HOLD = 1800.0  # s: the hold of the materials' creep figures (OIML R 60's 30 min)
+
+
+def corners(spec):
+    """The four corners of the operating region, ``(F, x)``: each term is largest at one of them."""
+    load = spec.load
+    return [(f, x) for f in (load.force_min, load.force_max) for x in (load.position_min, load.position_max)]
+
+
+def region_budget(k, d, strains_at_full_load, spec, material, ops: Ops = NUMERIC):
+    """``(force, position, points)``: the combined ``u_c(F)/F`` and ``u_c(x)``, each the largest
+    over the region's corners, and every corner's ``(F, x, contributions)``. ``strains_at_full_load``
+    are the gauge strains under ``F_max`` at ``x_max``; elsewhere they scale with the moment."""
+    inputs = budget_inputs(spec, material, ops)
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+    points = []
+    for force, position in corners(spec):
+        strains = [s * force * (position - di) / (f_max * (x_max - di)) for s, di in zip(strains_at_full_load, d)]
+        points.append((force, position, contributions(k, d, force, position, strains, inputs)))
+    forces, positions = zip(*(combined(terms, ops) for _, _, terms in points))
+    return _largest(forces, ops), _largest(positions, ops), points
+
+
+def _largest(values, ops):
+    out = values[0]
+    for v in values[1:]:
+        out = ops.fmax(out, v)
+    return out

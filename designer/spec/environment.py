@@ -24,6 +24,7 @@ class Environment:
     temperature: tuple        # (low, high), K
     calibrated_at: float = ROOM
     hold: float = HOLD        # s: how long a load stays on (creep)
+    tare: bool = False        # the offsets are re-measured unloaded at the operating temperature (no zero drift)
 
     @property
     def swing(self) -> float:
@@ -46,7 +47,7 @@ class CalibrationSetup:
 def parse_environment(raw) -> Environment | None:
     if raw is None:
         return None
-    raw = mapping(raw, "environment", ("temperature", "calibrated_at", "hold"))
+    raw = mapping(raw, "environment", ("temperature", "calibrated_at", "hold", "tare"))
     value = required(raw, "temperature", "environment")
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise SpecError(f"environment.temperature: {value!r} must be [lowest, highest], such as [0 °C, 40 °C]")
@@ -58,7 +59,10 @@ def parse_environment(raw) -> Environment | None:
         raise SpecError(f"environment.calibrated_at: {raw.get('calibrated_at', '23 °C')!r} is outside the operating "
                         f"temperatures; must be from {low - 273.15:g} °C to {high - 273.15:g} °C")
     hold = units.parse_positive(raw.get("hold", HOLD), "time", "environment.hold")
-    return Environment((low, high), cal, hold)
+    tare = raw.get("tare", False)
+    if not isinstance(tare, bool):
+        raise SpecError(f"environment.tare: {tare!r} must be true or false")
+    return Environment((low, high), cal, hold, tare)
 
 
 def parse_calibration(raw) -> CalibrationSetup:

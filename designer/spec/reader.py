@@ -218,7 +218,7 @@ class Spec:
         if self.environment is not None:
             env = self.environment
             out["environment"] = {"temperature": list(env.temperature), "calibrated_at": env.calibrated_at,
-                                  "hold": env.hold}
+                                  "hold": env.hold, "tare": env.tare}
         out["calibration"] = asdict(self.calibration)
         if self.catalogue:
             # the content itself, so that design.json is read again without the files
@@ -265,6 +265,20 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
         raise SpecError(f"{source}: a spec must be a mapping of keys such as 'load' and 'electronics', "
                         f"not {type(raw).__name__}")
     return parse_spec(raw, default_name=default_name, folder=folder, catalogues=catalogues)
+
+
+def _check_thermal(spec: Spec) -> None:
+    """With an environment, the gauge and every material must give the error budget's figures."""
+    missing = spec.gauge.thermal_missing()
+    if missing:
+        raise SpecError(f"gauge.{missing[0]}: {spec.gauge.name} does not give it, and environment needs it for the "
+                        f"error budget; give {', '.join(missing)} in gauge: (docs/spec.md §2.3)")
+    names = [spec.design.material] if spec.design is not None else spec.search.materials
+    for name in names:
+        lacking = catalogue.material(name).thermal_missing()
+        if lacking:
+            raise SpecError(f"environment: the material {name!r} gives no {lacking[0]}, which the error budget needs; "
+                            "add it in a catalogue of your own or leave the material out")
 
 
 def _catalogue_name(value, key: str, lookup):
@@ -349,6 +363,8 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
                 targets=targets, search=search, objective=objective, cad=cad, design=design, catalogue=user,
                 environment=parse_environment(raw.get("environment")),
                 calibration=parse_calibration(raw.get("calibration")))
+    if spec.environment is not None:
+        _check_thermal(spec)
     if design is not None and spec.free_length < x_max:
         raise SpecError(f"design.length: {spec.free_length * 1e3:g} mm is shorter than the largest load "
                         f"position load.position[1] = {x_max * 1e3:g} mm")
