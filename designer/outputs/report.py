@@ -50,7 +50,7 @@ def feature_text(feature: dict, section: dict | None = None) -> str:
 
 
 def summary_rows(record: dict) -> list[tuple[str, str]]:
-    d, p, s = record["design"], record["predicted"], record["spec"]
+    d, p = record["design"], record["predicted"]
     mm = 1e3
     rows = [
         ("status", record["status"]),
@@ -60,10 +60,7 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("free length", f"{d['length'] * mm:.2f} mm"),
         ("gauge stations", ", ".join(f"{x * mm:.2f}" for x in d["stations"]) + " mm from the clamp"),
         ("bridges", f"{d['bridge']}, {d['axes']} axis" + ("es" if d["axes"] == 2 else "")),
-        ("force error (1σ at F_min)", f"{p['force_error'] * 100:.3g} % of {s['load']['force'][0]:.4g} N "
-                                      f"(target {s['targets']['force_error'] * 100:.3g} %)"),
-        ("position error (1σ at F_min, x_max)", f"{p['position_error'] * mm:.3g} mm "
-                                                f"(target {s['targets']['position_error'] * mm:.3g} mm)"),
+        *error_rows(record),
         ("free-end deflection", f"{p['deflection'] * mm:.3g} mm ({p['deflection_ratio']:.2%} of the length)"),
         *stress_rows(record),
         ("gauge strain at F_max", ", ".join(f"{e * 1e6:.0f}" for e in p["gauge_strain"]) + " µε"),
@@ -84,6 +81,54 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
     if rounds:
         rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def error_rows(record: dict) -> list[tuple[str, str]]:
+    """The force and position errors: the noise's at (F_min, x_max), or with an environment the
+    combined standard uncertainty of the whole budget, the largest over the region."""
+    p, s = record["predicted"], record["spec"]
+    mm = 1e3
+    targets = s["targets"]
+    b = p.get("budget")
+    if b is None:
+        return [("force error (1σ at F_min)", f"{p['force_error'] * 100:.3g} % of {s['load']['force'][0]:.4g} N "
+                                              f"(target {targets['force_error'] * 100:.3g} %)"),
+                ("position error (1σ at F_min, x_max)", f"{p['position_error'] * mm:.3g} mm "
+                                                        f"(target {targets['position_error'] * mm:.3g} mm)")]
+    f, x = b["force"], b["position"]
+    return [
+        ("force error (combined 1σ, worst)", f"{f['combined'] * 100:.3g} % at {f['at']['force']:.4g} N, "
+                                             f"{f['at']['position'] * mm:.4g} mm (k = 2: {f['expanded'] * 100:.3g} %; "
+                                             f"target {targets['force_error'] * 100:.3g} %; noise alone "
+                                             f"{b['noise_only']['force_error'] * 100:.3g} %)"),
+        ("position error (combined 1σ, worst)", f"{x['combined'] * mm:.3g} mm at {x['at']['force']:.4g} N, "
+                                                f"{x['at']['position'] * mm:.4g} mm (k = 2: {x['expanded'] * mm:.3g} mm; "
+                                                f"target {targets['position_error'] * mm:.3g} mm; noise alone "
+                                                f"{b['noise_only']['position_error'] * mm:.3g} mm)"),
+    ]
+
+
+def budget_rows(budget: dict) -> list[tuple[str, ...]]:
+    """The error budget as rows: term, kind, u(F)/F and its share, u(x) and its share."""
+    rows = []
+    for f, x in zip(budget["force"]["terms"], budget["position"]["terms"]):
+        rows.append((f["name"], f["kind"], f"{f['u'] * 100:.3g} %", f"{f['share']:.0%}", f"{x['u'] * 1e3:.3g} mm",
+                     f"{x['share']:.0%}"))
+    f, x = budget["force"], budget["position"]
+    rows.append(("combined (1σ)", "", f"{f['combined'] * 100:.3g} %", "100%", f"{x['combined'] * 1e3:.3g} mm", "100%"))
+    rows.append((f"expanded (k = {budget['coverage_factor']})", "", f"{f['expanded'] * 100:.3g} %", "",
+                 f"{x['expanded'] * 1e3:.3g} mm", ""))
+    return rows
+
+
+BUDGET_COLUMNS = ("term", "kind", "u(F)/F", "share", "u(x)", "share")
+
+
+def budget_caption(budget: dict) -> str:
+    f, x = budget["force"]["at"], budget["position"]["at"]
+    return (f"at the region's worst corners: force {f['force']:.4g} N at {f['position'] * 1e3:.4g} mm, "
+            f"position {x['force']:.4g} N at {x['position'] * 1e3:.4g} mm; systematic terms bounded by a "
+            "count as u = a/√3 (JCGM 100)")
 
 
 def front_end_rows(fe: dict) -> list[tuple[str, str]]:
@@ -199,6 +244,11 @@ def markdown(record: dict) -> str:
         flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
         lines.append(f"| {c['name']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
                      f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
+    budget = record["predicted"].get("budget")
+    if budget is not None:
+        lines += ["", "## Error budget", "", budget_caption(budget) + ".", "",
+                  "| " + " | ".join(BUDGET_COLUMNS) + " |", "|---|---|---:|---:|---:|---:|"]
+        lines += ["| " + " | ".join(row) + " |" for row in budget_rows(budget)]
     if record.get("verify_rounds"):
         lines += [""] + rounds_markdown(record)
     if record.get("candidates"):
@@ -272,6 +322,14 @@ def print_summary(record: dict, console=None) -> None:
     for k, v in summary_rows(record):
         table.add_row(k, v)
     console.print(table)
+    budget = record["predicted"].get("budget")
+    if budget is not None:
+        bt = Table(title="error budget", caption=budget_caption(budget))
+        for col in BUDGET_COLUMNS:
+            bt.add_column(col, justify="left" if col in ("term", "kind") else "right")
+        for row in budget_rows(budget):
+            bt.add_row(*row)
+        console.print(bt)
     binding = binding_limits(record)
     if binding:
         lim = Table(title="binding or violated limits")

@@ -24,6 +24,8 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
     front_end = front_end_record(spec, evaluation)
     if front_end is not None:
         record["predicted"]["front_end"] = front_end
+    if evaluation.analysis.budget is not None:
+        record["predicted"]["budget"] = budget_record(evaluation)
     if evaluation.large_deflection:
         record["messages"].append(large_deflection_message(evaluation))
     if extra:
@@ -53,6 +55,32 @@ def front_end_record(spec, evaluation: Evaluation) -> dict | None:
         "noise_counts": fe.total / fe.step,
         "source": entry.source,
     }
+
+
+COVERAGE = 2  # the expanded uncertainty's coverage factor (JCGM 100 §6.3)
+
+
+def budget_record(evaluation: Evaluation) -> dict:
+    """The error budget (docs/spec.md §4): for the force and for the position, the region's corner
+    where the combined standard uncertainty is largest, every term's standard uncertainty and
+    share of the variance there, the combined 1σ and the expanded value (k = 2); and the noise
+    alone, as without ``environment``."""
+    from designer.model.budget import combined
+
+    a = evaluation.analysis
+    out = {"coverage_factor": COVERAGE,
+           "noise_only": {"force_error": float(a.noise_force_error), "position_error": float(a.noise_position_error)}}
+    for index, quantity in enumerate(("force", "position")):
+        force, position, terms = max(a.budget, key=lambda point: float(combined(point[2])[index]))
+        total = float(combined(terms)[index])
+        variances = [float(t.force_var if index == 0 else t.position_var) for t in terms]
+        out[quantity] = {
+            "at": {"force": force, "position": position},
+            "combined": total, "expanded": COVERAGE * total,
+            "terms": [{"name": t.name, "kind": t.kind, "u": v ** 0.5, "share": v / total ** 2}
+                      for t, v in zip(terms, variances)],
+        }
+    return out
 
 
 def search_record(spec, found) -> dict:
