@@ -151,8 +151,10 @@ def calibration_leverage(force_range, position_range):
     inverse = np.linalg.inv(rows.T @ rows)
 
     def leverage(force, position):
-        u = np.array([force * position, force, 1.0])
-        return float(u @ inverse @ u)
+        force, position = np.broadcast_arrays(np.asarray(force, float), np.asarray(position, float))
+        u = np.stack([force * position, force, np.ones_like(force)], axis=-1)
+        h = np.einsum("...i,ij,...j->...", u, inverse, u)
+        return float(h) if h.ndim == 0 else h
 
     return leverage
 
@@ -203,6 +205,21 @@ def budget_inputs(spec, material, ops: Ops = NUMERIC) -> BudgetInputs:
 
 
 CREEP_HOLD = 1800.0  # s: the hold of the materials' creep figures (OIML R 60's 30 min)
+
+
+RECORDED = ("sigma_v", "zero_common", "zero_each", "span", "gain_each", "creep", "weights", "placement", "quarter",
+            "gauge_factor")
+
+
+def recorded_inputs(inputs: BudgetInputs) -> dict:
+    """The inputs as design.json records them (numbers; the calibration fit as its region)."""
+    return {k: (bool(inputs.quarter) if k == "quarter" else float(getattr(inputs, k))) for k in RECORDED}
+
+
+def inputs_from_record(recorded: dict, force_range, position_range) -> BudgetInputs:
+    """``recorded_inputs`` read back, the calibration fit rebuilt over the region."""
+    return BudgetInputs(calibration_leverage=calibration_leverage(force_range, position_range),
+                        **{k: recorded[k] for k in RECORDED})
 
 
 def corners(spec):

@@ -25,7 +25,7 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
     if front_end is not None:
         record["predicted"]["front_end"] = front_end
     if evaluation.analysis.budget is not None:
-        record["predicted"]["budget"] = budget_record(evaluation)
+        record["predicted"]["budget"] = budget_record(spec, evaluation)
     if evaluation.large_deflection:
         record["messages"].append(large_deflection_message(evaluation))
     if extra:
@@ -60,15 +60,18 @@ def front_end_record(spec, evaluation: Evaluation) -> dict | None:
 COVERAGE = 2  # the expanded uncertainty's coverage factor (JCGM 100 §6.3)
 
 
-def budget_record(evaluation: Evaluation) -> dict:
+def budget_record(spec, evaluation: Evaluation) -> dict:
     """The error budget (docs/spec.md §4): for the force and for the position, the region's corner
     where the combined standard uncertainty is largest, every term's standard uncertainty and
-    share of the variance there, the combined 1σ and the expanded value (k = 2); and the noise
-    alone, as without ``environment``."""
-    from designer.model.budget import combined
+    share of the variance there, the combined 1σ and the expanded value (k = 2); the noise
+    alone, as without ``environment``; and the budget's inputs, from which the error maps draw
+    the combined uncertainty over the whole region."""
+    from designer.model.budget import budget_inputs, combined, recorded_inputs
 
     a = evaluation.analysis
-    out = {"coverage_factor": COVERAGE,
+    inputs = budget_inputs(spec, evaluation.design.material_params(spec))
+    tared = spec.environment.tare
+    out = {"coverage_factor": COVERAGE, "inputs": recorded_inputs(inputs),
            "noise_only": {"force_error": float(a.noise_force_error), "position_error": float(a.noise_position_error)}}
     for index, quantity in enumerate(("force", "position")):
         force, position, terms = max(a.budget, key=lambda point: float(combined(point[2])[index]))
@@ -77,8 +80,8 @@ def budget_record(evaluation: Evaluation) -> dict:
         out[quantity] = {
             "at": {"force": force, "position": position},
             "combined": total, "expanded": COVERAGE * total,
-            "terms": [{"name": t.name, "kind": t.kind, "u": v ** 0.5, "share": v / total ** 2}
-                      for t, v in zip(terms, variances)],
+            "terms": [{"name": t.name + (" (tared)" if tared and t.name.startswith("zero drift") else ""),
+                       "kind": t.kind, "u": v ** 0.5, "share": v / total ** 2} for t, v in zip(terms, variances)],
         }
     return out
 

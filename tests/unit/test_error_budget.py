@@ -204,3 +204,34 @@ def test_an_unknown_weight_class_and_a_gauge_without_thermal_figures_are_refused
     with pytest.raises(SpecError, match=r"^gauge.factor_tc: custom does not give it"):
         parse_spec({"load": LOAD, "electronics": {"excitation": "5 V", "noise_rti": "50 nV", "gain": 128},
                     "gauge": custom, "design": DESIGN, "environment": ENV})
+
+
+def test_design_json_s_budget_drives_the_error_maps_and_the_budget_chart(tmp_path):
+    """The error maps read the budget's inputs back from design.json and draw the combined
+    uncertainty: at the region's corners they equal the model's; the worst corner and the shares
+    recorded add up."""
+    import json
+
+    from designer.outputs.plots import error_map
+    from designer.outputs.plots.budget import plot_budget
+    from designer.outputs.plots.write import write_design_plots
+    from designer.result.record import build_record
+
+    spec = _spec(environment=dict(ENV, tare=True))
+    ev = _evaluate(spec)
+    record = json.loads(json.dumps(build_record("feasible", spec, ev)))
+    b = record["predicted"]["budget"]
+    assert sum(t["share"] for t in b["force"]["terms"]) == pytest.approx(1.0)
+    assert b["force"]["expanded"] == pytest.approx(2 * b["force"]["combined"])
+    assert b["force"]["combined"] == pytest.approx(float(ev.analysis.force_error))
+    assert all(t["name"].endswith("(tared)") for t in b["force"]["terms"] if t["name"].startswith("zero"))
+    load = spec.load
+    m = error_map(record, force=[load.force_min, load.force_max], position=[load.position_min, load.position_max])
+    for force, position, terms in ev.analysis.budget:
+        i, j = int(force == load.force_max), int(position == load.position_max)
+        u_f, u_x = budget.combined(terms)
+        assert m.force_error[i, j] == pytest.approx(float(u_f), rel=1e-9)
+        assert m.position_error[i, j] == pytest.approx(float(u_x), rel=1e-9)
+    assert len(plot_budget(record).axes) == 2
+    written = write_design_plots(record, tmp_path / "plots")
+    assert (tmp_path / "plots" / "error-budget.png") in written

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from designer.errors import DesignFileError
 from designer.model import estimator
 from designer.outputs.plots.common import design_title, fmt_number, log_force_axis, nice_levels, region_outline
 from designer.outputs.plots.sensor import SensorData
@@ -37,15 +38,40 @@ def error_map(design: Mapping, force=None, position=None, n: int = 61) -> ErrorM
     position = np.linspace(s.position_min, s.position_max, n) if position is None \
         else np.asarray(position, float)
     f, x = np.meshgrid(force, position, indexing="ij")
+    recorded = (design.get("predicted") or {}).get("budget")
+    if recorded is not None:  # the whole error budget (docs/model.md §13), not the noise alone
+        u_f, u_x = _combined(design, s, recorded, f, x)
+        return ErrorMap(force, position, u_f, u_x)
     sigma_f, sigma_x = estimator.sigmas(s.sensitivity, s.stations, s.noise, f, x)
     return ErrorMap(force, position, np.broadcast_to(sigma_f / f, f.shape).copy(), np.asarray(sigma_x))
 
 
+def _combined(design: Mapping, s: SensorData, recorded: Mapping, f, x):
+    """The combined standard uncertainty of the error budget at every ``(f, x)``."""
+    from designer.model import budget
+
+    try:
+        inputs = budget.inputs_from_record(recorded["inputs"], (s.force_min, s.force_max),
+                                           (s.position_min, s.position_max))
+        full = design["predicted"]["gauge_strain"]
+    except (KeyError, TypeError) as exc:
+        raise DesignFileError(f"predicted.budget.inputs: {exc} is missing; the error maps need the budget's "
+                              "inputs") from exc
+    strains = [e * f * (x - d) / (s.force_max * (s.position_max - d)) for e, d in zip(full, s.stations)]
+    terms = budget.contributions(list(s.sensitivity), list(s.stations), f, x, strains, inputs)
+    u_f, u_x = budget.combined(terms)
+    return np.asarray(u_f), np.asarray(u_x)
+
+
 def worst_errors(design: Mapping) -> tuple[float, float]:
-    """The worst case over the region (MODEL.md section 3): sigma_F / F_min and sigma_x(F_min, x_max)."""
+    """The worst case over the region: sigma_F / F_min and sigma_x(F_min, x_max) of the noise
+    (MODEL.md section 3), or with the error budget the largest combined uncertainties over the
+    region's corners (docs/model.md §13)."""
     s = SensorData.from_design(design)
-    m = error_map(design, force=[s.force_min], position=[s.position_max])
-    return float(m.force_error[0, 0]), float(m.position_error[0, 0])
+    m = error_map(design, force=[s.force_min, s.force_max], position=[s.position_min, s.position_max])
+    if (design.get("predicted") or {}).get("budget") is None:
+        return float(m.force_error[0, 1]), float(m.position_error[0, 1])
+    return float(m.force_error.max()), float(m.position_error.max())
 
 
 def plot_error_maps(design: Mapping, fig=None):
@@ -69,20 +95,23 @@ def plot_error_maps(design: Mapping, fig=None):
     emap = error_map(design, force=force, position=position)
     xg, fg = np.meshgrid(position * 1e3, force)
 
+    total = (design.get("predicted") or {}).get("budget") is not None
+    f_name, x_name = ("u_c(F)", "u_c(x)") if total else ("σ_F", "σ_x")
     panels = (
-        (emap.force_error * 100, "force error σ_F / F (%)", "%",
+        (emap.force_error * 100, f"force error {f_name} / F (%)", "%",
          None if s.force_target is None else s.force_target * 100, fe_min * 100,
-         "independent of position"),
-        (emap.position_error * 1e3, "position error σ_x (mm)", "mm",
+         "whole error budget" if total else "independent of position"),
+        (emap.position_error * 1e3, f"position error {x_name} (mm)", "mm",
          None if s.position_target is None else s.position_target * 1e3, pe_min * 1e3,
          "rises with position"),
-        (emap.relative_position_error * 100, "position error σ_x / x (%)", "%",
+        (emap.relative_position_error * 100, f"position error {x_name} / x (%)", "%",
          None, pe_min / s.position_max * 100, "rises with position"),
     )
     for ax, (z, title, unit, target, worst, note) in zip(axes, panels):
         _error_panel(fig, ax, s, xg, fg, z, title, unit, target, worst, note, f_lo)
-    fig.suptitle(f"Predicted 1σ errors, σ_V = {fmt_number(s.noise * 1e3)} mV per bridge: {design_title(s)}",
-                 fontsize=11.5)
+    what = ("Combined 1σ uncertainty of the whole error budget (noise, temperature, creep, calibration)" if total
+            else "Predicted 1σ errors")
+    fig.suptitle(f"{what}, σ_V = {fmt_number(s.noise * 1e3)} mV per bridge: {design_title(s)}", fontsize=11.5)
     return fig
 
 

@@ -6,6 +6,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from designer.errors import InputError, describe_allowed
+from designer.outputs.plots.budget import plot_budget
 from designer.outputs.plots.candidates import plot_candidates
 from designer.outputs.plots.error_maps import plot_error_maps
 from designer.outputs.plots.isolines import plot_voltage_isolines
@@ -15,7 +16,7 @@ from designer.outputs.plots.tradeoff import TRADEOFF_ALIASES, TRADEOFF_AXES, plo
 
 # Stable file names of write_design_plots (SPEC.md: the plots an optimize run writes).
 PLOT_NAMES = ("operating-region", "voltage-isolines", "error-maps", "candidates",
-              "tradeoff-deflection", "tradeoff-frequency")
+              "tradeoff-deflection", "tradeoff-frequency", "error-budget")
 FORMATS = ("png", "svg")
 DEFAULT_FORMATS = ("png",)   # SVG copies only when asked: each doubles a plot's drawing time
 PNG_DPI = 150
@@ -25,7 +26,8 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
                        tradeoff: Mapping[str, Sequence[Mapping]] | None = None, progress=None) -> list[Path]:
     """Write the plots of a design into ``out_dir``; all of them or none.
 
-    Files: ``operating-region``, ``voltage-isolines``, ``error-maps``, ``candidates`` and, when
+    Files: ``operating-region``, ``voltage-isolines``, ``error-maps``, ``candidates``, with an
+    error budget (a spec's ``environment``) ``error-budget``, and, when
     trade-off points are given (``tradeoff={"max_deflection": [...], "min_frequency": [...]}``, or a
     ``"tradeoff"`` key of the design), ``tradeoff-deflection`` and ``tradeoff-frequency``; each in
     every format of ``formats`` (``"png"``, ``"svg"``). Returns the paths written. ``progress``,
@@ -56,6 +58,8 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
               ("voltage-isolines", lambda: plot_voltage_isolines(design)),
               ("error-maps", lambda: plot_error_maps(design)),
               ("candidates", lambda: plot_candidates(design))]
+    if (design.get("predicted") or {}).get("budget") is not None:
+        makers.append(("error-budget", lambda: plot_budget(design)))
     for name, points in fronts.items():
         chosen = _chosen_point(design, name)
         makers.append((TRADEOFF_AXES[name][2],
