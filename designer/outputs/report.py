@@ -96,6 +96,7 @@ def error_rows(record: dict) -> list[tuple[str, str]]:
                 ("position error (1σ at F_min, x_max)", f"{p['position_error'] * mm:.3g} mm "
                                                         f"(target {targets['position_error'] * mm:.3g} mm)")]
     f, x = b["force"], b["position"]
+    oiml = [("as a force cell, OIML R 60", oiml_text(b))] if b.get("oiml_r60") else []
     return [
         ("force error (combined 1σ, worst)", f"{f['combined'] * 100:.3g} % at {f['at']['force']:.4g} N, "
                                              f"{f['at']['position'] * mm:.4g} mm (k = 2: {f['expanded'] * 100:.3g} %; "
@@ -105,7 +106,7 @@ def error_rows(record: dict) -> list[tuple[str, str]]:
                                                 f"{x['at']['position'] * mm:.4g} mm (k = 2: {x['expanded'] * mm:.3g} mm; "
                                                 f"target {targets['position_error'] * mm:.3g} mm; noise alone "
                                                 f"{b['noise_only']['position_error'] * mm:.3g} mm)"),
-    ]
+    ] + oiml
 
 
 def budget_rows(budget: dict) -> list[tuple[str, ...]]:
@@ -119,6 +120,15 @@ def budget_rows(budget: dict) -> list[tuple[str, ...]]:
     rows.append((f"expanded (k = {budget['coverage_factor']})", "", f"{f['expanded'] * 100:.3g} %", "",
                  f"{x['expanded'] * 1e3:.3g} mm", ""))
     return rows
+
+
+def oiml_text(budget: dict) -> str:
+    """The OIML R 60 class and n_LC the budget allows as a force cell, and what stops the next step."""
+    r = budget.get("oiml_r60")
+    if r is None:
+        return ""
+    head = "no OIML R 60 class" if r["class"] is None else f"class {r['class']}, n_LC = {r['n_lc']}"
+    return f"{head} ({r['limited_by']})"
 
 
 BUDGET_COLUMNS = ("term", "kind", "u(F)/F", "share", "u(x)", "share")

@@ -67,6 +67,7 @@ def budget_record(spec, evaluation: Evaluation) -> dict:
     alone, as without ``environment``; and the budget's inputs, from which the error maps draw
     the combined uncertainty over the whole region."""
     from designer.model.budget import budget_inputs, combined, recorded_inputs
+    from designer.model.oiml import classify
 
     a = evaluation.analysis
     inputs = budget_inputs(spec, evaluation.design.material_params(spec))
@@ -83,6 +84,9 @@ def budget_record(spec, evaluation: Evaluation) -> dict:
             "terms": [{"name": t.name + (" (tared)" if tared and t.name.startswith("zero drift") else ""),
                        "kind": t.kind, "u": v ** 0.5, "share": v / total ** 2} for t, v in zip(terms, variances)],
         }
+    points = [(force, {t.name: t.force for t in terms}) for force, _, terms in a.budget]
+    rated = classify(points, spec.load.force_max, spec.environment.swing, COVERAGE)
+    out["oiml_r60"] = {"class": rated.accuracy_class, "n_lc": rated.n_lc, "limited_by": rated.limited_by}
     return out
 
 

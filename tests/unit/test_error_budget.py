@@ -235,3 +235,25 @@ def test_design_json_s_budget_drives_the_error_maps_and_the_budget_chart(tmp_pat
     assert len(plot_budget(record).axes) == 2
     written = write_design_plots(record, tmp_path / "plots")
     assert (tmp_path / "plots" / "error-budget.png") in written
+
+
+def test_oiml_r60_class_and_intervals_follow_the_mpe_bands():
+    """OIML R 60 (2021): mpe = p_LC x (0.5, 1.0, 1.5) v by load band (class C: up to 500 v, 2000 v;
+    class D: 50 v, 200 v), p_LC = 0.7; the top load n_LC v sits in the last band it reaches. A
+    100 N cell whose only error is a span term of u = 0.02 % has U = 0.04 N at 100 N: in class C's
+    top band 0.04 N <= 1.05 x 100 N / n up to n = 2625, so C with 2500 (steps of 500), and at 3000
+    the error at 100 N decides. With u = 0.05 % (U = 0.1 N) class C fails in every band (n <= 500:
+    0.35 x 100/n needs n <= 350; 500 < n <= 2000: 0.7 x 100/n needs n <= 700, but 1000 is the next
+    step; above 2000: n <= 1050), and class D's top band (200 v < n v) allows n <= 1050: D, 1000.
+    A zero drift of a = 4 N at 10 N over a 20 K swing is 1 N per 5 K: p_LC v = 70/n N allows none."""
+    from designer.model import oiml
+
+    r = oiml.classify([(10.0, {"span drift": 2e-4}), (100.0, {"span drift": 2e-4})], 100.0, 20.0)
+    assert (r.accuracy_class, r.n_lc) == ("C", 2500)
+    assert "n_LC = 3000" in r.limited_by and "error at 100 N" in r.limited_by and "span drift" in r.limited_by
+    r = oiml.classify([(10.0, {"span drift": 5e-4}), (100.0, {"span drift": 5e-4})], 100.0, 20.0)
+    assert (r.accuracy_class, r.n_lc) == ("D", 1000) and "at most 1000" in r.limited_by
+    big = {"span drift": 2e-4, "zero drift, between bridges": 4.0 / math.sqrt(3) / 10.0}
+    r = oiml.classify([(10.0, big), (100.0, {"span drift": 2e-4})], 100.0, 20.0)
+    assert r.accuracy_class is None and "zero drift" in r.limited_by
+    assert oiml.mpe(400, (500, 2000)) == pytest.approx(0.35) and oiml.mpe(3000, (500, 2000)) == pytest.approx(1.05)
