@@ -71,6 +71,7 @@ class Readings:
     lines: tuple[int, ...] = ()
     source: str = "readings"
     mass: bool = True                    # the loads are hung masses (written back as mass_g)
+    counts: bool = False                 # ``voltages`` hold the converter's counts (columns C1, C2, ...)
 
     def __len__(self) -> int:
         return self.voltages.shape[0]

@@ -24,6 +24,7 @@ class DesignConstants:
     force_range: tuple[float, float]   # F_min, F_max, N
     position_range: tuple[float, float]  # x_min, x_max, m
     prototype: str | None = None       # 'A', 'B' or 'C' when the beam is one of the paper's
+    volts_per_count: float | None = None  # with a catalogue front-end: amplifier volts per converter count
 
     @property
     def bridges(self) -> tuple[Bridge, ...]:
@@ -140,4 +141,18 @@ def design_constants(record: dict) -> DesignConstants:
     position = _pair(_require(load, "position", "spec.load"), "spec.load.position")
     name = spec.get("name") or "design"
     return DesignConstants(str(name), stations, k, _noise_from(record), int(axes), force, position,
-                           _prototype(design.get("section")))
+                           _prototype(design.get("section")), _volts_per_count(predicted))
+
+
+def _volts_per_count(predicted: dict) -> float | None:
+    """Volts at the amplifier output per count of the converter, ``gain / counts_per_volt`` of
+    ``predicted.front_end`` (docs/spec.md §4); None without a catalogue front-end."""
+    fe = predicted.get("front_end")
+    if fe is None:
+        return None
+    if not isinstance(fe, dict):
+        raise DesignFileError(f"predicted.front_end: {fe!r} must be an object")
+    gain = json_number(_require(fe, "gain", "predicted.front_end"), "predicted.front_end.gain", positive=True)
+    per_volt = json_number(_require(fe, "counts_per_volt", "predicted.front_end"),
+                           "predicted.front_end.counts_per_volt", positive=True)
+    return gain / per_volt

@@ -29,7 +29,7 @@ from designer.result.designfile import load_design, read_json
 from designer.outputs.files import atomic_write_json, atomic_write_text
 
 LOAD_COLUMNS = ("force_N", "mass_g", "position_mm", "angle_deg")
-_BRIDGE_COLUMN = re.compile(r"V([1-9][0-9]*)([yz]?)")
+_BRIDGE_COLUMN = re.compile(r"([VC])([1-9][0-9]*)([yz]?)")
 #: Bridge offsets c_i of simulated sensors: uniform within +-5 mV at the amplifier output (a
 #: bridge balanced by hand is never exact; "a few mV" after zeroing).
 SIMULATED_OFFSET = 5e-3
@@ -40,17 +40,22 @@ _DIGITS = 10
 # --------------------------------------------------------------------- reading readings.csv
 
 def _allowed_columns() -> str:
-    return "force_N or mass_g, position_mm, angle_deg (biaxial) and V1, V2, ... (biaxial V1y, V1z, ...)"
+    return ("force_N or mass_g, position_mm, angle_deg (biaxial) and V1, V2, ... in volts (biaxial V1y, V1z, ...) "
+            "or C1, C2, ... in counts")
 
 
 def _bridge_columns(names: list[str], where: str) -> tuple[Bridge, ...]:
-    """The bridges that the columns ``names`` hold, in column order (V1, V2 ... or V1y, V1z ...)."""
+    """The bridges that the columns ``names`` hold, in column order (V1, V2 ... or V1y, V1z ...,
+    or the same in counts, C1, C2 ...)."""
     found = []
     for name in names:
         m = _BRIDGE_COLUMN.fullmatch(name)
-        found.append(Bridge(int(m.group(1)), m.group(2)))
+        found.append(Bridge(int(m.group(2)), m.group(3)))
     if not found:
-        raise CsvError(f"{where}: no bridge columns; expected V1, V2, ... (biaxial V1y, V1z, V2y, ...) in volts")
+        raise CsvError(f"{where}: no bridge columns; expected V1, V2, ... (biaxial V1y, V1z, V2y, ...) in volts, "
+                       "or C1, C2, ... in counts")
+    if len({name[0] for name in names}) > 1:
+        raise CsvError(f"{where}: bridge columns {names} mix volts (V1) and counts (C1); give one or the other")
     axes = {b.axis for b in found}
     biaxial = "" not in axes
     if not biaxial and axes != {""}:
@@ -135,8 +140,30 @@ def parse_readings(text: str, source: str = "readings.csv", need_loads: bool = F
                            "toward the free end")
         position = col["position_mm"] * 1e-3
     angle = np.radians(col["angle_deg"]) if "angle_deg" in col else None
-    voltages = np.column_stack([col[b.name] for b in bridges])
-    return Readings(bridges, voltages, force, position, angle, line_numbers, source, force_column == "mass_g")
+    counts = bridge_names[0][0] == "C"
+    voltages = np.column_stack([col[("C" + b.name[1:]) if counts else b.name] for b in bridges])
+    return Readings(bridges, voltages, force, position, angle, line_numbers, source, force_column == "mass_g",
+                    counts)
+
+
+def in_volts(readings: Readings, volts_per_count: float | None, where: str) -> Readings:
+    """``readings`` in volts: counts (columns C1, C2, ...) times the front-end's volts per count
+    (``DesignConstants.volts_per_count``, or a calibration's); CsvError when counts come without one."""
+    if not readings.counts:
+        return readings
+    if volts_per_count is None:
+        raise CsvError(f"{readings.source}: the bridge columns are counts (C1, C2, ...); converting them to volts "
+                       f"needs the front-end's gain and reference: {where}")
+    from dataclasses import replace
+
+    return replace(readings, voltages=readings.voltages * volts_per_count, counts=False)
+
+
+def in_counts(readings: Readings, volts_per_count: float) -> Readings:
+    """``readings`` as the converter's whole counts (columns C1, C2, ...)."""
+    from dataclasses import replace
+
+    return replace(readings, voltages=np.round(readings.voltages / volts_per_count), counts=True)
 
 
 def _cell(cell: str, source: str, line_no: int, name: str) -> float:
@@ -149,7 +176,7 @@ def _cell(cell: str, source: str, line_no: int, name: str) -> float:
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a number") from exc
     if not math.isfinite(value):
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a finite number")
-    largest = LARGEST.get(name, LARGEST["V"])
+    largest = LARGEST[name] if name in LARGEST else LARGEST[name[0]]
     if abs(value) > largest:
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is beyond what a reading can be; "
                        f"its size must be at most {largest:g}")
@@ -158,9 +185,10 @@ def _cell(cell: str, source: str, line_no: int, name: str) -> float:
 
 # The largest size of a reading, per column (as the CSV holds it): loads, positions, angles and
 # voltages (every V column) beyond these are typing errors, and would overflow the fit. The
-# spec's ranges (spec.units.RANGES), in the CSV's units.
+# spec's ranges (spec.units.RANGES), in the CSV's units; counts (every C column) those of a
+# 32-bit converter.
 LARGEST = {"force_N": RANGES["force"][1], "mass_g": RANGES["mass"][1] * 1e3, "position_mm": RANGES["length"][1] * 1e3,
-           "angle_deg": 360.0, "V": RANGES["voltage"][1]}
+           "angle_deg": 360.0, "V": RANGES["voltage"][1], "C": 2.0 ** 31}
 
 
 def read_readings(path, need_loads: bool = False) -> Readings:
@@ -201,7 +229,7 @@ def format_readings(readings: Readings, comments: tuple[str, ...] = ()) -> str:
     if readings.angle is not None and readings.axes == 2:
         header.append("angle_deg")
         columns.append(np.degrees(readings.angle))
-    header += [b.name for b in readings.bridges]
+    header += [("C" + b.name[1:]) if readings.counts else b.name for b in readings.bridges]
     columns += list(readings.voltages.T)
     rows = [[_fmt(v) for v in row] for row in np.column_stack(columns)]
     return _csv_text(header, rows, comments)
@@ -324,10 +352,18 @@ def simulated_scheme_readings(design: dict, scheme: str = "paper", seed: int = 0
                              simulated_sensor_offsets(design, seed))
 
 
-def write_simulated_readings(design: dict, path, scheme: str = "paper", seed: int = 0, repeats: int = 1) -> Path:
-    """Write noisy readings of ``design`` at the loads of ``scheme`` to ``path`` (readings.csv)."""
+def write_simulated_readings(design: dict, path, scheme: str = "paper", seed: int = 0, repeats: int = 1,
+                             counts: bool = False) -> Path:
+    """Write noisy readings of ``design`` at the loads of ``scheme`` to ``path`` (readings.csv), in
+    volts, or with ``counts`` in the front-end's counts (a design with electronics.adc)."""
     readings = simulated_scheme_readings(design, scheme, seed, repeats)
     constants = design_constants(design)
     comments = (f"simulated readings of {constants.name}: scheme {scheme}, seed {seed}, repeats {repeats}, "
                 f"sigma_V {constants.noise * 1e3:.3g} mV per channel",)
+    if counts:
+        if constants.volts_per_count is None:
+            raise InputError("--counts: the design has no front-end of the catalogue (electronics.adc); its "
+                             "readings can only be written in volts")
+        readings = in_counts(readings, constants.volts_per_count)
+        comments += (f"counts of the front-end: {constants.volts_per_count:.6g} V per count at the amplifier output",)
     return write_readings(path, readings, comments)

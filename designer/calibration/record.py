@@ -60,6 +60,7 @@ class Calibration:
     design_name: str | None = None
     warnings: tuple[str, ...] = ()
     source: str = ""
+    volts_per_count: float | None = None      # the design's front-end: readings in counts are converted
 
     @property
     def axes(self) -> int:
@@ -101,6 +102,7 @@ class Calibration:
                 "unscaled_covariance": [[float(v) for v in row] for row in b.unscaled_covariance],
             } for b in self.bridges],
             "warnings": list(self.warnings),
+            "volts_per_count": opt(self.volts_per_count),
         }
 
     @classmethod
@@ -198,7 +200,8 @@ def _calibration_from_dict(record) -> Calibration:
         _cal_number(noise, "residual", "noise", True), _cal_count(noise, "residual_dof", "noise"),
         _cal_number(noise, "design", "noise", True, True), span_pair("force"), span_pair("position"),
         None if record.get("design") is None else str(record["design"]),
-        tuple(str(w) for w in record.get("warnings") or []), str(record.get("source", "")))
+        tuple(str(w) for w in record.get("warnings") or []), str(record.get("source", "")),
+        _cal_number(record, "volts_per_count", "calibration", True, True))
 
 
 def _short(value) -> str:

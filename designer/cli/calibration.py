@@ -6,6 +6,7 @@ Thin: parse arguments, call ``designer.calibration`` and ``designer.calibration.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from designer.cli.paths import guard_inputs, seed, whole_number
 
@@ -63,6 +64,8 @@ def register(subparsers) -> None:
     p.add_argument("--scheme", choices=SCHEMES, default="paper")
     p.add_argument("--seed", type=seed, default=0, help="names the simulated sensor, 0 or more [0]")
     p.add_argument("--repeats", type=_repeats, default=1, help="readings per load (default 1)")
+    p.add_argument("--counts", action="store_true",
+                   help="write the front-end's counts (C1, C2, ...) instead of volts (a design with electronics.adc)")
     p.set_defaults(func=run_simulate_readings)
 
 
@@ -104,7 +107,8 @@ def run_plan(args) -> int:
         readings.write_plan(args.output, result)
     console = _console()
     biaxial = design.axes == 2
-    table = Table(title=f"Calibration plan for {escape(design.name)} (sigma_V {design.noise * MV:.3g} mV, "
+    counts = "" if design.volts_per_count is None else f" = {design.noise / design.volts_per_count:.3g} counts"
+    table = Table(title=f"Calibration plan for {escape(design.name)} (sigma_V {design.noise * MV:.3g} mV{counts}, "
                         f"{args.repeats} reading(s) per load)")
     for col in ("scheme", "loads", "σF/F worst", "σF/F + cal.", "σx worst", "σx + cal.") + (
             ("σθ worst", "σθ + cal.") if biaxial else ()):
@@ -148,7 +152,9 @@ def run_calibrate(args) -> int:
     guard_inputs({"-o": args.output}, {"readings": args.readings, "design.json": args.design})
     data = readings.read_readings(args.readings, need_loads=True)
     design = design_constants(readings.read_design(args.design)) if args.design else None
-    result = calibrate(data, design, args.noise, design_option="--design")
+    per_count = None if design is None else design.volts_per_count
+    data = readings.in_volts(data, per_count, "give --design, a design.json with electronics.adc")
+    result = replace(calibrate(data, design, args.noise, design_option="--design"), volts_per_count=per_count)
     readings.write_calibration(args.output, result)
 
     console = _console()
@@ -192,7 +198,8 @@ def run_measure(args) -> int:
 
     guard_inputs({"-o": args.output}, {"calibration.json": args.calibration, "readings": args.readings})
     cal = readings.read_calibration(args.calibration)
-    data = readings.read_readings(args.readings)
+    data = readings.in_volts(readings.read_readings(args.readings), cal.volts_per_count,
+                             "calibrate with --design of a design with electronics.adc")
     noise = units.parse_positive(args.noise, "voltage", "--noise") if args.noise else None
     m = measure_readings(cal, data, noise)
     if args.output:
@@ -244,7 +251,7 @@ def run_simulate_readings(args) -> int:
     guard_inputs({"-o": args.output}, {"design.json": args.design})
     record = readings.read_design(args.design)
     design = design_constants(record)
-    readings.write_simulated_readings(record, args.output, args.scheme, args.seed, args.repeats)
+    readings.write_simulated_readings(record, args.output, args.scheme, args.seed, args.repeats, args.counts)
     loads = scheme_loads(design, args.scheme)
     source = ("the paper's Table 2" if args.scheme == "paper" and design.prototype
               else f"scheme {args.scheme} over the design's region")

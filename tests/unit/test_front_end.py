@@ -146,3 +146,82 @@ def test_every_catalogue_front_end_names_its_datasheet_and_offers_a_setting():
 def test_the_converter_noise_is_the_datasheet_s_at_that_gain_and_rate(name, gain, rate, nv):
     fe = _spec({"adc": name, "gain": gain, "rate": rate, "excitation": "5 V"}).front_end_noise
     assert fe.converter == pytest.approx(nv * 1e-9)
+
+
+# ----------------------------------------------------------------- readings in counts
+
+SPEC_TEXT = """name: counted
+load: {force: [0.5 N, 20 N], position: [40 mm, 110 mm]}
+electronics: {adc: HX711, rate: 10 Hz, excitation: 5 V}
+gauge: BF350-3AA
+bridge: half
+design:
+  material: 6061-T6
+  section: {kind: round, diameter: 8 mm}
+  stations: [10 mm, 30 mm]
+  feature: {kind: none}
+"""
+
+
+def _design(tmp_path):
+    from designer.cli import main
+
+    (tmp_path / "spec.yaml").write_text(SPEC_TEXT)
+    assert main(["evaluate", str(tmp_path / "spec.yaml"), "-o", str(tmp_path / "out"), "--no-cad",
+                 "--no-plots"]) == 0
+    return tmp_path / "out" / "design.json"
+
+
+def test_one_hx711_count_is_avdd_over_2_to_the_24_at_the_amplifier_output(tmp_path):
+    """HX711: ±0.5·AVDD/gain over 2^24 codes at the input, times the gain: AVDD / 2^24 = 0.298 µV per
+    count at 5 V, whatever the gain."""
+    from designer.calibration.design import design_constants
+    from designer.calibration.readings import read_design
+
+    constants = design_constants(read_design(_design(tmp_path)))
+    assert constants.volts_per_count == pytest.approx(5 / 2 ** 24, rel=1e-12)
+    assert constants.noise / constants.volts_per_count == pytest.approx(128 * 50.29e-9 / (5 / 2 ** 24), rel=1e-3)
+
+
+def test_calibrate_and_measure_read_counts_as_the_same_volts(tmp_path):
+    """Readings simulated in counts (rounded to whole counts) calibrate to the same k and d as the
+    same readings in volts, within the rounding (a count is 1/22 of the noise), and measure alike."""
+    import json
+
+    import numpy as np
+
+    from designer.calibration import readings as rd
+    from designer.cli import main
+
+    design = _design(tmp_path)
+    for unit, extra in (("volts", []), ("counts", ["--counts"])):
+        assert main(["simulate-readings", str(design), "-o", str(tmp_path / f"cal-{unit}.csv"), "--scheme", "9",
+                     *extra]) == 0
+        assert main(["simulate-readings", str(design), "-o", str(tmp_path / f"use-{unit}.csv"), "--scheme", "grid",
+                     *extra]) == 0
+        assert main(["calibrate", str(tmp_path / f"cal-{unit}.csv"), "--design", str(design), "-o",
+                     str(tmp_path / f"cal-{unit}.json")]) == 0
+        assert main(["measure", str(tmp_path / f"cal-{unit}.json"), str(tmp_path / f"use-{unit}.csv"), "-o",
+                     str(tmp_path / f"res-{unit}.csv")]) == 0
+    assert "C1,C2" in (tmp_path / "cal-counts.csv").read_text()
+    cal = {u: json.loads((tmp_path / f"cal-{u}.json").read_text()) for u in ("volts", "counts")}
+    for bv, bc in zip(cal["volts"]["bridges"], cal["counts"]["bridges"]):
+        assert bc["k"] == pytest.approx(bv["k"], rel=1e-4) and bc["d"] == pytest.approx(bv["d"], abs=2e-6)
+    assert cal["counts"]["volts_per_count"] == pytest.approx(5 / 2 ** 24)
+    volts, counts = (rd.parse_readings((tmp_path / f"use-{u}.csv").read_text()) for u in ("volts", "counts"))
+    assert counts.counts and np.all(counts.voltages == np.round(counts.voltages))
+    assert np.allclose(counts.voltages * 5 / 2 ** 24, volts.voltages, atol=5 / 2 ** 25 * 1.0001)
+
+
+def test_counts_without_a_front_end_to_convert_them_are_refused(tmp_path, capsys):
+    from designer.calibration.readings import parse_readings
+    from designer.cli import main
+    from designer.errors import CsvError
+
+    design = _design(tmp_path)
+    assert main(["simulate-readings", str(design), "-o", str(tmp_path / "cal.csv"), "--scheme", "9", "--counts"]) == 0
+    assert main(["calibrate", str(tmp_path / "cal.csv"), "-o", str(tmp_path / "cal.json")]) == 2
+    err = capsys.readouterr().err
+    assert "counts (C1, C2, ...)" in err and "--design" in err and not (tmp_path / "cal.json").exists()
+    with pytest.raises(CsvError, match="mix volts"):
+        parse_readings("mass_g,position_mm,V1,C2\n100,50,0.1,200\n")
