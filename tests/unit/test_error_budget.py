@@ -257,3 +257,13 @@ def test_oiml_r60_class_and_intervals_follow_the_mpe_bands():
     r = oiml.classify([(10.0, big), (100.0, {"span drift": 2e-4})], 100.0, 20.0)
     assert r.accuracy_class is None and "zero drift" in r.limited_by
     assert oiml.mpe(400, (500, 2000)) == pytest.approx(0.35) and oiml.mpe(3000, (500, 2000)) == pytest.approx(1.05)
+
+
+def test_creep_is_the_material_s_30_minute_figure_scaled_by_andrade_s_cube_root_of_time():
+    """The shipped 2e-4 over 30 min (materials.yaml) is a bound: u = 2e-4/√3 for a 30 min hold, and
+    Andrade's primary creep, growing as t^(1/3), doubles it for 240 min."""
+    for hold, factor in (("30 min", 1.0), ("240 min", 2.0)):
+        ev = _evaluate(_spec(environment=dict(ENV, hold=hold)))
+        for _, _, terms in ev.analysis.budget:
+            creep = {t.name: t for t in terms}["creep"]
+            assert creep.force == pytest.approx(2e-4 * factor / math.sqrt(3), rel=1e-9) and creep.position == 0

@@ -183,6 +183,15 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
     d = [g.station for g in gauges]
     load = spec.load
     sigma_f, sigma_x = sigmas(k, d, float(a.sigma_v), load.force_min, load.position_max)
+    force_error, position_error = float(sigma_f) / load.force_min, float(sigma_x)
+    what = "model with 3-D sensitivities"
+    if spec.environment is not None:  # the whole error budget (docs/model.md §13) with the 3-D k and strains
+        from designer.model.budget import region_budget
+
+        strains = [float(e) * g.ratio for e, g in zip(a.gauge_strain, gauges)]
+        u_f, u_x, _ = region_budget(k, d, strains, spec, ev.design.material_params(spec))
+        force_error, position_error = float(u_f), float(u_x)
+        what = "error budget with 3-D sensitivities"
     nominal = float(a.stress_feature)
     kt_fea = main.feature_peak / nominal
     fea = {
@@ -192,8 +201,10 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
         "gauge_strain": (gauges[0].fea_strain, "3-D gauge strain, station 1"),
         "min_signal_snr": (float(a.min_signal_snr) * gauges[-1].ratio, "model x 3-D strain ratio of the last gauge"),
         "deflection": (main.deflection, "3-D free-end deflection"),
-        "force_error": (float(sigma_f) / load.force_min, "model with 3-D sensitivities"),
-        "position_error": (float(sigma_x), "model with 3-D sensitivities"),
+        "force_error": (force_error, what),
+        "position_error": (position_error, what),
+        "adc_range": (spec.electronics.excitation * spec.gauge.factor * spec.bridge_factor * gauges[0].fea_strain / 4,
+                      "bridge output from the 3-D gauge strain, station 1"),
         "stress_root": (float(a.stress_root), "beam model: the idealised clamp is singular in 3-D"),
     }
     out = []
