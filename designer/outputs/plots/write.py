@@ -16,7 +16,8 @@ from designer.outputs.plots.tradeoff import TRADEOFF_ALIASES, TRADEOFF_AXES, plo
 
 # Stable file names of write_design_plots (SPEC.md: the plots an optimize run writes).
 PLOT_NAMES = ("operating-region", "voltage-isolines", "error-maps", "candidates",
-              "tradeoff-deflection", "tradeoff-frequency", "error-budget")
+              "tradeoff-deflection", "tradeoff-frequency")
+BUDGET_PLOT = "error-budget"   # only for a design with an error budget (a spec's environment)
 FORMATS = ("png", "svg")
 DEFAULT_FORMATS = ("png",)   # SVG copies only when asked: each doubles a plot's drawing time
 PNG_DPI = 150
@@ -59,7 +60,7 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
               ("error-maps", lambda: plot_error_maps(design)),
               ("candidates", lambda: plot_candidates(design))]
     if (design.get("predicted") or {}).get("budget") is not None:
-        makers.append(("error-budget", lambda: plot_budget(design)))
+        makers.append((BUDGET_PLOT, lambda: plot_budget(design)))
     for name, points in fronts.items():
         chosen = _chosen_point(design, name)
         makers.append((TRADEOFF_AXES[name][2],
