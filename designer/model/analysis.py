@@ -9,7 +9,7 @@ from typing import Any
 
 from designer.model import corrections
 from designer.model.adjust import Adjustment
-from designer.model.budget import region_budget
+from designer.model.budget import effective_rigidity, region_budget
 from designer.model.beam import channel_deflection, natural_frequency, tip_deflection
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
@@ -148,8 +148,6 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
     strains = _scaled([f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d], station_factors)
     budget_points = None
-    if spec.environment is not None:  # the whole error budget (docs/model.md §13) replaces the noise alone
-        force_error, position_error, budget_points = region_budget(ks, d, strains, spec, m, ops)
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
     widened = corrections.widened(g, table)
@@ -159,6 +157,9 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
         deflection = deflection + stiffness.extra_deflection(g, sp, m.E, m.poisson, f_max, x_max, ops)
     if adjust is not None:
         deflection = deflection * adjust.deflection
+    if spec.environment is not None:  # the whole error budget (docs/model.md §13) replaces the noise alone
+        rigidity = effective_rigidity(deflection, f_max, x_max, g.length)
+        force_error, position_error, budget_points = region_budget(ks, d, strains, spec, m, ops, rigidity)
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
     noise_strain = sigma_v / gain

@@ -55,8 +55,8 @@ class BudgetInputs:
     """What the budget needs beyond the beam model, in SI; every drift is its worst case over the
     operating temperatures, ``ΔT = max|T − T_cal|``.
 
-    ``sigma_v``: the noise per channel at the output, V. ``calibration_leverage(F, x)``: the
-    calibration fit's variance at a load as a multiple of ``sigma_v²`` (``calibration_leverage``).
+    ``sigma_v``: the noise per channel at the output, V. ``calibration``: the calibration fit
+    (``CalibrationFit``).
     ``zero_common``, ``zero_each``: the worst output offset change common to all bridges and each
     bridge's own, V at the output. ``span``: ``|α_G − α_E|·ΔT``. ``gain_each``: the front-end's
     gain drift ``γ·ΔT`` per channel. ``creep``: the output's creep over the hold, as a fraction.
@@ -65,7 +65,7 @@ class BudgetInputs:
     gauge (their output is not linear in the strain: ``V ∝ ε/(1 + G ε/2)``). ``gauge_factor``."""
 
     sigma_v: Any
-    calibration_leverage: Any
+    calibration: Any          # CalibrationFit
     zero_common: Any
     zero_each: Any
     span: Any
@@ -75,6 +75,7 @@ class BudgetInputs:
     placement: Any
     quarter: bool
     gauge_factor: float
+    rigidity: Any = None      # EI of the beam as its free-end deflection gives it, N m^2 (None: no large-deflection term)
 
 
 def _gradients(k, d, force, position):
@@ -117,7 +118,7 @@ def contributions(k, d, force, position, strains, inputs: BudgetInputs) -> list[
     zero = 0.0 * force
     out = [
         independent("noise", RANDOM, inputs.sigma_v),
-        independent("calibration fit", RANDOM, inputs.sigma_v * inputs.calibration_leverage(force, position) ** 0.5),
+        independent("calibration fit", RANDOM, inputs.sigma_v * inputs.calibration.leverage(force, position) ** 0.5),
         signed("zero drift, common", [inputs.zero_common] * len(k)),
         independent("zero drift, between bridges", SYSTEMATIC, inputs.zero_each / SQRT3),
         span("span drift", inputs.span),
@@ -127,8 +128,37 @@ def contributions(k, d, force, position, strains, inputs: BudgetInputs) -> list[
     if inputs.quarter:
         # V = V_lin / (1 + G ε/2) ~ V_lin (1 - G ε/2): a bias that differs between the stations
         out.append(signed("bridge non-linearity", [-v * inputs.gauge_factor * e / 2 for v, e in zip(outputs, strains)]))
+    if inputs.rigidity is not None:
+        out.append(signed("large deflection", _arm_shortening(k, d, force, position, inputs)))
     out += [span("calibration weights", inputs.weights),
             Contribution("calibration load placement", SYSTEMATIC, zero, zero + inputs.placement ** 2 / 3)]
+    return out
+
+
+def shortening(force, position, s, rigidity):
+    """How far a point at arc length ``s <= position`` moves towards the clamp as the beam bends
+    under ``force`` at ``position``, to first order: ``∫0^s θ²/2`` with the beam-theory slope
+    ``θ = F (x s − s²/2) / EI``, i.e. ``F² (x² s³/3 − x s⁴/4 + s⁵/20) / (2 EI²)``; at the load
+    ``F² x⁵ / (15 EI²) = 0.6 w²/x``."""
+    return force * force * (position * position * s ** 3 / 3 - position * s ** 4 / 4 + s ** 5 / 20) / \
+        (2 * rigidity * rigidity)
+
+
+def _arm_shortening(k, d, force, position, inputs: BudgetInputs):
+    """The outputs' error from the lever arm's shortening, left after the calibration fit: a bridge
+    at ``d`` reads ``k F (x − d − (u(x) − u(d)))`` (the elastica's moment ``F (X_F − X(d))``), which
+    the fit ``V = a F x + b F + c`` over the calibration loads absorbs in part; the rest at the load."""
+    ei = inputs.rigidity
+    fit = inputs.calibration
+
+    def bias(ki, di, f, x):
+        return -ki * f * (shortening(f, x, x, ei) - shortening(f, x, di, ei))
+
+    weights = fit.weights(force, position)
+    out = []
+    for ki, di in zip(k, d):
+        at_calibration = [bias(ki, di, f, x) for f, x in zip(fit.forces, fit.positions)]
+        out.append(bias(ki, di, force, position) - sum(w * b for w, b in zip(weights, at_calibration)))
     return out
 
 
@@ -137,29 +167,51 @@ def combined(terms: list[Contribution], ops: Ops = NUMERIC):
     return ops.sqrt(sum(t.force_var for t in terms)), ops.sqrt(sum(t.position_var for t in terms))
 
 
-def calibration_leverage(force_range, position_range):
-    """``h(F, x)``: the variance the calibration fit leaves in a bridge's output at the load ``F``
-    at ``x``, as a multiple of ``σ_V²``. The fit is the 9-point scheme that ``plan`` proposes
-    (forces and positions at the ends and the middle of the region, each load hung once), each
-    bridge fitted to ``V = a·F·x + b·F + c`` by least squares: ``h = uᵀ (XᵀX)⁻¹ u`` with
-    ``u = (F x, F, 1)``."""
-    import numpy as np
+@dataclass(frozen=True)
+class CalibrationFit:
+    """The 9-point scheme ``plan`` proposes (forces and positions at the ends and the middle of
+    the region, each load hung once), each bridge fitted to ``V = a·F·x + b·F + c`` by least
+    squares (docs/model.md §10)."""
 
-    (f0, f1), (x0, x1) = force_range, position_range
-    forces, positions = np.meshgrid([f0, (f0 + f1) / 2, f1], [x0, (x0 + x1) / 2, x1], indexing="ij")
-    rows = np.column_stack([(forces * positions).ravel(), forces.ravel(), np.ones(forces.size)])
-    inverse = np.linalg.inv(rows.T @ rows)
+    forces: tuple
+    positions: tuple
+    inverse: Any          # (XᵀX)⁻¹ of the rows (F x, F, 1)
 
-    def leverage(force, position):
+    @classmethod
+    def over(cls, force_range, position_range) -> "CalibrationFit":
+        import numpy as np
+
+        (f0, f1), (x0, x1) = force_range, position_range
+        forces, positions = np.meshgrid([f0, (f0 + f1) / 2, f1], [x0, (x0 + x1) / 2, x1], indexing="ij")
+        forces, positions = forces.ravel(), positions.ravel()
+        rows = np.column_stack([forces * positions, forces, np.ones(forces.size)])
+        return cls(tuple(float(f) for f in forces), tuple(float(x) for x in positions), np.linalg.inv(rows.T @ rows))
+
+    def _u(self, force, position):
+        import numpy as np
+
         force, position = np.broadcast_arrays(np.asarray(force, float), np.asarray(position, float))
-        u = np.stack([force * position, force, np.ones_like(force)], axis=-1)
-        h = np.einsum("...i,ij,...j->...", u, inverse, u)
+        return np.stack([force * position, force, np.ones_like(force)], axis=-1)
+
+    def leverage(self, force, position):
+        """``h = uᵀ (XᵀX)⁻¹ u``, ``u = (F x, F, 1)``: the fit's variance at the load as a multiple
+        of one reading's."""
+        import numpy as np
+
+        h = np.einsum("...i,ij,...j->...", self._u(force, position), self.inverse, self._u(force, position))
         return float(h) if h.ndim == 0 else h
 
-    return leverage
+    def weights(self, force, position) -> list:
+        """The fitted output at the load as weights on the calibration readings:
+        ``uᵀ (XᵀX)⁻¹ Xᵀ``, one number (or array) per calibration load."""
+        import numpy as np
+
+        rows = np.column_stack([np.multiply(self.forces, self.positions), self.forces, np.ones(len(self.forces))])
+        w = self._u(force, position) @ self.inverse @ rows.T
+        return [float(w[..., j]) if w.ndim == 1 else w[..., j] for j in range(len(self.forces))]
 
 
-def budget_inputs(spec, material, ops: Ops = NUMERIC) -> BudgetInputs:
+def budget_inputs(spec, material, ops: Ops = NUMERIC, rigidity=None) -> BudgetInputs:
     """The budget's figures for ``spec`` (with an ``environment``) and ``material`` (a
     ``MaterialParams``: numbers or the optimiser's parameters); docs/model.md §13.
 
@@ -174,6 +226,7 @@ def budget_inputs(spec, material, ops: Ops = NUMERIC) -> BudgetInputs:
       (Andrade's law of primary creep).
     - With ``environment.tare`` the offsets are measured again, unloaded, at the operating
       temperature: no zero drift remains.
+    - ``rigidity`` (EI, N m²), when given, adds the lever arm's shortening as the beam bends.
     """
     env, e, gauge = spec.environment, spec.electronics, spec.gauge
     swing = env.swing
@@ -190,8 +243,7 @@ def budget_inputs(spec, material, ops: Ops = NUMERIC) -> BudgetInputs:
         zero_common, zero_each = 0.0 * zero_common, 0.0
     return BudgetInputs(
         sigma_v=spec.sigma_v,
-        calibration_leverage=calibration_leverage((load.force_min, load.force_max),
-                                                  (load.position_min, load.position_max)),
+        calibration=CalibrationFit.over((load.force_min, load.force_max), (load.position_min, load.position_max)),
         zero_common=zero_common,
         zero_each=zero_each,
         span=ops.fabs(gauge.factor_tc - material.modulus_tc) * swing,
@@ -201,6 +253,7 @@ def budget_inputs(spec, material, ops: Ops = NUMERIC) -> BudgetInputs:
         placement=spec.calibration.placement,
         quarter=quarter,
         gauge_factor=gauge.factor,
+        rigidity=rigidity,
     )
 
 
@@ -208,18 +261,19 @@ CREEP_HOLD = 1800.0  # s: the hold of the materials' creep figures (OIML R 60's 
 
 
 RECORDED = ("sigma_v", "zero_common", "zero_each", "span", "gain_each", "creep", "weights", "placement", "quarter",
-            "gauge_factor")
+            "gauge_factor", "rigidity")
 
 
 def recorded_inputs(inputs: BudgetInputs) -> dict:
     """The inputs as design.json records them (numbers; the calibration fit as its region)."""
-    return {k: (bool(inputs.quarter) if k == "quarter" else float(getattr(inputs, k))) for k in RECORDED}
+    return {k: (bool(inputs.quarter) if k == "quarter" else None if getattr(inputs, k) is None
+                else float(getattr(inputs, k))) for k in RECORDED}
 
 
 def inputs_from_record(recorded: dict, force_range, position_range) -> BudgetInputs:
     """``recorded_inputs`` read back, the calibration fit rebuilt over the region."""
-    return BudgetInputs(calibration_leverage=calibration_leverage(force_range, position_range),
-                        **{k: recorded[k] for k in RECORDED})
+    return BudgetInputs(calibration=CalibrationFit.over(force_range, position_range),
+                        **{k: recorded.get(k) if k == "rigidity" else recorded[k] for k in RECORDED})
 
 
 def corners(spec):
@@ -228,11 +282,12 @@ def corners(spec):
     return [(f, x) for f in (load.force_min, load.force_max) for x in (load.position_min, load.position_max)]
 
 
-def region_budget(k, d, strains_at_full_load, spec, material, ops: Ops = NUMERIC):
+def region_budget(k, d, strains_at_full_load, spec, material, ops: Ops = NUMERIC, rigidity=None):
     """``(force, position, points)``: the combined ``u_c(F)/F`` and ``u_c(x)``, each the largest
     over the region's corners, and every corner's ``(F, x, contributions)``. ``strains_at_full_load``
-    are the gauge strains under ``F_max`` at ``x_max``; elsewhere they scale with the moment."""
-    inputs = budget_inputs(spec, material, ops)
+    are the gauge strains under ``F_max`` at ``x_max``; elsewhere they scale with the moment.
+    ``rigidity``: EI for the large-deflection term (``effective_rigidity``)."""
+    inputs = budget_inputs(spec, material, ops, rigidity)
     f_max, x_max = spec.load.force_max, spec.load.position_max
     points = []
     for force, position in corners(spec):
@@ -240,6 +295,12 @@ def region_budget(k, d, strains_at_full_load, spec, material, ops: Ops = NUMERIC
         points.append((force, position, contributions(k, d, force, position, strains, inputs)))
     forces, positions = zip(*(combined(terms, ops) for _, _, terms in points))
     return _largest(forces, ops), _largest(positions, ops), points
+
+
+def effective_rigidity(deflection, force, position, free_length):
+    """The EI a prismatic cantilever would need to deflect its free end by ``deflection`` under
+    ``force`` at ``position``: ``F x² (3 ℓ − x) / (6 w)``."""
+    return force * position * position * (3 * free_length - position) / (6 * deflection)
 
 
 def _largest(values, ops):

@@ -66,11 +66,14 @@ def budget_record(spec, evaluation: Evaluation) -> dict:
     share of the variance there, the combined 1σ and the expanded value (k = 2); the noise
     alone, as without ``environment``; and the budget's inputs, from which the error maps draw
     the combined uncertainty over the whole region."""
-    from designer.model.budget import budget_inputs, combined, recorded_inputs
+    from designer.model.budget import budget_inputs, combined, effective_rigidity, recorded_inputs
     from designer.model.oiml import classify
 
     a = evaluation.analysis
-    inputs = budget_inputs(spec, evaluation.design.material_params(spec))
+    load = spec.load
+    rigidity = effective_rigidity(float(a.deflection), load.force_max, load.position_max,
+                                  evaluation.design.geometry.length)
+    inputs = budget_inputs(spec, evaluation.design.material_params(spec), rigidity=rigidity)
     tared = spec.environment.tare
     out = {"coverage_factor": COVERAGE, "inputs": recorded_inputs(inputs),
            "noise_only": {"force_error": float(a.noise_force_error), "position_error": float(a.noise_position_error)}}

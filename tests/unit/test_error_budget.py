@@ -56,7 +56,8 @@ def test_span_drift_is_the_gauge_factor_s_and_the_modulus_coefficients_differenc
 def test_a_common_offset_cancels_in_the_force_and_moves_the_position_by_delta_over_k_f():
     """Equal k: every output moved by δ leaves F and moves x by δ/(k F) (docs/model.md §13)."""
     k, d, delta = [0.2, 0.2], [0.01, 0.03], 3e-6
-    inputs = budget.BudgetInputs(sigma_v=1e-6, calibration_leverage=lambda f, x: 0.0, zero_common=delta * math.sqrt(3),
+    fit = budget.CalibrationFit.over((1.0, 3.0), (0.05, 0.15))
+    inputs = budget.BudgetInputs(sigma_v=1e-6, calibration=fit, zero_common=delta * math.sqrt(3),
                                  zero_each=0.0, span=0.0, gain_each=0.0, creep=0.0, weights=0.0, placement=0.0,
                                  quarter=False, gauge_factor=2.0)
     terms = {t.name: t for t in budget.contributions(k, d, 2.0, 0.1, [1e-4, 1e-4], inputs)}
@@ -129,13 +130,22 @@ def _monte_carlo(spec, ev, corner, draws=40_000, seed=1):
     by their drawn errors, each reading noisy) fitted per bridge to V = a F x + b F + c; then one
     reading at ``corner`` with the temperature's drifts (common span, each channel's gain, creep,
     common and per-bridge offsets: rectangular over their bounds) and noise, estimated with the
-    fitted constants. Returns the standard deviations of F̂/F and x̂."""
+    fitted constants; the beam's lever arms shortened as it bends (first order, ``budget.shortening``,
+    checked against the elastica elsewhere). Returns the root mean squares of F̂/F − 1 and x̂ − x:
+    the deterministic large-deflection bias counts as the budget counts it, a bound.""" 
     rng = np.random.default_rng(seed)
     params = ev.design.material_params(spec)
-    inp = budget.budget_inputs(spec, params)
+    load = spec.load
+    ei = budget.effective_rigidity(float(ev.analysis.deflection), load.force_max, load.position_max,
+                                   ev.design.geometry.length)
+    inp = budget.budget_inputs(spec, params, rigidity=ei)
+
+    def arm(f, x, d):
+        """The lever arm as the bent beam has it: x − d less the load's and the station's shortening."""
+        return x - d - (budget.shortening(f, x, x, ei) - budget.shortening(f, x, d, ei))
+
     k, d = np.array(ev.analysis.sensitivities), np.array(ev.design.geometry.stations)
     n = len(k)
-    load = spec.load
     fs = np.array([load.force_min, (load.force_min + load.force_max) / 2, load.force_max])
     xs = np.array([load.position_min, (load.position_min + load.position_max) / 2, load.position_max])
     cf, cx = (a.ravel() for a in np.meshgrid(fs, xs, indexing="ij"))
@@ -146,32 +156,41 @@ def _monte_carlo(spec, ev, corner, draws=40_000, seed=1):
     weight = uniform(inp.weights, (draws, 1))            # the true force is F (1 + w)
     place = uniform(inp.placement, (draws, 1))           # the true position is x + p
     true_f, true_x = cf * (1 + weight), cx + place
-    cal = k * true_f[..., None] * (true_x[..., None] - d) + rng.normal(0, inp.sigma_v, (draws, cf.size, n))
+    cal = k * true_f[..., None] * arm(true_f[..., None], true_x[..., None], d) + \
+        rng.normal(0, inp.sigma_v, (draws, cf.size, n))
     rows = np.column_stack([cf * cx, cf, np.ones(cf.size)])
     coef = np.einsum("ij,djn->din", np.linalg.pinv(rows), cal)      # (draws, 3, n): a, b, c per bridge
     k_fit, d_fit, c_fit = coef[:, 0], -coef[:, 1] / coef[:, 0], coef[:, 2]
     force, position = corner
     span = 1 + uniform(inp.span, (draws, 1)) + uniform(inp.creep, (draws, 1)) + uniform(inp.gain_each, (draws, n))
     offsets = uniform(inp.zero_common, (draws, 1)) + uniform(inp.zero_each, (draws, n))
-    volts = k * span * force * (position - d) + offsets + rng.normal(0, inp.sigma_v, (draws, n))
+    volts = k * span * force * arm(force, position, d) + offsets + rng.normal(0, inp.sigma_v, (draws, n))
     f_hat, x_hat = estimator.estimate(volts, k_fit, d_fit, c_fit)
-    return np.std(f_hat / force), np.std(x_hat)
+    return np.std(f_hat / force), np.std(x_hat), np.mean(f_hat / force - 1), np.mean(x_hat - position)
 
 
 @pytest.mark.parametrize("environment, forces", [(ENV, ["5 N", "20 N"]), (dict(ENV, tare=True), LOAD["force"])],
                          ids=["zero drift", "tared"])
 def test_the_combined_uncertainty_agrees_with_a_monte_carlo_of_the_whole_error_model(environment, forces):
     """JCGM 100 combination (root sum of squares, u = a/√3 for the bounds) against JCGM 101-style
-    sampling, at every corner of the region: within 3 % for the force and the position. Linear
+    sampling, at every corner of the region: within 3 % for the force and the position, and the
+    mean bias the bent beam leaves after the calibration fit within 5 % of the budget's. Linear
     propagation needs small errors: with the zero drift untared the loads start at 5 N (7 % force
     error there; at 0.5 N it is 66 %, and x = z1/z2 is then far from linear)."""
     spec = _spec(environment=environment, load={"force": forces, "position": LOAD["position"]})
     ev = _evaluate(spec)
     for force, position, terms in ev.analysis.budget:
-        u_f, u_x = (float(v) for v in budget.combined(terms))
-        mc_f, mc_x = _monte_carlo(spec, ev, (force, position))
+        random = [t for t in terms if t.name != "large deflection"]
+        u_f, u_x = (float(v) for v in budget.combined(random))
+        mc_f, mc_x, bias_f, bias_x = _monte_carlo(spec, ev, (force, position))
         assert mc_f == pytest.approx(u_f, rel=0.03), (force, position)
         assert mc_x == pytest.approx(u_x, rel=0.03), (force, position)
+        if not environment.get("tare"):
+            continue  # with 7 % force errors x = z1/z2 has a second-order bias of its own, larger than this
+        # the large deflection is a bias, which the budget bounds by a (u = a/√3)
+        bent = next(t for t in terms if t.name == "large deflection")
+        assert abs(bias_x) == pytest.approx(math.sqrt(3) * bent.position, rel=0.05, abs=3 * mc_x / 200), (force, position)
+        assert abs(bias_f) == pytest.approx(math.sqrt(3) * bent.force, rel=0.05, abs=3 * mc_f / 200), (force, position)
 
 
 def test_with_an_environment_the_targets_and_the_objective_are_the_combined_uncertainty():
@@ -267,3 +286,20 @@ def test_creep_is_the_material_s_30_minute_figure_scaled_by_andrade_s_cube_root_
         for _, _, terms in ev.analysis.budget:
             creep = {t.name: t for t in terms}["creep"]
             assert creep.force == pytest.approx(2e-4 * factor / math.sqrt(3), rel=1e-9) and creep.position == 0
+
+
+@pytest.mark.parametrize("force", [5.0, 20.0, 60.0])
+def test_the_lever_arm_s_shortening_is_the_elastica_s_to_first_order(force):
+    """A prismatic cantilever (EI = 3.67 N m², 120 mm) under a load at 110 mm, bent to 0.6-6.8 % of
+    its length: the load point and the stations move towards the clamp as the elastica says
+    (checks.elastica.solve_elastica, an independent shooting solution), within 1 %; at the load
+    it is the classical 0.6 w²/x of the tip-loaded cantilever."""
+    from designer.checks.elastica import solve_elastica
+
+    ei, length, x = 3.67, 0.12, 0.11
+    e = solve_elastica(force, x, length, ei, stations=(0.01, 0.03))
+    assert budget.shortening(force, x, x, ei) == pytest.approx(x - e.load_x, rel=0.01)
+    for s, along in zip(e.stations, e.station_x):
+        assert budget.shortening(force, x, s, ei) == pytest.approx(s - along, rel=0.01)
+    w_load = force * x ** 3 / (3 * ei)
+    assert budget.shortening(force, x, x, ei) == pytest.approx(0.6 * w_load ** 2 / x, rel=1e-12)

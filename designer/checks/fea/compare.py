@@ -186,10 +186,11 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
     force_error, position_error = float(sigma_f) / load.force_min, float(sigma_x)
     what = "model with 3-D sensitivities"
     if spec.environment is not None:  # the whole error budget (docs/model.md §13) with the 3-D k and strains
-        from designer.model.budget import region_budget
+        from designer.model.budget import effective_rigidity, region_budget
 
         strains = [float(e) * g.ratio for e, g in zip(a.gauge_strain, gauges)]
-        u_f, u_x, _ = region_budget(k, d, strains, spec, ev.design.material_params(spec))
+        rigidity = effective_rigidity(main.deflection, load.force_max, load.position_max, ev.design.geometry.length)
+        u_f, u_x, _ = region_budget(k, d, strains, spec, ev.design.material_params(spec), rigidity=rigidity)
         force_error, position_error = float(u_f), float(u_x)
         what = "error budget with 3-D sensitivities"
     nominal = float(a.stress_feature)
