@@ -88,6 +88,20 @@ def test_quarter_bridge_non_linearity_is_the_exact_wheatstone_output_s():
     assert (g * 1e-3 / 4) / (1 + g * 1e-3 / 2) / (g * 1e-3 / 4) - 1 == pytest.approx(-1e-3, rel=1e-3)
 
 
+def test_weights_placement_and_front_end_drift_are_their_bounds_over_root_3():
+    """OIML R 111-1 Table 1: an M1 1 kg weight may be 50 mg off (50 ppm), an F1 one 5 mg; the load
+    placed within 0.1 mm; the HX711's gain drift 5 ppm/K over the 23 K swing on each channel."""
+    for weights, mpe in (("M1", 50e-6), ("F1", 5e-6)):
+        ev = _evaluate(_spec(calibration={"weights": weights, "placement": "0.1 mm"}))
+        for force, position, terms in ev.analysis.budget:
+            t = {x.name: x for x in terms}
+            assert t["calibration weights"].force == pytest.approx(mpe / math.sqrt(3), rel=1e-9)
+            assert t["calibration load placement"].position == pytest.approx(1e-4 / math.sqrt(3), rel=1e-9)
+    spec = _spec()
+    inputs = budget.budget_inputs(spec, _evaluate(spec).design.material_params(spec))
+    assert inputs.gain_each == pytest.approx(5e-6 * 23, rel=1e-9)
+
+
 def test_a_half_bridge_carries_only_the_scatter_and_a_quarter_bridge_the_whole_thermal_output():
     """BF350-3AA is compensated for steel (11 ppm/K); on 6061-T6 (22.6 ppm/K) it reads 11.6 µε/K of
     apparent strain plus its 1.8 µε/K residual (TN-504, Kyowa): a quarter bridge carries all of it as

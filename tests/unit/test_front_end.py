@@ -225,3 +225,13 @@ def test_counts_without_a_front_end_to_convert_them_are_refused(tmp_path, capsys
     assert "counts (C1, C2, ...)" in err and "--design" in err and not (tmp_path / "cal.json").exists()
     with pytest.raises(CsvError, match="mix volts"):
         parse_readings("mass_g,position_mm,V1,C2\n100,50,0.1,200\n")
+
+
+def test_an_unknown_front_end_exits_2_with_the_catalogue_s_names(tmp_path, capsys):
+    from designer.cli import main
+
+    (tmp_path / "spec.yaml").write_text(SPEC_TEXT.replace("adc: HX711", "adc: HX717"))
+    assert main(["evaluate", str(tmp_path / "spec.yaml"), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "electronics.adc: 'HX717'" in err and "HX711" in err and "AD7190" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "out").exists()
