@@ -22,15 +22,17 @@ class Ops:
     fmin: Callable
     exp: Callable = np.exp
     fabs: Callable = np.abs
+    log: Callable = np.log
 
 
-NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin, np.exp, np.abs)
+NUMERIC = Ops(np.sqrt, np.sin, np.cos, np.arccos, np.fmax, np.fmin, np.exp, np.abs, np.log)
 
 
 def casadi_ops() -> Ops:
     import casadi
 
-    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin, casadi.exp, casadi.fabs)
+    return Ops(casadi.sqrt, casadi.sin, casadi.cos, casadi.acos, casadi.fmax, casadi.fmin, casadi.exp, casadi.fabs,
+               casadi.log)
 
 
 def ops_for(value) -> Ops:
