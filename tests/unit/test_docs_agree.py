@@ -94,3 +94,23 @@ def test_the_model_docs_table_of_corrections_is_the_shipped_table():
         margin = getattr(f, "margin", 0.0)
         expected = "–" if not margin else (f"×{1 + margin:.3f}" if q == "stress" else f"+{margin:.3f} sizes")
         assert cells[6] == expected, (fam, q, cells[6])
+
+
+def test_the_readme_s_error_budget_is_the_budget_example_s():
+    """README "The whole error budget": the design it names, evaluated under
+    examples/budget/gripper-finger-hx711.yaml, has the combined errors and span drift it states."""
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.result.record import build_record
+
+    section = README[README.index("## The whole error budget"):README.index("## Compared with the paper")]
+    raw = yaml.safe_load((ROOT / "examples" / "budget" / "gripper-finger-hx711.yaml").read_text(encoding="utf-8"))
+    raw["design"] = {"material": "17-7PH-RH950", "section": {"kind": "round", "diameter": "6.84 mm"},
+                     "stations": ["9.45 mm", "30.55 mm"], "feature": {"kind": "pocket", "depth": "1.42 mm"}}
+    assert "17-7PH-RH950 round Ø6.84 mm, flats 1.42 mm deep" in section
+    spec = parse_spec(raw)
+    ev = evaluate(fixed_design(spec), spec)
+    b = build_record("feasible", spec, ev)["predicted"]["budget"]
+    terms = {t["name"]: t["u"] for t in b["force"]["terms"]}
+    assert f"**{b['force']['combined'] * 100:.3f} %**" in section
+    assert f"{terms['span drift'] * 100:.3f} %" in section
+    assert f"**{b['position']['combined'] * 1e3:.3f} mm**" in section
