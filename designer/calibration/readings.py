@@ -70,6 +70,11 @@ def _bridge_columns(names: list[str], where: str) -> tuple[Bridge, ...]:
     return expected   # in column order whatever the file's order
 
 
+def _column(bridge: Bridge, counts: bool) -> str:
+    """A bridge's column: ``V1`` in volts, ``C1`` in counts."""
+    return "C" + bridge.name[1:] if counts else bridge.name
+
+
 def parse_readings(text: str, source: str = "readings.csv", need_loads: bool = False) -> Readings:
     """Readings from CSV text; CsvError names the line and column of the first problem.
 
@@ -141,7 +146,7 @@ def parse_readings(text: str, source: str = "readings.csv", need_loads: bool = F
         position = col["position_mm"] * 1e-3
     angle = np.radians(col["angle_deg"]) if "angle_deg" in col else None
     counts = bridge_names[0][0] == "C"
-    voltages = np.column_stack([col[("C" + b.name[1:]) if counts else b.name] for b in bridges])
+    voltages = np.column_stack([col[_column(b, counts)] for b in bridges])
     return Readings(bridges, voltages, force, position, angle, line_numbers, source, force_column == "mass_g",
                     counts)
 
@@ -229,7 +234,7 @@ def format_readings(readings: Readings, comments: tuple[str, ...] = ()) -> str:
     if readings.angle is not None and readings.axes == 2:
         header.append("angle_deg")
         columns.append(np.degrees(readings.angle))
-    header += [("C" + b.name[1:]) if readings.counts else b.name for b in readings.bridges]
+    header += [_column(b, readings.counts) for b in readings.bridges]
     columns += list(readings.voltages.T)
     rows = [[_fmt(v) for v in row] for row in np.column_stack(columns)]
     return _csv_text(header, rows, comments)

@@ -147,7 +147,6 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     stress_root = f_max * x_max * sp.y_root / (sp.I - channel_inertia(g, ops))
     stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
     strains = _scaled([f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d], station_factors)
-    budget_points = None
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
     widened = corrections.widened(g, table)
@@ -157,6 +156,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
         deflection = deflection + stiffness.extra_deflection(g, sp, m.E, m.poisson, f_max, x_max, ops)
     if adjust is not None:
         deflection = deflection * adjust.deflection
+    budget_points = None
     if spec.environment is not None:  # the whole error budget (docs/model.md §13) replaces the noise alone
         rigidity = effective_rigidity(deflection, f_max, x_max, g.length)
         force_error, position_error, budget_points = region_budget(ks, d, strains, spec, m, ops, rigidity)

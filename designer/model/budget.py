@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from designer.model.electronics import volts_per_strain
 from designer.model.estimator import normal_matrix_inverse
 from designer.model.ops import NUMERIC, Ops
 
@@ -183,32 +184,32 @@ class CalibrationFit:
 
         (f0, f1), (x0, x1) = force_range, position_range
         forces, positions = np.meshgrid([f0, (f0 + f1) / 2, f1], [x0, (x0 + x1) / 2, x1], indexing="ij")
-        forces, positions = forces.ravel(), positions.ravel()
-        rows = np.column_stack([forces * positions, forces, np.ones(forces.size)])
-        return cls(tuple(float(f) for f in forces), tuple(float(x) for x in positions), np.linalg.inv(rows.T @ rows))
-
-    def _u(self, force, position):
-        import numpy as np
-
-        force, position = np.broadcast_arrays(np.asarray(force, float), np.asarray(position, float))
-        return np.stack([force * position, force, np.ones_like(force)], axis=-1)
+        rows = _rows(forces.ravel(), positions.ravel())
+        return cls(tuple(float(f) for f in forces.ravel()), tuple(float(x) for x in positions.ravel()),
+                   np.linalg.inv(rows.T @ rows))
 
     def leverage(self, force, position):
         """``h = uᵀ (XᵀX)⁻¹ u``, ``u = (F x, F, 1)``: the fit's variance at the load as a multiple
         of one reading's."""
         import numpy as np
 
-        h = np.einsum("...i,ij,...j->...", self._u(force, position), self.inverse, self._u(force, position))
+        u = _rows(force, position)
+        h = np.einsum("...i,ij,...j->...", u, self.inverse, u)
         return float(h) if h.ndim == 0 else h
 
     def weights(self, force, position) -> list:
         """The fitted output at the load as weights on the calibration readings:
         ``uᵀ (XᵀX)⁻¹ Xᵀ``, one number (or array) per calibration load."""
-        import numpy as np
-
-        rows = np.column_stack([np.multiply(self.forces, self.positions), self.forces, np.ones(len(self.forces))])
-        w = self._u(force, position) @ self.inverse @ rows.T
+        w = _rows(force, position) @ self.inverse @ _rows(self.forces, self.positions).T
         return [float(w[..., j]) if w.ndim == 1 else w[..., j] for j in range(len(self.forces))]
+
+
+def _rows(force, position):
+    """The fit's rows ``(F x, F, 1)``, one per load (the last axis)."""
+    import numpy as np
+
+    force, position = np.broadcast_arrays(np.asarray(force, float), np.asarray(position, float))
+    return np.stack([force * position, force, np.ones_like(force)], axis=-1)
 
 
 def budget_inputs(spec, material, ops: Ops = NUMERIC, rigidity=None) -> BudgetInputs:
@@ -230,7 +231,7 @@ def budget_inputs(spec, material, ops: Ops = NUMERIC, rigidity=None) -> BudgetIn
     """
     env, e, gauge = spec.environment, spec.electronics, spec.gauge
     swing = env.swing
-    per_strain = e.excitation * gauge.factor * e.gain / 4   # output of one active gauge per unit strain
+    per_strain = volts_per_strain(e.excitation, gauge.factor, e.gain, 1)   # one active gauge's output per unit strain
     apparent = ops.fabs(material.expansion - gauge.compensated_for) + gauge.thermal_output
     quarter = spec.bridge == "quarter"
     fe = e.front_end

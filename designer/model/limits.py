@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from designer.model.electronics import volts_per_strain
 from designer.model.objective import FEASIBILITY_TOLERANCE
 from designer.model.ops import NUMERIC, Ops
 from designer.model.sections import Geometry, feature_length
@@ -88,8 +89,8 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     front_end = spec.front_end_noise
     if front_end is not None:
         # the bridge's output at F_max, x_max (station 1, the largest) inside the front-end's input range
-        e = spec.electronics
-        signal = e.excitation * spec.gauge.factor * spec.bridge_factor * a.gauge_strain[0] / 4
+        signal = volts_per_strain(spec.electronics.excitation, spec.gauge.factor, 1.0, spec.bridge_factor) * \
+            a.gauge_strain[0]
         out.append(Limit("adc_range", signal, front_end.full_scale / (1 + allowance), unit="V",
                          rating=front_end.full_scale))
     if lim.fatigue and g.feature != "none":

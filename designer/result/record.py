@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from designer.model.electronics import volts_per_strain
 from designer.result.evaluation import Evaluation
 
 VERSION = 1
@@ -41,7 +42,7 @@ def front_end_record(spec, evaluation: Evaluation) -> dict | None:
     if fe is None:
         return None
     e = spec.electronics
-    per_strain = spec.gauge.factor * spec.bridge_factor / 4
+    per_strain = volts_per_strain(1.0, spec.gauge.factor, 1.0, spec.bridge_factor)   # V/V of excitation
     output = [per_strain * float(s) for s in evaluation.analysis.gauge_strain]
     entry = e.front_end
     return {

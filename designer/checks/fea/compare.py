@@ -177,6 +177,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
 def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
     """Every limit of the beam model again, with the 3-D figures where the check gives them."""
     from designer.model.analysis import fatigue_factor
+    from designer.model.electronics import volts_per_strain
     from designer.model.estimator import sigmas
 
     k = [float(ki) * g.ratio for ki, g in zip(a.sensitivities, gauges)]
@@ -204,8 +205,8 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
         "deflection": (main.deflection, "3-D free-end deflection"),
         "force_error": (force_error, what),
         "position_error": (position_error, what),
-        "adc_range": (spec.electronics.excitation * spec.gauge.factor * spec.bridge_factor * gauges[0].fea_strain / 4,
-                      "bridge output from the 3-D gauge strain, station 1"),
+        "adc_range": (volts_per_strain(spec.electronics.excitation, spec.gauge.factor, 1.0, spec.bridge_factor)
+                      * gauges[0].fea_strain, "bridge output from the 3-D gauge strain, station 1"),
         "stress_root": (float(a.stress_root), "beam model: the idealised clamp is singular in 3-D"),
     }
     out = []
