@@ -108,14 +108,9 @@ GAUGE_THERMAL = {"factor_tc": "any", "compensated_for": "positive", "thermal_out
 def gauge_thermal(entry: dict, key: str, in_spec: bool = False) -> dict:
     """The thermal figures an entry gives, in 1/K (``"1.8 ue/K"``, ``"11 ppm/K"``); a bad one is a
     CatalogueError, or in a spec (``in_spec``) a SpecError."""
-    read = _spec_quantity if in_spec else (lambda v, k, sign: _quantity(v, "drift", k, sign))
-    return {k: read(entry[k], f"{key}.{k}", sign) for k, sign in GAUGE_THERMAL.items() if entry.get(k) is not None}
-
-
-def _spec_quantity(value, key: str, sign: str) -> float:
-    if sign == "any":
-        return units.parse(value, "drift", key)
-    return units.parse_positive(value, "drift", key, allow_zero=sign == "zero or positive")
+    read = signed if in_spec else quantity
+    return {k: read(entry[k], "drift", f"{key}.{k}", sign) for k, sign in GAUGE_THERMAL.items()
+            if entry.get(k) is not None}
 
 
 def data_folder() -> Path:
@@ -217,15 +212,20 @@ def _entries(entries, where: str, keys, required) -> list[tuple[str, str, dict]]
     return out
 
 
-def _quantity(value, kind: str, key: str, sign: str = "positive") -> float:
-    """A figure with its unit, in SI; ``sign``: ``positive``, ``zero or positive`` (a notch length:
-    0 is fully notch sensitive) or ``any`` (Poisson's ratio, whose range its caller checks)."""
+def quantity(value, kind: str, key: str, sign: str = "positive") -> float:
+    """A catalogue figure with its unit, in SI (``signed``); CatalogueError names the key."""
     try:
-        if sign == "any":
-            return units.parse(value, kind, key)
-        return units.parse_positive(value, kind, key, allow_zero=sign == "zero or positive")
+        return signed(value, kind, key, sign)
     except SpecError as exc:
         raise CatalogueError(str(exc)) from exc
+
+
+def signed(value, kind: str, key: str, sign: str = "positive") -> float:
+    """A figure with its unit, in SI; ``sign``: ``positive``, ``zero or positive`` (a notch length:
+    0 is fully notch sensitive) or ``any`` (Poisson's ratio, whose range its caller checks)."""
+    if sign == "any":
+        return units.parse(value, kind, key)
+    return units.parse_positive(value, kind, key, allow_zero=sign == "zero or positive")
 
 
 def _text(entry: dict, key: str, where: str, required: bool) -> str:
@@ -241,7 +241,7 @@ def _materials_from(entries, where: str, user: bool) -> list[Material]:
     required = required if user else [k for k in required if k != "source"]
     out = []
     for name, key, entry in _entries(entries, f"{where} materials" if user else where, MATERIAL_KEYS, required):
-        values = {field: (_quantity(entry[k], kind, f"{key}.{k}", MATERIAL_SIGNS.get(k, "positive"))
+        values = {field: (quantity(entry[k], kind, f"{key}.{k}", MATERIAL_SIGNS.get(k, "positive"))
                           if entry.get(k) is not None else OPTIONAL_MATERIAL_FIELDS[k])
                   for k, (field, kind) in _MATERIAL_FIELDS.items()}
         if not 0 <= values["poisson"] < 0.5:
@@ -255,7 +255,7 @@ def _gauges_from(entries, where: str, user: bool) -> list[Gauge]:
     required = ["name", *GAUGE_FIELDS] + (["source"] if user else [])
     out = []
     for name, key, entry in _entries(entries, f"{where} gauges" if user else where, GAUGE_KEYS, required):
-        values = {k: _quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}
+        values = {k: quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}
         out.append(Gauge(name=name, description=_text(entry, "description", key, False),
                          source=_text(entry, "source", key, user), **values, **gauge_thermal(entry, key)))
     return out

@@ -13,7 +13,7 @@ import functools
 from dataclasses import dataclass
 
 from designer.errors import CatalogueError, FpdError, SpecError, describe_allowed
-from designer.spec import units
+from designer.spec.catalogue import quantity
 
 FILE = "frontends.yaml"
 KINDS = ("adc", "amplifier")
@@ -64,26 +64,19 @@ def _number(value, key: str, positive: bool = True) -> float:
     return float(value)
 
 
-def _quantity(value, kind: str, key: str) -> float:
-    try:
-        return units.parse_positive(value, kind, key)
-    except SpecError as exc:
-        raise CatalogueError(str(exc)) from exc
-
-
 def _density(value, key: str) -> float:
     """A white noise density written ``"50 nV/√Hz"`` (or ``/rtHz``), V/sqrt(Hz)."""
     if isinstance(value, str):
         for suffix in ("/√Hz", "/rtHz", "/sqrt(Hz)"):
             if value.strip().endswith(suffix):
-                return _quantity(value.strip()[: -len(suffix)], "voltage", key)
+                return quantity(value.strip()[: -len(suffix)], "voltage", key)
     raise CatalogueError(f"{key}: {value!r} must be a noise density such as '50 nV/√Hz'")
 
 
 def _pair(value, kind: str, key: str) -> tuple:
     if not isinstance(value, list) or len(value) != 2:
         raise CatalogueError(f"{key}: {value!r} must be [low, high]")
-    low, high = (_quantity(v, kind, key) if kind else _number(v, key) for v in value)
+    low, high = (quantity(v, kind, key) if kind else _number(v, key) for v in value)
     if not low <= high:
         raise CatalogueError(f"{key}: {value!r} must be [low, high] with low <= high")
     return low, high
@@ -123,8 +116,8 @@ def parse_entry(entry, where: str) -> FrontEnd:
             stock_file.known_keys(row, NOISE_KEYS, at)
             for k in NOISE_KEYS:
                 stock_file.required(row, k, at)
-            noise.append((_number(row["gain"], f"{at}.gain"), _quantity(row["rate"], "frequency", f"{at}.rate"),
-                          _quantity(row["rms"], "voltage", f"{at}.rms")))
+            noise.append((_number(row["gain"], f"{at}.gain"), quantity(row["rate"], "frequency", f"{at}.rate"),
+                          quantity(row["rms"], "voltage", f"{at}.rms")))
         fields["noise"] = tuple(noise)
     else:
         for k in ("noise_density", "gain_range"):
@@ -134,9 +127,9 @@ def parse_entry(entry, where: str) -> FrontEnd:
     if entry.get("excitation") is not None:
         fields["excitation"] = _pair(entry["excitation"], "voltage", f"{key}.excitation")
     if entry.get("offset_drift") is not None:
-        fields["offset_drift"] = _quantity(entry["offset_drift"], "voltage_drift", f"{key}.offset_drift")
+        fields["offset_drift"] = quantity(entry["offset_drift"], "voltage_drift", f"{key}.offset_drift")
     if entry.get("gain_drift") is not None:
-        fields["gain_drift"] = _quantity(entry["gain_drift"], "drift", f"{key}.gain_drift")
+        fields["gain_drift"] = quantity(entry["gain_drift"], "drift", f"{key}.gain_drift")
     return FrontEnd(**fields)
 
 
