@@ -8,9 +8,10 @@ parameters. Variables are in millimetres and constraints normalised (``value/lim
 from __future__ import annotations
 
 import contextlib
+import copy
 import io
 import sys
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -184,8 +185,11 @@ def in_nlp_units(value, objective: str):
     return value
 
 
-# The NLP's parameters: the material's (MaterialParams.scaled), then the cap on the primary objective.
+# The NLP's parameters: the material's (MaterialParams.scaled), then the cap on the primary objective,
+# then, in a swept problem, the swept limit's level.
 CAP = 9
+#: the limits a trade-off front sweeps (``search.tradeoff``), and each one's unit in the NLP (SI per unit)
+SWEPT_UNITS = {"max_deflection": MM, "min_frequency": 1.0}
 
 
 def material_params(material, spec, cap: float = NO_CAP) -> list[float]:
@@ -197,19 +201,24 @@ class FamilyProblem:
     """The NLP of one family as casadi functions, over ``FamilyVariables``; material as parameters.
 
     ``adjustment`` (a ``model.Adjustment``) puts a design's 3-D/model factors into the model as
-    constants; without it the graph is the plain model's.
+    constants; without it the graph is the plain model's. ``swept`` (a key of SWEPT_UNITS) makes
+    that limit a parameter of the graph, so that one graph serves every level of a trade-off
+    front (``at``); the spec's own value of it is then not used.
     """
 
-    def __init__(self, spec, family: Family, adjustment=None):
+    def __init__(self, spec, family: Family, adjustment=None, swept: str | None = None):
         import casadi as ca
 
         self.variables = variables = FamilyVariables.of(spec, family, adjustment)
-        self.spec, self.family = spec, family
+        self.spec, self.family, self.swept = spec, family, swept
+        self.extra: list[float] = []  # the parameters after the cap: the swept limit's level (``at``)
         n, epigraph = len(variables.names), variables.epigraph
         x = ca.SX.sym("x", variables.size)
         # the material (MaterialParams.scaled: GPa, MPa, kg/m^3, MPa, mm, 1, ppm/K, ppm/K, %), then the cap on
-        # the primary objective
-        par = ca.SX.sym("p", CAP + 1)
+        # the primary objective, then the swept limit (mm or Hz)
+        par = ca.SX.sym("p", CAP + 1 + (swept is not None))
+        if swept is not None:
+            spec = replace(spec, limits=replace(spec.limits, **{swept: par[CAP + 1] * SWEPT_UNITS[swept]}))
         ops = model.casadi_ops()
         geometry = variables.geometry([x[i] * MM for i in range(n)])
         mat = MaterialParams.from_scaled(par)
@@ -235,6 +244,21 @@ class FamilyProblem:
         self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
         self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
         self._ipopt = {}
+
+    def at(self, spec, level: float) -> "FamilyProblem":
+        """This swept problem at one level of its limit: ``spec`` is the spec with that level set
+        (it checks every answer), and the compiled graph and solvers are shared."""
+        if self.swept is None:
+            raise ValueError("at: the problem sweeps no limit")
+        other = copy.copy(self)
+        other.spec = spec
+        other.variables = FamilyVariables.of(spec, self.family, self.adjustment)
+        other.extra = [level / SWEPT_UNITS[self.swept]]
+        return other
+
+    def params(self, material, cap: float = NO_CAP) -> list[float]:
+        """The NLP's parameters for ``material`` (``material_params``), and the swept level if any."""
+        return material_params(material, self.spec, cap) + self.extra
 
     # the variables ----------------------------------------------------------
     names = property(lambda self: self.variables.names)

@@ -15,7 +15,7 @@ from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import ROUNDING, Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
-from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units, material_params
+from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units
 from designer.search.rounding import buildable, floor_ceil, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
@@ -104,7 +104,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     back to another method when no start gives a verified design. Every answer is rounded and
     checked. IPOPT keeps every constraint ``margin`` inside its limit."""
     spec = problem.spec
-    params = material_params(material, spec)
+    params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
     starts = problem.starts() if starts is None else list(starts)
     checked = []
@@ -274,10 +274,17 @@ def _unmachinable(spec, fam: Family) -> str:
     return ""
 
 
-def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True) -> SearchResult:
+def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True,
+             problems: dict | None = None, warm: dict | None = None, skip=()) -> SearchResult:
     """Search every allowed material and section family; return the verified best design.
 
     ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
+    ``problems`` maps a family to the ``FamilyProblem`` to solve it with (built here when not
+    given); ``warm`` maps ``(material name, family)`` to a checked design (an Evaluation) that
+    candidate's solves start from before the usual starts: a trade-off front's neighbouring level
+    (the contenders are then not solved again from every start: the warm start is their other one).
+    ``skip`` holds ``(material name, family)`` pairs not solved (no design; a trade-off front's
+    candidates that a looser level of its limit already left without a feasible design).
     """
     if method not in METHODS:
         raise SpecError(f"method: {method!r} is not allowed; must be {describe_allowed(METHODS)}")
@@ -285,21 +292,28 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     mats = [catalogue.material(m, "search.materials") for m in (materials or spec.search.materials)]
     fams = families(spec)
     candidates: list[Candidate] = []
-    problems: dict[Family, FamilyProblem] = {}
+    given, problems = problems or {}, {}
+    warm = warm or {}
     total = len(mats) * len(fams)
     unmachinable = {}
     for fam in fams:
-        problem = FamilyProblem(spec, fam)
+        problem = given.get(fam) or FamilyProblem(spec, fam)
         problems[fam] = problem
         why = _unmachinable(spec, fam)
         if why:
             unmachinable[fam] = why
         for mat in mats:
+            if (mat.name, fam) in skip:
+                candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "
+                                                                      "level of the same limit",)))
+                continue
+            start = warm.get((mat.name, fam))
+            starts = None if start is None else [_start_from(problem, start)] + problem.starts()
             candidates.append(Candidate(mat.name, fam, None, (), (why,)) if why
-                              else solve_candidate(problem, mat, method))
+                              else solve_candidate(problem, mat, method, starts=starts))
             if progress is not None:
                 progress(len(candidates), total)
-    if method == "ipopt":
+    if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
     if spec.search.stock != "none":
         candidates = on_stock(problems, candidates)
@@ -428,7 +442,7 @@ def break_ties(candidates: list, problems: dict) -> list:
         nlp_cap = in_nlp_units(cap, problem.spec.objective)
         stock = cand.evaluation.design.stock  # a stock section stays the row it is
         fixed = None if stock is None else {i: x0[i] for i, n in enumerate(problem.names) if n in SECTION_VARIABLES}
-        s = problem.solve_ipopt(material_params(material, problem.spec, nlp_cap), x0, stage="secondary", fixed=fixed)
+        s = problem.solve_ipopt(problem.params(material, nlp_cap), x0, stage="secondary", fixed=fixed)
         design = problem.design(s.x, material)
         if stock is not None:
             design = same_section(design, cand.evaluation.design)

@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from designer import model
-from designer.search.problem import MM, FamilyProblem, in_nlp_units, material_params
+from designer.search.problem import MM, FamilyProblem, in_nlp_units
 from designer.search.rounding import only_targets_missed, pick, round_and_check
 from designer.spec import catalogue
 
@@ -93,7 +93,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     if not rows:
         return StockOutcome(None, (), 0, 0, note)
     spec = problem.spec
-    params = material_params(material, spec)
+    params = problem.params(material)
     index = sorted(rows[0][1])
     points = np.array([[mm[i] for i in index] for _, mm, _ in rows])
     solves, checked = [], []

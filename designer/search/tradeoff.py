@@ -12,6 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from designer.search.problem import FamilyProblem, families
 from designer.search.run import optimize
 
 LEVELS = 9
@@ -25,7 +26,13 @@ def _levels(centre: float) -> np.ndarray:
 
 def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     """``{"max_deflection": [points], "min_frequency": [points]}`` for ``plots.write_design_plots``;
-    ``progress(done, total)``, if given, hears of each level solved."""
+    ``progress(done, total)``, if given, hears of each level solved.
+
+    Each sweep builds one graph per family with its limit as a parameter (``FamilyProblem``'s
+    ``swept``) and solves the levels from the chosen design's outwards, every material x family
+    starting from its own checked design at the neighbouring level (at the first level, from the
+    search's answer): a continuation, before the usual starts.
+    """
     leading = list(dict.fromkeys(c.material for c in outcome.candidates))[:materials]
     chosen = outcome.best.analysis
     base = replace(spec, objective="error")
@@ -35,18 +42,37 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     achieved = {"max_deflection": "deflection", "min_frequency": "natural_frequency"}
     done = 0
     for key, value, given in sweeps:
-        points = []
-        for level in _levels(given or value):
-            variant = replace(base, limits=replace(base.limits, **{key: float(level)}))
-            result = optimize(variant, materials=leading, tie_break=False)
+        graphs = {fam: FamilyProblem(base, fam, swept=key) for fam in families(base)}
+        levels = _levels(given or value)
+        centre = len(levels) // 2
+        # from the centre up, then from the centre down: each level's neighbour is solved before it
+        order = list(range(centre, len(levels))) + list(range(centre - 1, -1, -1))
+        found = {}
+        for i in order:
+            level = float(levels[i])
+            variant = replace(base, limits=replace(base.limits, **{key: level}))
+            near = found.get(i - 1 if i > centre else i + 1,
+                             [(c.material, c.family, c.evaluation) for c in outcome.candidates])
+            warm = {(m, fam): ev for m, fam, ev in near if ev is not None and ev.feasible and fam in graphs}
+            # the limit tightens as the deflection's level falls or the frequency's rises: a
+            # candidate with no feasible design at the looser neighbouring level has none here
+            tighter = i <= centre if key == "max_deflection" else i >= centre
+            skip = {(m, fam) for m in leading for fam in graphs if (m, fam) not in warm} if tighter else set()
+            if len(skip) == len(leading) * len(graphs):
+                found[i] = [(m, fam, None) for m in leading for fam in graphs]
+            else:
+                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm,
+                                  problems={fam: g.at(variant, level) for fam, g in graphs.items()})
+                found[i] = [(c.material, c.family, c.evaluation) for c in result.candidates]
             done += 1
             if progress is not None:
                 progress(done, len(sweeps) * LEVELS)
-            for cand in result.candidates:
-                ev = cand.evaluation
+        points = []
+        for i, level in enumerate(levels):
+            for material, fam, ev in found[i]:
                 # x: the limit the design was solved under; value: its own deflection or
                 # frequency, which the deflection limit's room (docs/model.md §4) keeps below x
-                points.append({"material": cand.material, "section": cand.family.label, "x": float(level),
+                points.append({"material": material, "section": fam.label, "x": float(level),
                                "value": None if ev is None else float(getattr(ev.analysis, achieved[key])),
                                "objective": None if ev is None else float(ev.error_ratio),
                                "feasible": bool(ev is not None and ev.feasible)})

@@ -143,6 +143,44 @@ def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     assert e == pytest.approx(ev.error_ratio)
 
 
+
+@pytest.mark.parametrize("key, level", [("max_deflection", 0.37e-3), ("min_frequency", 410.0)])
+def test_a_swept_graph_at_a_level_is_the_numeric_model_at_that_limit(key, level):
+    # A trade-off front solves every level on one graph with the swept limit as a parameter: at
+    # a level, its constraints are the numeric check's of the spec with that limit set (the
+    # frequency limit is not in the gripper's spec at all).
+    spec = replace(load_spec(EXAMPLES / "gripper-finger.yaml"), objective="error")
+    variant = replace(spec, limits=replace(spec.limits, **{key: level}))
+    fam = search.Family("round", "pocket")
+    problem = search.FamilyProblem(spec, fam, swept=key).at(variant, level)
+    mat = catalogue.material("17-7PH-RH950")
+    for x in problem.starts():
+        _, _, g, _ = problem.functions(x, problem.params(mat))
+        numeric = {lim.name: float(lim.normalised) for lim in evaluate(problem.design(x, mat), variant).limits}
+        rows = dict(zip(problem.limit_names, np.asarray(g).ravel()))
+        assert {"deflection", "natural_frequency"} & set(rows)
+        for name, value in rows.items():
+            assert value == pytest.approx(numeric[name], rel=1e-9, abs=1e-12), name
+
+
+def test_a_front_skips_only_candidates_with_no_feasible_design():
+    # A tighter limit leaves a subset of the designs a looser one allows, so the fronts do not
+    # solve a candidate at levels beyond the first where it had no feasible design. Each point
+    # so left out is checked by a full search of that candidate at that level: none is feasible.
+    from designer.search.tradeoff import fronts
+
+    spec = _reduced(load_spec(EXAMPLES / "weigh-bar.yaml"), ["Ti-6Al-4V", "6061-T6"], ["round", "tube"])
+    out = search.optimize(spec)
+    points = fronts(spec, out, materials=2)
+    skipped = [(key, p) for key, pts in points.items() for p in pts if p["objective"] is None]
+    assert skipped, "the weigh-bar's tube family has no feasible design at the tight levels"
+    for key, p in skipped[::3]:
+        at = replace(spec, objective="error", limits=replace(spec.limits, **{key: p["x"]}))
+        found = search.optimize(at, materials=[p["material"]])
+        cand = next(c for c in found.candidates if c.family.label == p["section"])
+        assert cand.evaluation is None or not cand.evaluation.feasible, (key, p)
+
+
 # The bench suite's 016-short-beam (``bench.generate_suite(30, 0)``), with one material.
 SHORT_BEAM = """name: 016-short-beam
 load: {force: [39.12 mN, 703.7 mN], position: [8.212 mm, 10.99 mm]}
