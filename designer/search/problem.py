@@ -291,8 +291,16 @@ class FamilyProblem:
                                            nlp, opts)
         return self._ipopt[stage]
 
-    def solve_ipopt(self, params, x0, stage: str = "primary", margin: float = 0.0, fixed=None, box=None) -> Solve:
-        """One IPOPT run; ``margin`` tightens every constraint to ``g <= -margin``; ``fixed`` maps
+    def margins(self, names, margin: float) -> np.ndarray:
+        """A ``margin`` for ``solve_ipopt`` that tightens the rows of the limits ``names`` only
+        (the tie band's cap row has no name and is never tightened); zero elsewhere."""
+        out = np.zeros(self.n_constraints)
+        out[[i for i, name in enumerate(self.limit_names) if name in set(names)]] = margin
+        return out
+
+    def solve_ipopt(self, params, x0, stage: str = "primary", margin=0.0, fixed=None, box=None) -> Solve:
+        """One IPOPT run; ``margin`` (a number, or one per constraint row as ``margins`` gives)
+        tightens the constraints to ``g <= -margin``; ``fixed`` maps
         variable indices to values (NLP units) they are held at, ``box`` to ``(low, high)`` bounds
         that replace the variable's own."""
         lo, hi = self.bounds()

@@ -20,9 +20,10 @@ from designer.search.rounding import buildable, floor_ceil, only_targets_missed,
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
 
-# When rounding to 0.01 mm breaks a limit that IPOPT's answer met (several limits active at
-# once, rounding each way breaks one), IPOPT solves again with every constraint tightened by
-# these normalised margins in turn until the rounded design checks out.
+# When rounding to 0.01 mm breaks a limit that IPOPT's answer met, and no section on the grid
+# near it checks out with the rest solved again (``_on_the_grid``), IPOPT solves again with the
+# limits that rounding broke, and only those, tightened by these normalised margins in turn
+# until the rounded design checks out.
 ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)  # those below the violation rounding caused are skipped
 
 
@@ -154,23 +155,27 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
     """Rounding broke a limit. First the section sizes are held at each of their neighbouring
     0.01 mm values in turn and the rest (stations, depth) solved again, each answer rounded and
     checked: the best that checks out is the answer on the grid (``_on_the_grid``). Only if none
-    does are the constraints tightened, by each of ROUNDING_MARGINS in turn from the first as
-    large as the violation rounding caused; the first answer whose rounded design breaks no limit
-    of the NLP replaces it (under the error objective it may still miss the targets: a verdict)."""
+    does are the limits that rounding broke (and no other) tightened, by each of ROUNDING_MARGINS
+    in turn from the first as large as the violation rounding caused; the first answer whose
+    rounded design breaks no limit of the NLP replaces it (under the error objective it may still
+    miss the targets: a verdict)."""
     on_grid = _on_the_grid(problem, params, material, s, solves)
     if on_grid is not None:
         fallbacks.append(f"{where}: rounding broke a limit; the section held at its neighbouring 0.01 mm sizes "
                          "and the rest solved again")
         return on_grid
-    broken = max(float(v.normalised) for v in ev.violations if not (problem.epigraph and v.name in model.TARGET_LIMITS))
+    broken = [v for v in ev.violations if not (problem.epigraph and v.name in model.TARGET_LIMITS)]
+    names = sorted({v.name for v in broken} & set(problem.limit_names))
+    if not names:  # only bounds broke, which IPOPT keeps exactly: nothing to tighten
+        return s, ev
     # a margin smaller than the violation rounding caused seldom survives the next rounding
-    margins = [m for m in ROUNDING_MARGINS if m >= broken] or ROUNDING_MARGINS[-1:]
-    for margin in margins:
-        s2 = problem.solve_ipopt(params, s.x, margin=margin)
+    worst = max(float(v.normalised) for v in broken)
+    for margin in [m for m in ROUNDING_MARGINS if m >= worst] or ROUNDING_MARGINS[-1:]:
+        s2 = problem.solve_ipopt(params, s.x, margin=problem.margins(names, margin))
         solves.append(s2)
         ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
         if ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph)):
-            fallbacks.append(f"{where}: re-solved with every limit tightened by {margin:.0e}; "
+            fallbacks.append(f"{where}: re-solved with {', '.join(names)} tightened by {margin:.0e}; "
                                   "the rounded design " + ("meets every limit" if ev2.feasible else
                                                            "misses only the accuracy targets"))
             return s2, ev2

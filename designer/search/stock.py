@@ -23,8 +23,8 @@ from designer.search.problem import MM, FamilyProblem, in_nlp_units
 from designer.search.rounding import only_targets_missed, pick, round_and_check
 from designer.spec import catalogue
 
-# A row whose rounded design breaks a limit its solve met is solved again with every constraint
-# tightened by these normalised margins in turn (as run.ROUNDING_MARGINS).
+# A row whose rounded design breaks a limit its solve met is solved again with the broken limits,
+# and only those, tightened by these normalised margins in turn (as run.ROUNDING_MARGINS).
 ROW_MARGINS = (1e-4, 1e-3, 1e-2)
 SIZE_TOLERANCE = 1e-9   # mm: a row on a variable bound is inside it
 
@@ -117,8 +117,9 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             solves.append(s)
             ev = round_and_check(on_stock(problem.design(s.x, material), item, exact), spec)
             if ev is not None and s.success and not ev.feasible and not only_targets_missed(ev, problem.epigraph):
-                for margin in ROW_MARGINS:  # rounding the stations or depth broke a limit
-                    s2 = problem.solve_ipopt(params, s.x, fixed=fixed, margin=margin)
+                broken = [v.name for v in ev.violations]  # rounding the stations or depth broke these
+                for margin in ROW_MARGINS:
+                    s2 = problem.solve_ipopt(params, s.x, fixed=fixed, margin=problem.margins(broken, margin))
                     solves.append(s2)
                     ev2 = round_and_check(on_stock(problem.design(s2.x, material), item, exact), spec) \
                         if s2.success else None

@@ -55,3 +55,38 @@ def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
     assert ev.objective <= best * (1 + TIE_TOLERANCE)
     continuous = float(problem.functions(first.x, params)[0])
     assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005   # measured +0.17 %
+
+
+def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
+    """The same answer with the grid search made to find nothing: the back-off solves again with
+    only the broken limit (the feature's fatigue) tightened. Reference: the same re-solve with
+    every limit tightened by the same margin, the back-off it replaced; tightening one limit
+    leaves more room, so the answer is no worse than that one's, meets every limit, and costs
+    little over the continuous answer (a lower bound)."""
+    from designer.bench.suite import _generate
+    from designer.search import in_nlp_units, material_params
+    from designer.search import run
+    from designer.search.problem import Family, FamilyProblem
+    from designer.search.rounding import round_and_check
+    from designer.spec import catalogue
+
+    spec = _generate(28, "long-beam", 0).spec
+    problem = FamilyProblem(spec, Family("rectangle", spec.search.feature))
+    material = catalogue.material("7075-T6")
+    params = material_params(material, spec)
+    monkeypatch.setattr(run, "_on_the_grid", lambda *args: None)
+    candidate = run.solve_candidate(problem, material, "ipopt")
+    first = candidate.solves[0]
+    broken = round_and_check(problem.design(first.x, material), spec)
+    assert [v.name for v in broken.violations] == ["fatigue_feature"]
+    note = next(f for f in candidate.fallbacks if "tightened by" in f)
+    assert "re-solved with fatigue_feature tightened by" in note
+    margin = float(note.split("tightened by ")[1].split(";")[0])
+    ev = candidate.evaluation
+    assert ev.feasible
+    every = problem.solve_ipopt(params, first.x, margin=margin)
+    reference = round_and_check(problem.design(every.x, material), spec)
+    assert reference.feasible
+    assert ev.objective <= reference.objective * (1 + 1e-9)
+    continuous = float(problem.functions(first.x, params)[0])
+    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005
