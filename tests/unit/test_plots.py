@@ -338,3 +338,17 @@ def test_a_pocket_on_a_round_section_is_called_a_flat_in_the_titles():
     s = SensorData.from_design(json.loads((DATA / "plot_prototype_b.json").read_text()))
     assert replace(s, section="tube", feature="pocket").label.endswith("tube, flats")
     assert replace(s, section="rectangle", feature="pocket").label.endswith("rectangle, pockets")
+
+
+def test_png_files_hold_the_same_pixels_as_pillows_default_compression(proto_b, tmp_path):
+    # The plots are written with zlib's fastest level (drawing.figures.PNG_OPTIONS) to save time;
+    # a PNG is lossless at every level, so the decoded image must equal the one Pillow's default
+    # level (6) writes, byte for byte of pixels.
+    from PIL import Image
+
+    written = plot_write.write_design_plots(proto_b, tmp_path / "plots")
+    fig = plots.plot_error_maps(proto_b)
+    fig.savefig(tmp_path / "default.png", format="png", dpi=plot_write.PNG_DPI)
+    ours = np.asarray(Image.open(next(p for p in written if p.name == "error-maps.png")))
+    default = np.asarray(Image.open(tmp_path / "default.png"))
+    assert ours.shape == default.shape and np.array_equal(ours, default)

@@ -6,6 +6,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from designer.errors import InputError, describe_allowed
+from designer.outputs.drawing.figures import savefig_options
 from designer.outputs.plots.budget import plot_budget
 from designer.outputs.plots.candidates import plot_candidates
 from designer.outputs.plots.error_maps import plot_error_maps
@@ -72,8 +73,7 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
         for i, (name, make) in enumerate(makers):
             fig = make()
             for fmt in formats:
-                fig.savefig(scratch / f"{name}.{fmt}", format=fmt, dpi=PNG_DPI,
-                            metadata={"Date": None} if fmt == "svg" else None)
+                fig.savefig(scratch / f"{name}.{fmt}", format=fmt, dpi=PNG_DPI, **savefig_options(fmt))
                 written.append(out_dir / f"{name}.{fmt}")
             if progress is not None:
                 progress(i + 1, len(makers))
