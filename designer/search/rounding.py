@@ -24,14 +24,15 @@ def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
     return epigraph and all(v.name in model.TARGET_LIMITS for v in ev.violations)
 
 
-def round_and_check(design: Design, spec) -> Evaluation | None:
+def round_and_check(design: Design, spec, reach: int = 0) -> Evaluation | None:
     """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points. A stock
     section (``design.stock``) is not rounded: only its feature and stations are.
 
     Every length is rounded down or up (inner stations to the nearest); all combinations are
     checked at once with the numeric model over numpy arrays, the best is chosen as ``pick``
     chooses, and that one design is evaluated again on its own and returned. None when no
-    combination can be evaluated at all.
+    combination can be evaluated at all. ``reach`` adds that many grid steps below the rounded-down
+    and above the rounded-up value of each section size and the feature's depth or hole.
     """
     g = design.geometry
     fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
@@ -41,7 +42,7 @@ def round_and_check(design: Design, spec) -> Evaluation | None:
         fields_ = []  # a stock section is what the table says it is
     fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
     stations = [float(s) for s in g.stations]
-    choices = [floor_ceil(float(getattr(g, f))) for f in fields_]
+    choices = [floor_ceil(float(getattr(g, f)), reach) for f in fields_]
     station_choices = [floor_ceil(s) for s in stations]
     for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
         station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
@@ -95,8 +96,9 @@ def buildable(ev: Evaluation) -> bool:
     return model.unbuildable(ev.design.geometry) is None
 
 
-def floor_ceil(v: float) -> tuple:
-    """The 0.01 mm grid values just below and above ``v`` (m); one when ``v`` is on the grid."""
-    lo = math.floor(v / ROUNDING + 1e-9) * ROUNDING
-    hi = math.ceil(v / ROUNDING - 1e-9) * ROUNDING
-    return (round(lo, 8),) if abs(hi - lo) < 1e-12 else (round(lo, 8), round(hi, 8))
+def floor_ceil(v: float, reach: int = 0) -> tuple:
+    """The 0.01 mm grid values just below and above ``v`` (m); one when ``v`` is on the grid;
+    with ``reach``, that many more grid steps each side (none at or below zero)."""
+    lo = math.floor(v / ROUNDING + 1e-9)
+    hi = math.ceil(v / ROUNDING - 1e-9)
+    return tuple(round(k * ROUNDING, 8) for k in range(max(lo - reach, 1) if reach else lo, hi + reach + 1))
