@@ -240,6 +240,7 @@ class FamilyProblem:
         g.append(f / par[CAP] - 1)
         self.n_constraints = len(g)
         gv = ca.vertcat(*g)
+        self._graph = (x, par, f, gv)  # for the relaxation over the materials (``relaxed``)
         self.nlp = {"x": x, "p": par, "f": f, "g": gv}
         self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
         self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
@@ -310,21 +311,57 @@ class FamilyProblem:
             x0[i] = min(max(x0[i], a), b)
         for i, v in (fixed or {}).items():
             lo[i] = hi[i] = x0[i] = v
-        solver = self.ipopt(stage)
-        # casadi writes its warnings through Python's standard error; a signal inside IPOPT makes
-        # it warn "KeyboardInterruptException" before the run stops with its own one line: held
-        # back here, and passed on only when the run goes on
-        said = io.StringIO()
-        try:
-            with contextlib.redirect_stderr(said):
-                sol = solver(x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
-        except RuntimeError as exc:
-            interrupt.check()
-            sys.stderr.write(said.getvalue())
-            return Solve(np.asarray(x0, dtype=float), False, f"IPOPT raised: {exc}", 0, "ipopt")
-        interrupt.check()  # IPOPT reports Ctrl-C or SIGTERM as a user stop and returns
+        return _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+
+    def relaxed(self):
+        """IPOPT on this NLP with the material's parameters (the first CAP of ``params``) as
+        variables after the design's, bounded per solve (``infeasible_for_every``)."""
+        if "relaxed" not in self._ipopt:
+            import casadi as ca
+
+            x, par, f, g = self._graph
+            material = ca.vertcat(*[par[i] for i in range(CAP)])
+            rest = ca.vertcat(*[par[i] for i in range(CAP, par.numel())])
+            opts = dict(IPOPT_OPTIONS, **{"ipopt.tol": IPOPT_TOLERANCE, "ipopt.max_iter": IPOPT_MAX_ITER})
+            self._ipopt["relaxed"] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_relaxed", "ipopt",
+                                               {"x": ca.vertcat(x, material), "p": rest, "f": f, "g": g}, opts)
+        return self._ipopt["relaxed"]
+
+    def infeasible_for_every(self, materials) -> tuple[bool, list]:
+        """Whether no design of this family meets every limit in any of ``materials``, and the
+        solves that said so. The material's parameters are let free between the least and the
+        greatest of ``materials``' values, each on its own: every material lies in that box, so
+        when IPOPT finds the relaxed NLP infeasible from every start, each material's NLP is too
+        (with the same trust as a verdict on one material's NLP: IPOPT's infeasibility is local)."""
+        table = np.array([self.params(m) for m in materials], dtype=float)
+        low, high = table[:, :CAP].min(axis=0), table[:, :CAP].max(axis=0)
+        lo, hi = self.bounds()
+        solves = []
+        for x0 in self.starts():
+            s = _run_ipopt(self.relaxed(), x0=np.concatenate([x0, (low + high) / 2]), p=table[0, CAP:],
+                           lbx=np.concatenate([lo, low]), ubx=np.concatenate([hi, high]), lbg=-np.inf, ubg=0.0)
+            solves.append(replace(s, x=s.x[: self.size]))
+            if s.message not in ("Infeasible_Problem_Detected",):
+                return False, solves
+        return True, solves
+
+
+def _run_ipopt(solver, **args) -> Solve:
+    """One call of a casadi IPOPT solver, as a Solve (``x0`` is the answer when IPOPT raised)."""
+    # casadi writes its warnings through Python's standard error; a signal inside IPOPT makes
+    # it warn "KeyboardInterruptException" before the run stops with its own one line: held
+    # back here, and passed on only when the run goes on
+    said = io.StringIO()
+    try:
+        with contextlib.redirect_stderr(said):
+            sol = solver(**args)
+    except RuntimeError as exc:
+        interrupt.check()
         sys.stderr.write(said.getvalue())
-        stats = solver.stats()
-        evals = int(stats.get("iter_count", 0))
-        return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
-                     evals, "ipopt")
+        return Solve(np.asarray(args["x0"], dtype=float), False, f"IPOPT raised: {exc}", 0, "ipopt")
+    interrupt.check()  # IPOPT reports Ctrl-C or SIGTERM as a user stop and returns
+    sys.stderr.write(said.getvalue())
+    stats = solver.stats()
+    evals = int(stats.get("iter_count", 0))
+    return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
+                 evals, "ipopt")

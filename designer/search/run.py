@@ -342,23 +342,38 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     warm = warm or {}
     total = len(mats) * len(fams)
     unmachinable = {}
+    # family -> (the relaxation's solves, the materials it covers): none of them meets every limit
+    proved = {}
     for fam in fams:
         problem = given.get(fam) or FamilyProblem(spec, fam)
         problems[fam] = problem
         why = _unmachinable(spec, fam)
         if why:
             unmachinable[fam] = why
-        for mat in mats:
+        solved = 0
+        for k, mat in enumerate(mats):
             if (mat.name, fam) in skip:
                 candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "
                                                                       "level of the same limit",)))
                 continue
             start = warm.get((mat.name, fam))
             starts = None if start is None else [_start_from(problem, start)] + problem.starts()
-            candidates.append(Candidate(mat.name, fam, None, (), (why,)) if why
-                              else solve_candidate(problem, mat, method, starts=starts))
+            cand = (Candidate(mat.name, fam, None, (), (why,)) if why
+                    else solve_candidate(problem, mat, method, starts=starts))
+            candidates.append(cand)
+            solved += 1
             if progress is not None:
                 progress(len(candidates), total)
+            # the family's first material has no feasible design: whether any of the rest has
+            rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip]
+            if (solved == 1 and method == "ipopt" and not why and cand.status == "infeasible" and len(rest) > 1
+                    and not any((m.name, fam) in warm for m in rest)):
+                infeasible, relaxation = problem.infeasible_for_every(rest)
+                if infeasible:
+                    proved[fam] = (relaxation, rest)
+                    break
+    if proved:
+        candidates += _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
     if spec.search.stock != "none":
@@ -405,6 +420,32 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
                         candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations,
                         continuous=model.rank(continuous)[0] if continuous else None)
+
+
+def _proved_infeasible(problems: dict, proved: dict, candidates: list, method: str, progress, total: int) -> list:
+    """The candidates of the families that ``FamilyProblem.infeasible_for_every`` proved to have
+    no feasible design in any material: each material's design at the relaxation's answer, rounded
+    and checked (its least violation found there). When no other family has a feasible design,
+    they are solved in full instead, as every candidate is, so that the least-infeasible design
+    (and the diagnosis built on it) is each candidate's own."""
+    solved_elsewhere = any(c.evaluation is not None and c.evaluation.feasible for c in candidates)
+    out = []
+    for fam, (relaxation, materials) in proved.items():
+        problem = problems[fam]
+        for i, mat in enumerate(materials):
+            if not solved_elsewhere:
+                cand = solve_candidate(problem, mat, method)
+                cand = replace(cand, solves=(tuple(relaxation) if i == 0 else ()) + cand.solves)
+            else:
+                ev = round_and_check(problem.design(relaxation[0].x, mat), problem.spec)
+                note = (f"every material of {fam.label} is infeasible: with the material's properties free between "
+                        f"the least and the greatest of {len(materials)} materials', IPOPT finds no design that meets "
+                        "every limit (every start); the design shown is this material's at that answer")
+                cand = Candidate(mat.name, fam, ev, tuple(relaxation) if i == 0 else (), (note,))
+            out.append(cand)
+            if progress is not None:
+                progress(len(candidates) + len(out), total)
+    return out
 
 
 def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str = "ipopt",

@@ -60,6 +60,47 @@ def test_infeasible_and_ranked_least_infeasible_first():
     assert outcome.x.material.name == outcome.candidates[0].material
 
 
+
+def test_a_family_proved_infeasible_for_every_material_is_infeasible_in_each():
+    # The weigh-bar's rectangle family: its first material has no feasible design, and the NLP
+    # with the material's properties free between the other materials' least and greatest has
+    # none either, so those materials are not solved one by one. Reference: each of them solved
+    # on its own from every start (solve_candidate, as the search did before): none is feasible.
+    spec = load_spec(EXAMPLES / "weigh-bar.yaml")
+    found = search.optimize(spec)
+    assert found.success
+    proved = [c for c in found.candidates if any("every material of" in f for f in c.fallbacks)]
+    assert {c.family.label for c in proved} == {"rectangle", "tube"}
+    for cand in proved:
+        assert cand.status == "infeasible" and not cand.evaluation.feasible
+    problem = search.FamilyProblem(spec, search.Family("rectangle", spec.search.feature))
+    for cand in [c for c in proved if c.family.label == "rectangle"]:
+        alone = search.solve_candidate(problem, catalogue.material(cand.material), "ipopt", all_starts=True)
+        assert alone.evaluation is None or not alone.evaluation.feasible, cand.material
+
+
+def test_with_no_feasible_family_every_candidate_is_solved_on_its_own(monkeypatch):
+    # When nothing is feasible, the least-infeasible design (and the diagnosis built on it) must
+    # be each candidate's own solve, not a design at a relaxation's answer.
+    proofs = []
+    relax = search.FamilyProblem.infeasible_for_every
+
+    def spy(self, materials):
+        out = relax(self, materials)
+        proofs.append(out[0])
+        return out
+
+    monkeypatch.setattr(search.FamilyProblem, "infeasible_for_every", spy)
+    weigh_bar = load_spec(EXAMPLES / "weigh-bar.yaml")
+    spec = replace(weigh_bar, limits=replace(weigh_bar.limits, max_deflection=1e-6))
+    outcome = search.optimize(spec)
+    assert not outcome.success
+    assert any(proofs), "a family was proved infeasible for every material"
+    for cand in outcome.candidates:
+        assert not any("every material of" in f for f in cand.fallbacks)
+        # every start of its own: the relaxation's solves come first where they are kept
+        assert len([s for s in cand.solves if s.x.size and s.method == "ipopt"]) >= 2
+
 class _Fake:
     """The parts of an Evaluation that ranking reads."""
 
