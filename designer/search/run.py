@@ -39,6 +39,8 @@ class Candidate:
     continuous: Evaluation | None = None   # with search.stock: the continuous answer the stock search began from
     stock_note: str = ""                   # with search.stock: why no stock row meets every limit
     outranked: bool = False                # with search.stock: every row bounded below the chosen design
+    tried: tuple = ()                      # the start points the first method ran from, in order
+    winner: object = None                  # the start point whose answer was verified, if one was
 
     @property
     def status(self) -> str:
@@ -112,11 +114,14 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     if method in ("grid", "isres", "direct"):
         starts = starts[:1]  # global methods do not depend on the start
     methods = [method, FALLBACK.get(method, "ipopt")]
+    tried, winner = [], None
     for m in dict.fromkeys(methods):
         verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
         for i, x0 in enumerate(starts):
             s = solve(problem, m, params, x0, margin)
             solves.append(s)
+            if m == method:
+                tried.append(x0)
             if m == "ipopt" and s.message in IPOPT_INFEASIBLE:
                 verdicts += 1
             ev = round_and_check(problem.design(s.x, material), spec)
@@ -135,6 +140,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
             evaluation = pick(checked)
+            if s.success and ev.feasible and winner is None and m == method:
+                winner = x0
             if s.success and ev.feasible and not all_starts:
                 break  # a verified answer: the other starts are kept for failures
         # a feasible design from a solver that failed on every start is only its start point:
@@ -147,7 +154,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             fallbacks.append(f"{m}: every start ended in a verdict (locally infeasible, or the targets out of "
                                   "reach); no fallback")
             break
-    return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks))
+    return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks), tried=tuple(tried),
+                     winner=winner)
 
 
 def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, solves: list, fallbacks: list,
@@ -350,16 +358,21 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         why = _unmachinable(spec, fam)
         if why:
             unmachinable[fam] = why
-        solved = 0
+        solved, lead = 0, None  # lead: the usual start that gave the family's last verified answer
         for k, mat in enumerate(mats):
             if (mat.name, fam) in skip:
                 candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "
                                                                       "level of the same limit",)))
                 continue
             start = warm.get((mat.name, fam))
-            starts = None if start is None else [_start_from(problem, start)] + problem.starts()
+            usual = problem.starts()
+            if lead is not None:  # the next material is near it: that start first
+                usual = [usual[lead]] + usual[:lead] + usual[lead + 1:]
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
-                    else solve_candidate(problem, mat, method, starts=starts))
+                    else solve_candidate(problem, mat, method,
+                                         starts=usual if start is None else [_start_from(problem, start)] + usual))
+            lead = next((j for j, x in enumerate(problem.starts()) if cand.winner is not None
+                         and np.array_equal(x, cand.winner)), lead)
             candidates.append(cand)
             solved += 1
             if progress is not None:
@@ -476,14 +489,11 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
     for c in candidates:
         problem = problems[c.family]
         ev = c.evaluation
-        starts = problem.starts()
-        if (ev is None or not ev.feasible or ev.objective > lead * (1 + CONTENDER_BAND)
-                or len(c.solves) >= len(starts)):
+        untried = [x for x in problem.starts() if not any(np.array_equal(x, t) for t in c.tried)]
+        if ev is None or not ev.feasible or ev.objective > lead * (1 + CONTENDER_BAND) or not untried:
             out.append(c)
             continue
-        # the first start gave this candidate's answer; the others have not been solved
-        again = solve_candidate(problem, catalogue.material(c.material), "ipopt", all_starts=True,
-                                starts=starts[1:])
+        again = solve_candidate(problem, catalogue.material(c.material), "ipopt", all_starts=True, starts=untried)
         better = again.evaluation is not None and again.evaluation.feasible and again.evaluation.objective < ev.objective
         out.append(replace(again, solves=c.solves + again.solves, fallbacks=c.fallbacks + again.fallbacks)
                    if better else c)

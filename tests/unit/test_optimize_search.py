@@ -79,6 +79,24 @@ def test_a_family_proved_infeasible_for_every_material_is_infeasible_in_each():
         assert alone.evaluation is None or not alone.evaluation.feasible, cand.material
 
 
+def test_a_family_tries_first_the_start_that_served_its_last_material():
+    # The probe's rectangles: from the first usual start (sections at 35 % of their range) IPOPT
+    # ends every material in a local infeasibility verdict, from the second it succeeds. Once a
+    # material has succeeded from the second, the next ones start there: one solve each instead
+    # of two, and the same designs (reference: each material solved from the usual order alone).
+    spec = load_spec(EXAMPLES / "probe.yaml")
+    fam = search.Family("rectangle", spec.search.feature)
+    found = search.optimize(spec)
+    problem = search.FamilyProblem(spec, fam)
+    rects = [c for c in found.candidates if c.family == fam]
+    order = [c.material for c in rects]
+    later = [c for c in rects if c.material != spec.search.materials[0]]
+    assert later and all(c.solves[0].message == "Solve_Succeeded" for c in later), order
+    for cand in later[:3]:
+        alone = search.solve_candidate(problem, catalogue.material(cand.material), "ipopt")
+        assert alone.solves[0].message == "Infeasible_Problem_Detected"
+        assert cand.evaluation.objective == pytest.approx(alone.evaluation.objective, rel=model.TIE_TOLERANCE)
+
 def test_with_no_feasible_family_every_candidate_is_solved_on_its_own(monkeypatch):
     # When nothing is feasible, the least-infeasible design (and the diagnosis built on it) must
     # be each candidate's own solve, not a design at a relaxation's answer.
