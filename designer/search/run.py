@@ -15,7 +15,7 @@ from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import ROUNDING, Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
-from designer.search.problem import MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units
+from designer.search.problem import IPOPT_INFEASIBLE, MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units
 from designer.search.rounding import buildable, floor_ceil, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
@@ -79,10 +79,6 @@ class Candidate:
 
 
 FALLBACK = {"ipopt": "slsqp"}  # every other method falls back to ipopt
-# IPOPT's answers that are a verdict on the problem, not a failure of the solver: it converged
-# to a point that minimises the constraint violation. When every start ends so, another method
-# is not tried (on the bench suite such a fallback never found a feasible design).
-IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
 
 
 class SearchResult(OptimizeResult):
@@ -214,7 +210,16 @@ def on_stock(problems: dict, candidates: list) -> list:
     """Every candidate with its section a row of the stock catalogue (``search.stock``), searched
     from its continuous answer (``search.stock.search_stock``). The candidates go best continuous
     answer first, and the best stock design so far caps the others' search: a family whose rows are
-    all bounded above it is ``outranked`` without a row solved."""
+    all bounded above it is ``outranked`` without a row solved. Sets of rows that a relaxation
+    shows infeasible are dropped; when that leaves no stock design that meets every limit, the
+    search runs again keeping them, so that the least-infeasible stock design is reported."""
+    found = _on_stock(problems, candidates, prune_infeasible=True)
+    if any(c.evaluation is not None and c.evaluation.feasible for c in found):
+        return found
+    return _on_stock(problems, candidates, prune_infeasible=False)
+
+
+def _on_stock(problems: dict, candidates: list, prune_infeasible: bool) -> list:
     order = sorted(range(len(candidates)), key=lambda i: _continuous_key(candidates[i]))
     out, cap = list(candidates), math.inf
     for i in order:
@@ -228,7 +233,7 @@ def on_stock(problems: dict, candidates: list) -> list:
         problem = problems[cand.family]
         material = catalogue.material(cand.material, "search.materials")
         x0 = _start_from(problem, cand.evaluation) if cand.evaluation is not None else problem.starts()[0]
-        found = search_stock(problem, material, x0, cap=cap)
+        found = search_stock(problem, material, x0, cap=cap, prune_infeasible=prune_infeasible)
         ev = found.evaluation
         out[i] = replace(cand, evaluation=ev, solves=cand.solves + found.solves, continuous=cand.evaluation,
                          stock_note=found.note if ev is None or not ev.feasible else "", outranked=found.outranked)

@@ -19,7 +19,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from designer import model
-from designer.search.problem import MM, FamilyProblem, in_nlp_units
+from designer.search.problem import IPOPT_INFEASIBLE, MM, FamilyProblem, in_nlp_units
 from designer.search.rounding import only_targets_missed, pick, round_and_check
 from designer.spec import catalogue
 
@@ -84,11 +84,18 @@ def same_section(design, like):
                                             wall=g.wall), stock=like.stock)
 
 
-def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = math.inf) -> StockOutcome:
+def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = math.inf,
+                 prune_infeasible: bool = False) -> StockOutcome:
     """The best stock row for one material x family, from ``x0`` (the continuous answer, NLP
     units); ``rows`` (as ``stock_rows`` gives them) limits the search to those rows. ``cap``
     (objective, SI): a design another family has on stock; rows bounded above it by more than the
-    tie band are not solved, and when that is all of them the outcome is ``outranked``."""
+    tie band are not solved, and when that is all of them the outcome is ``outranked``.
+
+    A set of rows whose relaxation (the section free between the set's sizes) IPOPT finds
+    infeasible holds no row that meets every limit. It is dropped when a design that meets every
+    limit is known (the cap, or a row checked here), or always with ``prune_infeasible``: then the
+    outcome has no least-infeasible design for such rows (the search runs again without it when
+    no stock design meets every limit, ``run.on_stock``)."""
     rows, note = stock_rows(problem, material) if rows is None else (rows, "")
     if not rows:
         return StockOutcome(None, (), 0, 0, note)
@@ -138,8 +145,12 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
 
     everything = list(range(len(rows)))
     root = relax(everything, x0)
+    if root.message in IPOPT_INFEASIBLE and (prune_infeasible or math.isfinite(best_nlp)):
+        return StockOutcome(None, tuple(solves), len(rows), 0,
+                            f"no stock row of {material.name} {problem.family.label} meets every limit (with the "
+                            "section free between the rows' sizes IPOPT finds no design that does)")
     heap = [(objective(root) if root.success else -math.inf, 0, everything, root.x)]
-    counter, leaves = 1, 0
+    counter, leaves, pruned = 1, 0, 0
     while heap:
         bound, _, members, start = heapq.heappop(heap)
         if bound > best_nlp * (1 + model.TIE_TOLERANCE):
@@ -150,10 +161,18 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             continue
         for part in _split(points, members, start, index):
             s = relax(part, start)
+            if s.message in IPOPT_INFEASIBLE and (prune_infeasible or math.isfinite(best_nlp)):
+                # no row of the set meets every limit: none of them can rank before a design that does
+                pruned += len(part)
+                continue
             child_bound = objective(s) if s.success else bound  # a failed relaxation bounds nothing new
             heapq.heappush(heap, (max(child_bound, bound), counter, part, s.x if s.success else start))
             counter += 1
     evaluation = pick(checked)
+    if evaluation is None and leaves == 0 and pruned == len(rows):
+        return StockOutcome(None, tuple(solves), len(rows), 0,
+                            f"no stock row of {material.name} {problem.family.label} meets every limit (with the "
+                            "section free between the rows' sizes IPOPT finds no design that does)")
     if evaluation is None and leaves == 0:
         return StockOutcome(None, tuple(solves), len(rows), 0, "", outranked=True)
     if evaluation is None:

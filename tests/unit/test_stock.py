@@ -283,3 +283,33 @@ def test_optimize_on_stock_names_the_item_and_the_continuous_optimum(tmp_path, c
     mm = [round(v * 1e3, 9) for k, v in section.items() if k != "kind"]
     assert sorted(mm) == sorted(round(v * 1e3, 9) for v in item["sizes"])
     assert main(["simulate", str(out / "design.json"), "--draws", "200"]) == 0
+
+
+def test_rows_a_relaxation_finds_infeasible_are_infeasible_one_by_one():
+    """The weigh-bar on metric stock: Ti-6Al-4V round bar is dropped whole, its relaxation (the
+    diameter free between the table's sizes) being infeasible. Reference: brute force, every row
+    of its table solved on its own with its diameter held, rounded and checked: none meets every
+    limit."""
+    spec = _spec("weigh-bar", stock="metric")
+    found = optimize(spec)
+    cand = next(c for c in found.candidates if c.material == "Ti-6Al-4V" and c.family.section == "round")
+    assert cand.status == "infeasible" and "IPOPT finds no design" in cand.stock_note
+    problem = FamilyProblem(spec, Family("round", spec.search.feature))
+    material = catalogue.material("Ti-6Al-4V")
+    x0 = _start_from(problem, cand.continuous)
+    every = brute_force(problem, material, x0)
+    assert len(every) > 10
+    assert not any(ev is not None and ev.feasible for _, ev in every)
+
+
+def test_with_no_feasible_stock_design_the_least_infeasible_row_is_reported(monkeypatch):
+    """When no row of any family meets every limit, the search runs again without dropping the
+    rows relaxations found infeasible, so that the least-infeasible stock design is reported
+    (as the search did before it dropped any). Here every search.stock design is made infeasible
+    by a deflection limit no bar meets."""
+    base = _spec(stock="metric", materials=("7075-T6",))
+    spec = replace(base, limits=replace(base.limits, max_deflection=1e-7))
+    found = optimize(spec)
+    assert not found.success
+    assert found.x.stock is not None and found.best is not None
+    assert not any("IPOPT finds no design" in c.stock_note for c in found.candidates if c.evaluation is not None)
