@@ -209,9 +209,8 @@ STABILITY_SCALES = {
                                                extra="cad: {end_mill_diameter: 0.5 mm}\n"),
     # a metre-long whisker read at millinewtons, gauges on its surface (a miniature gauge's
     # pocket is short for its section: outside the slots' fitted domain, docs/model.md §7), which
-    # reaches 2.1 % in force, not 2 %; a quiet amplifier, as the full bridge's two gauges side by
-    # side need a bar 1.7 mm wide
-    "millinewtons on a metre beam": _text("[5 mN, 200 mN]", "[0.4 m, 1 m]", "240 nV",
+    # reaches 2.1 % in force, not 2 %
+    "millinewtons on a metre beam": _text("[5 mN, 200 mN]", "[0.4 m, 1 m]", "300 nV",
                                           SMALL_CLEARANCES + "\n  width: [0.5 mm, 20 mm]\n  height: [0.5 mm, 20 mm]"
                                           "\n  max_deflection: 20 mm", feature="none", force_error="3 %"),
     # a short stiff lug at kilonewtons, and a metre-long weigh beam: gauges on the plain bar's

@@ -211,13 +211,12 @@ def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
         out += [Limit("hole_ligament", (g.height - g.hole) / 2, lim.min_wall, upper=False, unit="m"),
                 Limit("hole_min", g.hole, lim.min_wall, upper=False, unit="m")]
     if g.feature != "pocket":
-        # the gauges' backings lie on the face they read, side by side (a pocket's or flat's own
-        # limits see to it there): a rectangle's face at least as wide, a round surface at least
-        # as wide across
+        # the gauge's backing lies on the face it reads (a pocket's or flat's own limits see to it
+        # there): a rectangle's face at least as wide, a round surface at least as wide across
         face = g.width if g.section == "rectangle" else g.diameter
-        out.append(Limit("gauge_face", face, spec.face_width(), upper=False, unit="m"))
+        out.append(Limit("gauge_face", face, spec.gauge.width, upper=False, unit="m"))
         if g.section == "rectangle" and g.axes == 2:
-            out.append(Limit("gauge_face_side", g.height, spec.face_width(), upper=False, unit="m"))
+            out.append(Limit("gauge_face_side", g.height, spec.gauge.width, upper=False, unit="m"))
     return out
 
 

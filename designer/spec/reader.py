@@ -194,16 +194,10 @@ class Spec:
             return self.design.length
         return self.load.position_max + self.limits.tip_margin
 
-    def face_width(self) -> float:
-        """The face one station's gauges take (docs/model.md §1): a full bridge's two backings side
-        by side, ``pocket_margin`` apart, on each gauged face; one backing for the other bridges."""
-        k = 2 if self.bridge == "full" else 1
-        return k * self.gauge.width + (k - 1) * self.limits.pocket_margin
-
     def pocket_size(self) -> tuple[float, float]:
-        """Pocket length along and width across the beam: the gauges with ``pocket_margin`` around."""
+        """Pocket length along and width across the beam (MODEL.md section 1)."""
         margin = self.limits.pocket_margin
-        return self.gauge.length + 2 * margin, self.face_width() + 2 * margin
+        return self.gauge.length + 2 * margin, self.gauge.width + 2 * margin
 
     def to_dict(self) -> dict:
         """The normalised spec, SI, as written into design.json."""
@@ -258,7 +252,13 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
     except strict_yaml.StrictYamlError as exc:
         raise SpecError(f"{source}: {exc}") from exc
     except yaml.YAMLError as exc:
-        raise SpecError(f"{source}: {strict_yaml.describe(exc)}") from exc
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or "invalid YAML"
+        context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+        if context and start is not None and (mark is None or start.line != mark.line):
+            problem += f" ({context} that starts at line {start.line + 1}, column {start.column + 1})"
+        raise SpecError(f"{source}: YAML syntax error{where}: {problem}") from exc
     if raw is None:
         raise SpecError(f"{source}: the file is empty; a spec needs at least 'load' and 'electronics'")
     if not isinstance(raw, dict):

@@ -57,14 +57,3 @@ def load(text: str):
         raise StrictYamlError(f"the file is {len(text) / 1e6:.1f} MB; a spec or catalogue file is at most "
                               f"{MAX_BYTES / 1e6:g} MB")
     return yaml.load(text, Loader=_Loader)  # noqa: S506 - _Loader is a SafeLoader
-
-
-def describe(exc) -> str:
-    """A PyYAML syntax error in one line: where it is and what is wrong."""
-    mark = getattr(exc, "problem_mark", None)
-    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-    problem = getattr(exc, "problem", None) or "invalid YAML"
-    context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
-    if context and start is not None and (mark is None or start.line != mark.line):
-        problem += f" ({context} that starts at line {start.line + 1}, column {start.column + 1})"
-    return f"YAML syntax error{where}: {problem}"

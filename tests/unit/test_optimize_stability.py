@@ -181,21 +181,3 @@ def test_ipopt_that_raises_falls_back_to_slsqp_and_the_answer_is_checked(monkeyp
     assert any(s.method == "slsqp" for c in outcome.candidates for s in c.solves)
     ev = _recheck(outcome, spec)
     assert ev.feasible and outcome.success
-
-
-def test_a_full_bridge_s_two_gauges_fit_side_by_side_on_the_face():
-    # The metre-long whisker with a full bridge: its four arms are two gauges on each face, side
-    # by side, pocket_margin apart (docs/model.md §1). Its narrowest bar is where the error is
-    # least, so the face limit binds: the chosen bar is 2 x 0.8 + 0.1 = 1.7 mm wide (on the
-    # 0.01 mm grid), where a half bridge's one gauge needs 0.8 mm; and a pocket holds both gauges
-    # with the margin around them, 2 x 0.8 + 3 x 0.1 = 1.9 mm.
-    spec = _spec("millinewtons on a metre beam")
-    assert spec.pocket_size()[1] == pytest.approx(1.9e-3)
-    half = replace(spec, bridge="half")
-    assert half.pocket_size()[1] == pytest.approx(1.0e-3)
-    outcome = search.optimize(spec)
-    assert outcome.success
-    width = outcome.best.design.geometry.width
-    assert 1.7e-3 - 1e-12 <= width <= 1.71e-3 + 1e-12
-    face = next(lim for lim in outcome.best.limits if lim.name == "gauge_face")
-    assert face.limit == pytest.approx(1.7e-3)
