@@ -172,7 +172,7 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
                          "taken instead")
         return s, near
     on_grid = _on_the_grid(problem, params, material, s, solves)
-    if near is not None and (on_grid is None or model.ranks_before(near, on_grid[1])):
+    if near is not None and (on_grid is None or not on_grid[1].feasible or model.ranks_before(near, on_grid[1])):
         fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
                          "taken instead (it beats the section held on the grid and the rest solved again)")
         return s, near
