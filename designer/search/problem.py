@@ -244,7 +244,6 @@ class FamilyProblem:
         g.append(f / par[CAP] - 1)
         self.n_constraints = len(g)
         gv = ca.vertcat(*g)
-        self._graph = (x, par, f, gv)  # for the relaxation over the materials (``relaxed``)
         self.nlp = {"x": x, "p": par, "f": f, "g": gv}
         self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
         self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
@@ -287,11 +286,17 @@ class FamilyProblem:
 
     # solvers ----------------------------------------------------------------
     def ipopt(self, stage: str = "primary"):
+        """IPOPT on the NLP of ``stage``: ``primary``, ``secondary`` (the tie rule's), or ``relaxed``:
+        the primary with the material's parameters (the first CAP of ``params``) as variables after
+        the design's, bounded per solve (``infeasible_for_every``)."""
         if stage not in self._ipopt:
             import casadi as ca
 
             opts = dict(IPOPT_OPTIONS, **{"ipopt.tol": IPOPT_TOLERANCE, "ipopt.max_iter": IPOPT_MAX_ITER})
-            nlp = self.nlp if stage == "primary" else self.nlp_secondary
+            nlp = self.nlp_secondary if stage == "secondary" else self.nlp
+            if stage == "relaxed":
+                par = nlp["p"]
+                nlp = dict(nlp, x=ca.vertcat(nlp["x"], par[:CAP]), p=par[CAP:])
             self._ipopt[stage] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_{stage}", "ipopt",
                                            nlp, opts)
         return self._ipopt[stage]
@@ -317,20 +322,6 @@ class FamilyProblem:
             lo[i] = hi[i] = x0[i] = v
         return _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
 
-    def relaxed(self):
-        """IPOPT on this NLP with the material's parameters (the first CAP of ``params``) as
-        variables after the design's, bounded per solve (``infeasible_for_every``)."""
-        if "relaxed" not in self._ipopt:
-            import casadi as ca
-
-            x, par, f, g = self._graph
-            material = ca.vertcat(*[par[i] for i in range(CAP)])
-            rest = ca.vertcat(*[par[i] for i in range(CAP, par.numel())])
-            opts = dict(IPOPT_OPTIONS, **{"ipopt.tol": IPOPT_TOLERANCE, "ipopt.max_iter": IPOPT_MAX_ITER})
-            self._ipopt["relaxed"] = ca.nlpsol(f"fpd_{self.family.section}_{self.family.feature}_relaxed", "ipopt",
-                                               {"x": ca.vertcat(x, material), "p": rest, "f": f, "g": g}, opts)
-        return self._ipopt["relaxed"]
-
     def infeasible_for_every(self, materials) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the
         solves that said so. The material's parameters are let free between the least and the
@@ -342,7 +333,7 @@ class FamilyProblem:
         lo, hi = self.bounds()
         solves = []
         for x0 in self.starts():
-            s = _run_ipopt(self.relaxed(), x0=np.concatenate([x0, (low + high) / 2]), p=table[0, CAP:],
+            s = _run_ipopt(self.ipopt("relaxed"), x0=np.concatenate([x0, (low + high) / 2]), p=table[0, CAP:],
                            lbx=np.concatenate([lo, low]), ubx=np.concatenate([hi, high]), lbg=-np.inf, ubg=0.0)
             solves.append(replace(s, x=s.x[: self.size]))
             if s.message not in IPOPT_INFEASIBLE:
