@@ -166,8 +166,8 @@ def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation
     rounded design breaks no limit of the NLP replaces it (under the error objective it may still
     miss the targets: a verdict)."""
     near = _nearby_on_the_grid(problem, material, s)
-    continuous = float(problem.functions(s.x, params)[0])
-    if near is not None and in_nlp_units(near.objective, problem.spec.objective) <= continuous * (1 + NEARBY_GAP):
+    if near is not None and (in_nlp_units(near.objective, problem.spec.objective)
+                             <= float(problem.functions(s.x, params)[0]) * (1 + NEARBY_GAP)):
         fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
                          "taken instead")
         return s, near
@@ -363,21 +363,19 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         why = _unmachinable(spec, fam)
         if why:
             unmachinable[fam] = why
-        solved, lead = 0, None  # lead: the usual start that gave the family's last verified answer
+        usual = problem.starts()  # the family's own; the one that gave the last verified answer goes first
+        solved = 0
         for k, mat in enumerate(mats):
             if (mat.name, fam) in skip:
                 candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "
                                                                       "level of the same limit",)))
                 continue
             start = warm.get((mat.name, fam))
-            usual = problem.starts()
-            if lead is not None:  # the next material is near it: that start first
-                usual = [usual[lead]] + usual[:lead] + usual[lead + 1:]
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
                     else solve_candidate(problem, mat, method,
                                          starts=usual if start is None else [_start_from(problem, start)] + usual))
-            lead = next((j for j, x in enumerate(problem.starts()) if cand.winner is not None
-                         and np.array_equal(x, cand.winner)), lead)
+            if any(x is cand.winner for x in usual):  # the next material is near it: that start first
+                usual = [cand.winner] + [x for x in usual if x is not cand.winner]
             candidates.append(cand)
             solved += 1
             if progress is not None:
