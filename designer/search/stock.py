@@ -143,14 +143,18 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             if ev.feasible:
                 best_nlp = min(best_nlp, in_nlp_units(ev.objective, spec.objective))
 
+    def dropped(s) -> bool:
+        """No row of the set meets every limit, and that may drop it: none can rank before a design that does."""
+        return s.message in IPOPT_INFEASIBLE and (prune_infeasible or math.isfinite(best_nlp))
+
     everything = list(range(len(rows)))
     root = relax(everything, x0)
-    if root.message in IPOPT_INFEASIBLE and (prune_infeasible or math.isfinite(best_nlp)):
-        return StockOutcome(None, tuple(solves), len(rows), 0,
-                            f"no stock row of {material.name} {problem.family.label} meets every limit (with the "
-                            "section free between the rows' sizes IPOPT finds no design that does)")
-    heap = [(objective(root) if root.success else -math.inf, 0, everything, root.x)]
-    counter, leaves, pruned = 1, 0, 0
+    heap, pruned = [], 0
+    if dropped(root):
+        pruned = len(rows)
+    else:
+        heap.append((objective(root) if root.success else -math.inf, 0, everything, root.x))
+    counter, leaves = 1, 0
     while heap:
         bound, _, members, start = heapq.heappop(heap)
         if bound > best_nlp * (1 + model.TIE_TOLERANCE):
@@ -161,8 +165,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             continue
         for part in _split(points, members, start, index):
             s = relax(part, start)
-            if s.message in IPOPT_INFEASIBLE and (prune_infeasible or math.isfinite(best_nlp)):
-                # no row of the set meets every limit: none of them can rank before a design that does
+            if dropped(s):
                 pruned += len(part)
                 continue
             child_bound = objective(s) if s.success else bound  # a failed relaxation bounds nothing new
