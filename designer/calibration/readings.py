@@ -13,6 +13,7 @@ import csv
 import io
 import math
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -159,15 +160,11 @@ def in_volts(readings: Readings, volts_per_count: float | None, where: str) -> R
     if volts_per_count is None:
         raise CsvError(f"{readings.source}: the bridge columns are counts (C1, C2, ...); converting them to volts "
                        f"needs the front-end's gain and reference: {where}")
-    from dataclasses import replace
-
     return replace(readings, voltages=readings.voltages * volts_per_count, counts=False)
 
 
 def in_counts(readings: Readings, volts_per_count: float) -> Readings:
     """``readings`` as the converter's whole counts (columns C1, C2, ...)."""
-    from dataclasses import replace
-
     return replace(readings, voltages=np.round(readings.voltages / volts_per_count), counts=True)
 
 
