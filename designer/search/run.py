@@ -454,9 +454,11 @@ def _proved_infeasible(problems: dict, proved: dict, candidates: list, method: s
                 cand = replace(cand, solves=(tuple(relaxation) if i == 0 else ()) + cand.solves)
             else:
                 ev = round_and_check(problem.design(relaxation[0].x, mat), problem.spec)
+                # said in full once a family, on the candidate that carries the relaxation's solves
                 note = (f"every material of {fam.label} is infeasible: with the material's properties free between "
                         f"the least and the greatest of {len(materials)} materials', IPOPT finds no design that meets "
-                        "every limit (every start); the design shown is this material's at that answer")
+                        "every limit (every start); each material's design shown is the one at that answer"
+                        if i == 0 else f"every material of {fam.label} is infeasible (see {materials[0].name})")
                 cand = Candidate(mat.name, fam, ev, tuple(relaxation) if i == 0 else (), (note,))
             out.append(cand)
             if progress is not None:
