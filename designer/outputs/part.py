@@ -81,6 +81,7 @@ class BeamCad:
     channels: Channels | None
     grooves: Grooves | None
     stock: str = ""            # the stock item the section is cut from ("round bar Ø10 mm (EN 754-3)"); "" if none
+    tolerances: str = ""       # the tolerances the design was checked at ("ISO 2768-m"); "" if none
 
     @property
     def radius(self) -> float:

@@ -236,6 +236,23 @@ def stress_rows(record: dict) -> list[tuple]:
     return rows
 
 
+def tolerance_markdown(tol: dict) -> list[str]:
+    """The design at the corners of its tolerances: each limit at its worst corner."""
+    sizes = ", ".join(f"{name} ±{dev * 1e3:.3g} mm" for name, dev in tol["deviations"].items())
+    low, high = tol["sensitivity_spread"]
+    lines = ["## Tolerances", "",
+             f"Built to {tol['label']} ({sizes}): each limit below was checked at all {tol['corners']} corners "
+             "(every toleranced size at its nominal ± deviation); its worst corner is shown. "
+             f"Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}, which each sensor's "
+             "own calibration absorbs.", "",
+             "| limit | worst corner | value | bound | margin | |", "|---|---|---|---|---|---|"]
+    for c in tol["constraints"]:
+        flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
+        lines.append(f"| {c['name']} | {c['corner']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
+                     f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
+    return lines
+
+
 def binding_limits(record: dict) -> list[dict]:
     return [c for c in record["constraints"] if c["active"] or not c["satisfied"]]
 
@@ -254,6 +271,8 @@ def markdown(record: dict) -> str:
         flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
         lines.append(f"| {c['name']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
                      f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
+    if record.get("tolerances"):
+        lines += [""] + tolerance_markdown(record["tolerances"])
     budget = record["predicted"].get("budget")
     if budget is not None:
         lines += ["", "## Error budget", "", budget_caption(budget) + ".", "",

@@ -16,7 +16,9 @@ from designer.spec.catalogue import Material
 from designer.spec.stock import StockItem
 from designer.errors import InputError, SpecError
 from designer.model import Adjustment, Analysis, Geometry, Limit, MaterialParams
+from designer.model import tolerance
 from designer.model.sections import wire_channel
+from designer.model.tolerance import CornerCheck
 
 ROUNDING = 1e-5  # designs are reported to 0.01 mm (MODEL.md section 5)
 
@@ -94,10 +96,13 @@ class Evaluation:
     limits: tuple[Limit, ...]
     objective: float
     error_ratio: float
+    tolerance: CornerCheck | None = None   # the design at its tolerance corners (docs/model.md §14)
 
     @property
     def violations(self) -> list[Limit]:
-        return [lim for lim in self.limits if float(lim.normalised) > model.FEASIBILITY_TOLERANCE]
+        """The limits broken by the nominal design, then those broken at a tolerance corner."""
+        corners = self.tolerance.limits if self.tolerance is not None else ()
+        return [lim for lim in self.limits + corners if float(lim.normalised) > model.FEASIBILITY_TOLERANCE]
 
     @property
     def feasible(self) -> bool:
@@ -106,7 +111,8 @@ class Evaluation:
     @property
     def worst_violation(self) -> float:
         """The largest normalised violation, 0 for a feasible design."""
-        return max([0.0] + [float(lim.normalised) for lim in self.limits])
+        corners = self.tolerance.limits if self.tolerance is not None else ()
+        return max([0.0] + [float(lim.normalised) for lim in self.limits + corners])
 
     @property
     def large_deflection(self) -> bool:
@@ -154,7 +160,8 @@ def evaluate(design: Design, spec) -> Evaluation:
     try:
         a = model.analyse(design.geometry, params, spec, adjust=design.adjustment)
         lims = tuple(model.limits(design.geometry, a, params, spec))
-        ev = Evaluation(design, a, lims, float(model.objective(a, spec)), float(model.error_ratio(a, spec.targets)))
+        ev = Evaluation(design, a, lims, float(model.objective(a, spec)), float(model.error_ratio(a, spec.targets)),
+                        tolerance.check(design.geometry, params, spec, design.adjustment))
         predicted = ev.predicted()
     except ArithmeticError as exc:  # ZeroDivisionError, OverflowError
         raise InputError(f"the design cannot be evaluated ({exc}); a size, load or electronics value is far "

@@ -27,11 +27,22 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
         record["predicted"]["front_end"] = front_end
     if evaluation.analysis.budget is not None:
         record["predicted"]["budget"] = budget_record(spec, evaluation)
+    if evaluation.tolerance is not None:
+        record["tolerances"] = tolerance_record(spec, evaluation)
     if evaluation.large_deflection:
         record["messages"].append(large_deflection_message(evaluation))
     if extra:
         record.update(extra)
     return record
+
+
+def tolerance_record(spec, evaluation: Evaluation) -> dict:
+    """The design at its tolerance corners (docs/model.md §14): the class, each toleranced size's
+    deviation (m), each corner-checked limit at its worst corner, and how far the sensitivities k_i
+    move across the corners (the least and the greatest k_i / k_i(nominal) - 1)."""
+    check = evaluation.tolerance
+    return {"label": spec.tolerances.label(), "deviations": dict(check.deviations), "corners": check.count,
+            "constraints": check.records(), "sensitivity_spread": list(check.sensitivity)}
 
 
 def front_end_record(spec, evaluation: Evaluation) -> dict | None:

@@ -18,6 +18,7 @@ import numpy as np
 from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
+from designer.model import tolerance
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
 from designer.result.evaluation import Design
@@ -26,6 +27,13 @@ MM = 1e-3
 METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")
 IPOPT_TOLERANCE = 1e-9
 IPOPT_MAX_ITER = 300
+# With tolerances (docs/model.md §14) an answer is solved again with each corner-checked limit
+# tightened by how much worse it is at its worst corner, at most this many times, until every
+# corner holds; the tightening keeps this much more room, so that the corners still hold when
+# the answer moves a little from the point the excess was measured at.
+TOLERANCE_ROUNDS = 6
+TOLERANCE_ROOM = 1e-4
+TOLERANCE_SETTLED = 1e-3  # the excess has settled when no row's moves by more (normalised)
 #: casadi's options of every IPOPT solve. ``show_eval_warnings`` off: a trial step of IPOPT's
 #: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
 #: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
@@ -320,7 +328,37 @@ class FamilyProblem:
             x0[i] = min(max(x0[i], a), b)
         for i, v in (fixed or {}).items():
             lo[i] = hi[i] = x0[i] = v
-        return _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+        s = _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+        return self._held_at_corners(s, params, stage, margin, lo, hi) if self.spec.tolerances.active else s
+
+    def _held_at_corners(self, s: Solve, params, stage: str, margin, lo, hi) -> Solve:
+        """``s`` solved again, from its answer, with the row of each limit that a tolerance corner
+        makes worse tightened by that much (``tolerance.check``'s excess at the answer, plus
+        TOLERANCE_ROOM), until the excess it was solved with is the excess at its answer and every
+        corner meets its limits (at most TOLERANCE_ROUNDS times). Of the answers whose corners all
+        meet their limits, the one with the best objective is returned (else the last); the
+        iterations of every run are counted in it."""
+        material = MaterialParams.from_scaled(list(params[:CAP]))
+        base = np.broadcast_to(np.asarray(margin, dtype=float), (self.n_constraints,))
+        runs, used, held = s.evaluations, None, []
+        for _ in range(TOLERANCE_ROUNDS):
+            if not s.success:
+                break
+            check = tolerance.check(self.geometry([float(v) * MM for v in s.x[: len(self.names)]]), material,
+                                    self.spec, self.adjustment)
+            extra = np.zeros(self.n_constraints)
+            extra[: len(self.limit_names)] = [max(check.excess[name], 0.0) + TOLERANCE_ROOM if name in check.excess
+                                              else 0.0 for name in self.limit_names]
+            if max(float(lim.normalised) for lim in check.limits) <= model.FEASIBILITY_TOLERANCE:
+                held.append(s)
+                if used is not None and np.max(np.abs(extra - used)) <= TOLERANCE_SETTLED:
+                    break
+            s = _run_ipopt(self.ipopt(stage), x0=s.x, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-(base + extra))
+            runs += s.evaluations
+            used = extra
+        if held:
+            s = min(held, key=lambda h: float(self.functions(h.x, params)[0]))
+        return replace(s, evaluations=runs)
 
     def infeasible_for_every(self, materials) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the

@@ -15,6 +15,7 @@ import numpy as np
 
 from designer import model
 from designer.errors import InputError
+from designer.model import tolerance
 from designer.result.evaluation import ROUNDING, Design, Evaluation, channelled, evaluate
 
 
@@ -58,7 +59,8 @@ def round_and_check(design: Design, spec, reach: int = 0) -> Evaluation | None:
     with np.errstate(all="ignore"):
         a = model.analyse(trial, params, spec, adjust=design.adjustment)
         lims = model.limits(trial, a, params, spec)
-        viol = model.worst_normalised(lims, len(combos))
+        viol = np.maximum(model.worst_normalised(lims, len(combos)),
+                          tolerance.worst(trial, params, spec, design.adjustment))
         objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
         deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
         mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))

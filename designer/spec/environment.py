@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from designer.errors import SpecError, describe_allowed
-from designer.spec import units
+from designer.spec import catalogue, units
 from designer.spec.keys import mapping, required
 
 ROOM = 296.15  # K: 23 °C, the usual calibration temperature
@@ -74,3 +74,17 @@ def parse_calibration(raw) -> CalibrationSetup:
     placement = units.parse_positive(raw.get("placement", 0.1e-3), "length", "calibration.placement",
                                      allow_zero=True)
     return CalibrationSetup(weights, placement)
+
+
+def check_thermal(spec) -> None:
+    """With an environment, the gauge and every material must give the error budget's figures."""
+    missing = spec.gauge.thermal_missing()
+    if missing:
+        raise SpecError(f"gauge.{missing[0]}: {spec.gauge.name} does not give it, and environment needs it for the "
+                        f"error budget; give {', '.join(missing)} in gauge: (docs/spec.md §2.3)")
+    names = [spec.design.material] if spec.design is not None else spec.search.materials
+    for name in names:
+        lacking = catalogue.material(name).thermal_missing()
+        if lacking:
+            raise SpecError(f"environment: the material {name!r} gives no {lacking[0]}, which the error budget needs; "
+                            "add it in a catalogue of your own or leave the material out")

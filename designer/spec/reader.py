@@ -19,7 +19,8 @@ from designer.spec.stock import STOCK_CHOICES
 from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
 from designer.spec.electronics import Electronics, parse_electronics
-from designer.spec.environment import CalibrationSetup, Environment, parse_calibration, parse_environment
+from designer.spec.environment import CalibrationSetup, Environment, check_thermal, parse_calibration, parse_environment
+from designer.spec.tolerances import Tolerances, parse_tolerances
 from designer.spec.keys import mapping as _mapping, required as _required
 
 SECTION_KINDS = ("rectangle", "round", "tube")
@@ -163,6 +164,7 @@ class Spec:
     catalogue: tuple = ()     # the user catalogues: (file, content) pairs (spec.catalogue.use)
     environment: Environment | None = None   # the error budget's temperatures (docs/model.md §13)
     calibration: CalibrationSetup = field(default_factory=CalibrationSetup)
+    tolerances: Tolerances = field(default_factory=Tolerances)   # the built sizes' deviations (docs/model.md §14)
 
     @property
     def bridge_factor(self) -> int:
@@ -220,6 +222,7 @@ class Spec:
             out["environment"] = {"temperature": list(env.temperature), "calibrated_at": env.calibrated_at,
                                   "hold": env.hold, "tare": env.tare}
         out["calibration"] = asdict(self.calibration)
+        out["tolerances"] = self.tolerances.as_dict()
         if self.catalogue:
             # the content itself, so that design.json is read again without the files
             out["catalogue"] = [{"file": f, **content} for f, content in self.catalogue]
@@ -233,7 +236,8 @@ class Spec:
 # --------------------------------------------------------------------------- reading
 
 _TOP_KEYS = ("name", "load", "electronics", "gauge", "bridge", "stations", "axes", "limits",
-             "targets", "search", "objective", "design", "cad", "catalogue", "environment", "calibration")
+             "targets", "search", "objective", "design", "cad", "catalogue", "environment", "calibration",
+             "tolerances")
 
 
 def load_spec(path: str | Path, catalogues=()) -> Spec:
@@ -265,20 +269,6 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
         raise SpecError(f"{source}: a spec must be a mapping of keys such as 'load' and 'electronics', "
                         f"not {type(raw).__name__}")
     return parse_spec(raw, default_name=default_name, folder=folder, catalogues=catalogues)
-
-
-def _check_thermal(spec: Spec) -> None:
-    """With an environment, the gauge and every material must give the error budget's figures."""
-    missing = spec.gauge.thermal_missing()
-    if missing:
-        raise SpecError(f"gauge.{missing[0]}: {spec.gauge.name} does not give it, and environment needs it for the "
-                        f"error budget; give {', '.join(missing)} in gauge: (docs/spec.md §2.3)")
-    names = [spec.design.material] if spec.design is not None else spec.search.materials
-    for name in names:
-        lacking = catalogue.material(name).thermal_missing()
-        if lacking:
-            raise SpecError(f"environment: the material {name!r} gives no {lacking[0]}, which the error budget needs; "
-                            "add it in a catalogue of your own or leave the material out")
 
 
 def _catalogue_name(value, key: str, lookup):
@@ -362,9 +352,10 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
                 stations=len(design.stations) if design else stations, axes=axes, limits=limits,
                 targets=targets, search=search, objective=objective, cad=cad, design=design, catalogue=user,
                 environment=parse_environment(raw.get("environment")),
-                calibration=parse_calibration(raw.get("calibration")))
+                calibration=parse_calibration(raw.get("calibration")),
+                tolerances=parse_tolerances(raw.get("tolerances")))
     if spec.environment is not None:
-        _check_thermal(spec)
+        check_thermal(spec)
     if design is not None and spec.free_length < x_max:
         raise SpecError(f"design.length: {spec.free_length * 1e3:g} mm is shorter than the largest load "
                         f"position load.position[1] = {x_max * 1e3:g} mm")

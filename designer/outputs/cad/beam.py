@@ -174,7 +174,13 @@ def resolve(record: dict) -> BeamCad:
                    feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
                    hole_diameter=hole, end_mill=end_mill, floor_radius=corner, gauge_name=gauge_name,
                    gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves,
-                   stock=_stock_label(d.get("stock")))
+                   stock=_stock_label(d.get("stock")), tolerances=_tolerance_label(record.get("tolerances")))
+
+
+def _tolerance_label(block) -> str:
+    """The tolerances design.json's ``tolerances`` says the design was checked at ("" without them)."""
+    label = block.get("label") if isinstance(block, dict) else None
+    return label if isinstance(label, str) else ""
 
 
 def _stock_label(stock) -> str:

@@ -259,7 +259,8 @@ def _place_callouts(pen, items: list, y: float) -> None:
 def _notes(pen, beam: BeamCad, X) -> None:
     lines = ["NOTES",
              "1. Dimensions in mm. Positions along the beam are from the clamp face (X = 0).",
-             "2. General tolerances ISO 2768-m. Break sharp edges 0.2 max.",
+             "2. General tolerances ISO 2768-m. Break sharp edges 0.2 max." if not beam.tolerances else
+             f"2. Tolerances {beam.tolerances}: every limit holds at their extremes. Break sharp edges 0.2 max.",
              "3. Gauge faces and pocket floors: flat, Ra 1.6 or better, free of burrs "
              "(strain gauges are bonded there).",
              ]

@@ -1,0 +1,150 @@
+"""A design at the corners of its tolerances (docs/model.md §14).
+
+The section's sizes and the feature's depth (or hole) are each built anywhere within their
+deviation ± t (``spec.tolerances``). Every limit a built part must meet (CORNER_LIMITS) is
+judged at each corner: every combination of each toleranced size at its nominal - t and + t.
+The geometry rules, the corrections' fitted domain and the accuracy targets stay judged on the
+nominal design: they are rules of the drawing, and each built sensor's own calibration absorbs
+its k (the report gives how far k moves across the corners).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from designer.model.analysis import analyse
+from designer.model.limits import Limit, limits
+from designer.model.sections import Geometry, wire_channel
+
+# The limits of docs/model.md §4 a built part must meet whatever its sizes within tolerance.
+CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_snr", "adc_range", "fatigue_feature",
+                 "deflection", "natural_frequency")
+# A corner is written as the sign of each toleranced size's deviation, e.g. "D-t, p+t".
+SYMBOLS = {"width": "b", "height": "h", "diameter": "D", "wall": "t", "depth": "p", "hole": "d_h"}
+
+
+def toleranced(g: Geometry) -> list[tuple[str, str]]:
+    """``(field, part)`` of each toleranced size of ``g``: the section's sizes, then the feature's."""
+    out = {"rectangle": [("width", "section"), ("height", "section")], "round": [("diameter", "section")],
+           "tube": [("diameter", "section"), ("wall", "section")]}[g.section]
+    out += {"pocket": [("depth", "feature")], "hole": [("hole", "feature")]}.get(g.feature, [])
+    return out
+
+
+def signs(g: Geometry) -> np.ndarray:
+    """Every corner as a row of -1/+1, one column per ``toleranced`` size."""
+    return np.array(list(itertools.product((-1.0, 1.0), repeat=len(toleranced(g)))))
+
+
+def corners(g: Geometry, tol, cad) -> Geometry:
+    """``g`` (numbers, or arrays of n designs) at its nominal sizes and then at each corner: every
+    array of n becomes one of n (1 + c), the nominal designs first, then each corner's n. The wire
+    channel follows the built pocket's depth, as the CAD cuts it."""
+    corner = signs(g)
+    c = len(corner)
+    n = _count(g)
+    out = {}
+    for f in fields(g):
+        v = getattr(g, f.name)
+        if isinstance(v, tuple):
+            out[f.name] = tuple(_tiled(x, n, c) for x in v)
+        elif isinstance(v, np.ndarray) or f.name in dict(toleranced(g)):
+            out[f.name] = _tiled(v, n, c)
+    for j, (name, part) in enumerate(toleranced(g)):
+        nominal = np.broadcast_to(np.asarray(getattr(g, name), dtype=float), (n,))
+        dev = tol.deviation(nominal, part)
+        out[name] = np.concatenate([nominal] + [nominal + s * dev for s in corner[:, j]])
+    built = replace(g, **out)
+    width, depth = wire_channel(cad, g.feature, built.depth, g.pocket_width)
+    return replace(built, channel_width=width, channel_depth=depth)
+
+
+def _count(g: Geometry) -> int:
+    sizes = [np.size(x) for x in (*g.stations, *(getattr(g, f.name) for f in fields(g))) if isinstance(x, np.ndarray)]
+    return max(sizes, default=1)
+
+
+def _tiled(v, n: int, c: int):
+    if isinstance(v, np.ndarray) or v is not None and not isinstance(v, str):
+        return np.tile(np.broadcast_to(np.asarray(v, dtype=float), (n,)), c + 1)
+    return v
+
+
+def worst(g: Geometry, m, spec, adjust=None) -> np.ndarray:
+    """For each of ``g``'s n designs, the largest normalised value of CORNER_LIMITS over its
+    tolerance corners (not its nominal design); -inf when the spec has no tolerances."""
+    n = _count(g)
+    if not spec.tolerances.active:
+        return np.full(n, -np.inf)
+    built = corners(g, spec.tolerances, spec.cad)
+    rows = _normalised(built, m, spec, adjust)
+    if not rows:
+        return np.full(n, -np.inf)
+    return np.max(np.stack([r.reshape(-1, n)[1:] for r in rows.values()]), axis=(0, 1))
+
+
+def _normalised(built: Geometry, m, spec, adjust) -> dict:
+    """The normalised value of each CORNER_LIMITS limit of ``built`` (arrays of n (1 + c))."""
+    size = _count(built)
+    with np.errstate(all="ignore"):
+        a = analyse(built, m, spec, adjust=adjust)
+        return {lim.name: np.broadcast_to(np.asarray(lim.normalised, dtype=float), (size,))
+                for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS}
+
+
+@dataclass(frozen=True)
+class CornerCheck:
+    """One design at its tolerance corners. ``limits``: each CORNER_LIMITS limit at its worst corner
+    (named as the limit), ``corners``: that corner, as ``label`` writes it; ``excess``: how much
+    further each limit's normalised value is at that corner than at the nominal design;
+    ``deviations``: ``(field, ± m)``; ``sensitivity``: the least and the greatest k_i / k_i
+    (nominal) - 1 over the stations and the corners."""
+
+    limits: tuple[Limit, ...]
+    corners: tuple[str, ...]
+    excess: dict
+    deviations: tuple
+    sensitivity: tuple[float, float]
+    count: int
+
+    def records(self) -> list[dict]:
+        return [{**lim.record(), "corner": corner} for lim, corner in zip(self.limits, self.corners)]
+
+
+def check(g: Geometry, m, spec, adjust=None) -> CornerCheck | None:
+    """``g`` (numbers) at each of its tolerance corners; None when the spec has no tolerances."""
+    tol = spec.tolerances
+    if not tol.active:
+        return None
+    names = [name for name, _ in toleranced(g)]
+    corner = signs(g)
+    built = corners(g, tol, spec.cad)
+    with np.errstate(all="ignore"):
+        a = analyse(built, m, spec, adjust=adjust)
+        lims = [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS]
+        k = np.array([np.broadcast_to(np.asarray(x, dtype=float), (len(corner) + 1,)) for x in a.sensitivities])
+    out, where, excess = [], [], {}
+    for lim in lims:
+        values = np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(corner) + 1,))
+        i = 1 + int(np.argmax(values[1:]))
+        out.append(Limit(lim.name, float(_at(lim.value, i)), float(_at(lim.limit, i)), lim.upper,
+                         None if lim.scale is None else float(_at(lim.scale, i)), lim.unit,
+                         None if lim.rating is None else float(_at(lim.rating, i))))
+        where.append(label(names, corner[i - 1]))
+        excess[lim.name] = float(values[i] - values[0])
+    deviations = tuple((name, float(tol.deviation(getattr(g, name), part))) for name, part in toleranced(g))
+    ratio = k[:, 1:] / k[:, :1] - 1
+    return CornerCheck(tuple(out), tuple(where), excess, deviations, (float(ratio.min()), float(ratio.max())),
+                       len(corner))
+
+
+def _at(value, i: int):
+    return np.asarray(value, dtype=float).ravel()[i] if np.size(value) > 1 else value
+
+
+def label(names, sign) -> str:
+    """A corner as ``D-t, p+t``."""
+    return ", ".join(f"{SYMBOLS[name]}{'+' if s > 0 else '-'}t" for name, s in zip(names, sign))

@@ -1,0 +1,102 @@
+"""Tolerances (docs/model.md §14): a design is judged at every corner of its toleranced sizes,
+and the search finds designs whose corners all meet the limits."""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import replace
+
+import pytest
+from pathlib import Path
+
+from designer import model
+from designer.errors import SpecError
+from designer.model import tolerance
+from designer.result.evaluation import channelled, evaluate, fixed_design
+from designer.search import optimize
+from designer.spec.reader import load_spec, parse_spec
+from designer.spec.tolerances import Tolerances
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+LOAD = {"force": ["1 N", "10 N"], "position": ["40 mm", "80 mm"]}
+ELECTRONICS = {"excitation": "5 V", "gain": 128, "noise_rti": "50 nV"}
+ROUND_BAR = {"material": "6061-T6", "section": {"kind": "round", "diameter": "8 mm"},
+             "stations": ["10 mm", "25 mm"], "feature": {"kind": "none"}}
+
+
+@pytest.mark.parametrize("grade, size_mm, deviation_mm", [
+    # ISO 2768-1:1989, Table 1 (linear dimensions): "0.5 up to 3", "over 3 up to 6", "over 6 up to 30",
+    # "over 30 up to 120"; a range's upper end belongs to it
+    ("f", 2.0, 0.05), ("f", 6.0, 0.05), ("f", 6.01, 0.1), ("f", 40.0, 0.15),
+    ("m", 0.5, 0.1), ("m", 3.0, 0.1), ("m", 3.01, 0.1), ("m", 10.0, 0.2), ("m", 30.0, 0.2), ("m", 50.0, 0.3),
+    ("c", 3.0, 0.2), ("c", 5.0, 0.3), ("c", 25.0, 0.5), ("v", 10.0, 1.0),
+])
+def test_deviations_are_iso_2768_1_table_1(grade, size_mm, deviation_mm):
+    assert float(Tolerances(grade).deviation(size_mm * 1e-3, "section")) == pytest.approx(deviation_mm * 1e-3)
+
+
+def _fixed(**tolerances):
+    return parse_spec({"load": LOAD, "electronics": ELECTRONICS, "design": ROUND_BAR, "tolerances": tolerances})
+
+
+def test_a_round_bars_root_stress_at_its_thin_corner_follows_32_m_over_pi_d_cubed():
+    # sigma = M c / I = 32 M / (pi D^3) for a solid round bar (Roark, Table 8.1 case 1 with
+    # I = pi D^4 / 64): at D - t the stress is (D / (D - t))^3 times the nominal's
+    spec = _fixed(section="0.3 mm")
+    ev = evaluate(fixed_design(spec), spec)
+    nominal = next(lim for lim in ev.limits if lim.name == "stress_root")
+    corner = next(lim for lim in ev.tolerance.limits if lim.name == "stress_root")
+    assert ev.tolerance.corners[ev.tolerance.limits.index(corner)] == "D-t"
+    m = 10.0 * 0.080
+    assert float(nominal.value) == pytest.approx(32 * m / (math.pi * 0.008 ** 3), rel=1e-9)
+    assert float(corner.value) == pytest.approx(32 * m / (math.pi * 0.0077 ** 3), rel=1e-9)
+    # the stiffer corner moves the tip less: the deflection's worst corner is the thin one as well
+    assert ev.tolerance.count == 2 and ev.tolerance.deviations == (("diameter", pytest.approx(0.0003)),)
+
+
+def _each_corner(ev, spec):
+    """Every corner of ``ev``'s design evaluated on its own (a Geometry per corner, not the
+    vectorised corners of ``tolerance.check``): the largest normalised CORNER_LIMITS value."""
+    g = ev.design.geometry
+    fields = tolerance.toleranced(g)
+    worst = -math.inf
+    for signs in itertools.product((-1, 1), repeat=len(fields)):
+        sizes = {name: float(getattr(g, name)) + s * float(spec.tolerances.deviation(getattr(g, name), part))
+                 for (name, part), s in zip(fields, signs)}
+        built = channelled(replace(g, **sizes), spec.cad)  # the wire channel follows the built depth
+        params = ev.design.material_params(spec)
+        a = model.analyse(built, params, spec, adjust=ev.design.adjustment)
+        worst = max([worst] + [float(lim.normalised) for lim in model.limits(built, a, params, spec)
+                               if lim.name in tolerance.CORNER_LIMITS])
+    return worst
+
+
+def test_a_design_that_passes_nominally_fails_at_a_corner_and_the_search_avoids_it():
+    plain = load_spec(EXAMPLES / "gripper-finger.yaml")
+    toleranced = replace(plain, tolerances=Tolerances("m"))
+    nominal = optimize(plain).best
+    assert nominal.feasible
+    # the nominal optimum, built to ISO 2768-m: every limit holds at its nominal sizes, and a
+    # corner breaks one (its fatigue and deflection limits bind)
+    judged = evaluate(nominal.design, toleranced)
+    assert all(float(lim.normalised) <= model.FEASIBILITY_TOLERANCE for lim in judged.limits)
+    assert not judged.feasible and _each_corner(judged, toleranced) > 0.05
+    # searched with the tolerances, the reported design meets every limit at every corner,
+    # each corner built and judged on its own
+    held = optimize(toleranced)
+    assert held.success and held.best.feasible
+    assert _each_corner(held.best, toleranced) <= model.FEASIBILITY_TOLERANCE
+    assert held.best.objective > nominal.objective  # the room for the tolerances costs accuracy
+
+
+@pytest.mark.parametrize("tolerances, key, allowed", [
+    ({"class": "H7"}, "tolerances.class", "f, m, c, v"),
+    ({"section": "-0.1 mm"}, "tolerances.section", "0 to 5 mm"),
+    ({"feature": "2 V"}, "tolerances.feature", "length"),
+    ({"grade": "m"}, "tolerances.grade", "class"),
+])
+def test_bad_tolerances_name_the_key_the_value_and_what_is_allowed(tolerances, key, allowed):
+    with pytest.raises(SpecError) as err:
+        _fixed(**tolerances)
+    assert str(err.value).startswith(key) and allowed in str(err.value) and "\n" not in str(err.value)
