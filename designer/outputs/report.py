@@ -241,7 +241,7 @@ def tolerance_markdown(tol: dict) -> list[str]:
     sizes = ", ".join(f"{name} ±{dev * 1e3:.3g} mm" for name, dev in tol["deviations"].items())
     low, high = tol["sensitivity_spread"]
     lines = ["## Tolerances", "",
-             f"Built to {tol['label']} ({sizes}): each limit below was checked at all {tol['corners']} corners "
+             f"Built to {tol['label']}; {sizes}: each limit below was checked at all {tol['corners']} corners "
              "(every toleranced size at its nominal ± deviation); its worst corner is shown. "
              f"Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}, which each sensor's "
              "own calibration absorbs.", "",
