@@ -246,11 +246,15 @@ def tolerance_markdown(tol: dict) -> list[str]:
              f"Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}, which each sensor's "
              "own calibration absorbs.", "",
              "| limit | worst corner | value | bound | margin | |", "|---|---|---|---|---|---|"]
-    for c in tol["constraints"]:
-        flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
-        lines.append(f"| {c['name']} | {c['corner']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
-                     f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
-    return lines
+    return lines + [limit_row(c, c["corner"]) for c in tol["constraints"]]
+
+
+def limit_row(c: dict, *before) -> str:
+    """A design.json constraint record as a row of the report's limit tables, after ``before``."""
+    flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
+    cells = [c["name"], *before, display(c["value"], c["unit"], c["name"]),
+             f"{c['sense']} {display(c['limit'], c['unit'], c['name'])}", percent(c["margin"]), flag]
+    return "| " + " | ".join(cells) + " |"
 
 
 def binding_limits(record: dict) -> list[dict]:
@@ -267,10 +271,7 @@ def markdown(record: dict) -> str:
     lines += ["", "## Limits", "",
               "Every limit was checked with the numeric model on the rounded design (0.01 mm).", "",
               "| limit | value | bound | margin | |", "|---|---|---|---|---|"]
-    for c in record["constraints"]:
-        flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
-        lines.append(f"| {c['name']} | {display(c['value'], c['unit'], c['name'])} | {c['sense']} "
-                     f"{display(c['limit'], c['unit'], c['name'])} | {percent(c['margin'])} | {flag} |")
+    lines += [limit_row(c) for c in record["constraints"]]
     if record.get("tolerances"):
         lines += [""] + tolerance_markdown(record["tolerances"])
     budget = record["predicted"].get("budget")
