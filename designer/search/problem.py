@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import copy
 import io
+import itertools
 import sys
 from dataclasses import dataclass, replace
 
@@ -32,8 +33,12 @@ IPOPT_MAX_ITER = 300
 # corner holds; the tightening keeps this much more room, so that the corners still hold when
 # the answer moves a little from the point the excess was measured at.
 TOLERANCE_ROUNDS = 6
+# the NLP's variables that the tolerances move, and which deviation each takes
+TOLERANCED = {"width": "section", "height": "section", "side": "section", "diameter": "section", "wall": "section",
+              "depth": "feature", "hole": "feature"}
 TOLERANCE_ROOM = 1e-4
-TOLERANCE_SETTLED = 1e-3  # the excess has settled when no row's moves by more (normalised)
+TOLERANCE_SETTLED = 1e-3  # the excess has settled when no row's moves by more (normalised) ...
+TOLERANCE_NEAR = 1e-2     # ... among the rows that bind: within this of the bound they were solved to
 #: casadi's options of every IPOPT solve. ``show_eval_warnings`` off: a trial step of IPOPT's
 #: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
 #: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
@@ -255,7 +260,11 @@ class FamilyProblem:
         self.nlp = {"x": x, "p": par, "f": f, "g": gv}
         self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
         self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
+        self._g = ca.Function("g", [x, par], [gv])
+        self._corner_rows = np.array([name in tolerance.CORNER_LIMITS for name in self.limit_names]
+                                     + [False] * (self.n_constraints - len(self.limit_names)))
         self._ipopt = {}
+        self._settled = {}  # stage -> the tolerance excess (per row) of its last settled answer
 
     def at(self, spec, level: float) -> "FamilyProblem":
         """This swept problem at one level of its limit: ``spec`` is the spec with that level set
@@ -328,37 +337,66 @@ class FamilyProblem:
             x0[i] = min(max(x0[i], a), b)
         for i, v in (fixed or {}).items():
             lo[i] = hi[i] = x0[i] = v
-        s = _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
-        return self._held_at_corners(s, params, stage, margin, lo, hi) if self.spec.tolerances.active else s
+        if not self.spec.tolerances.active:
+            return _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
+        return self._held_at_corners(x0, params, stage, margin, lo, hi)
 
-    def _held_at_corners(self, s: Solve, params, stage: str, margin, lo, hi) -> Solve:
-        """``s`` solved again, from its answer, with the row of each limit that a tolerance corner
-        makes worse tightened by that much (``tolerance.check``'s excess at the answer, plus
-        TOLERANCE_ROOM), until the excess it was solved with is the excess at its answer and every
-        corner meets its limits (at most TOLERANCE_ROUNDS times). Of the answers whose corners all
-        meet their limits, the one with the best objective is returned (else the last); the
-        iterations of every run are counted in it."""
-        material = MaterialParams.from_scaled(list(params[:CAP]))
+    def _held_at_corners(self, x0, params, stage: str, margin, lo, hi) -> Solve:
+        """IPOPT's answer from ``x0`` with the row of each limit that a tolerance corner makes worse
+        tightened by that much more (``tolerance.check``'s excess, plus TOLERANCE_ROOM): solved
+        first with the excess this family's last settled answer had, then again from each answer
+        with the excess at it, until the rows that bind were solved with the excess at the answer
+        (within TOLERANCE_SETTLED) and every corner meets its limits (at most TOLERANCE_ROUNDS
+        runs). Of the answers whose corners all hold, the one with the best objective is returned
+        (else the last); the iterations of every run are counted in it."""
         base = np.broadcast_to(np.asarray(margin, dtype=float), (self.n_constraints,))
-        runs, used, held = s.evaluations, None, []
-        for _ in range(TOLERANCE_ROUNDS):
+        used = self._settled.get(stage, np.zeros(self.n_constraints))
+        s = _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-(base + used))
+        runs, held, last = s.evaluations, [], None
+        for _ in range(TOLERANCE_ROUNDS - 1):
             if not s.success:
                 break
-            check = tolerance.check(self.geometry([float(v) * MM for v in s.x[: len(self.names)]]), material,
-                                    self.spec, self.adjustment)
-            extra = np.zeros(self.n_constraints)
-            extra[: len(self.limit_names)] = [max(check.excess[name], 0.0) + TOLERANCE_ROOM if name in check.excess
-                                              else 0.0 for name in self.limit_names]
-            if max(float(lim.normalised) for lim in check.limits) <= model.FEASIBILITY_TOLERANCE:
+            nominal, worst = self.corner_rows(s.x, params)
+            rows = self._corner_rows
+            extra = np.where(rows, np.maximum(worst - nominal, 0.0) + TOLERANCE_ROOM, 0.0)
+            # a row binds when its nominal value is at the bound it was solved to
+            binds = rows & (nominal + base + used >= -TOLERANCE_NEAR)
+            if np.max(worst[rows], initial=-np.inf) <= model.FEASIBILITY_TOLERANCE:
                 held.append(s)
-                if used is not None and np.max(np.abs(extra - used)) <= TOLERANCE_SETTLED:
+                if not np.any(binds & (np.abs(extra - used) > TOLERANCE_SETTLED)):
+                    self._settled[stage] = used
                     break
-            s = _run_ipopt(self.ipopt(stage), x0=s.x, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-(base + extra))
+            # the excess at the answer moves against the excess it was solved with (a thicker
+            # section has a smaller excess): a secant step per binding row onto where they meet
+            step = extra.copy()
+            if last is not None:
+                moved = used - last[0]
+                ok = binds & (np.abs(moved) > 1e-12)
+                slope = np.clip((extra - last[1]) / np.where(ok, moved, 1.0), -4.0, 0.5)
+                step[ok] = (used + (extra - used) / (1 - slope))[ok]
+            last = used, extra
+            s = _run_ipopt(self.ipopt(stage), x0=s.x, p=params, lbx=lo, ubx=hi, lbg=-np.inf,
+                           ubg=-(base + np.maximum(step, 0.0)))
             runs += s.evaluations
-            used = extra
+            used = np.maximum(step, 0.0)
         if held:
             s = min(held, key=lambda h: float(self.functions(h.x, params)[0]))
         return replace(s, evaluations=runs)
+
+    def corner_rows(self, x, params) -> tuple[np.ndarray, np.ndarray]:
+        """The constraint rows at ``x`` (NLP units) and the largest of each over the tolerance
+        corners of the section's sizes and the feature's depth or hole (``spec.tolerances``), by
+        the NLP's own graph (a square biaxial bar's side moves both its sizes at once; the numeric
+        check of the rounded design judges each on its own)."""
+        x = np.asarray(x, dtype=float)
+        moved = [(i, float(self.spec.tolerances.deviation(x[i] * MM, TOLERANCED[name])) / MM)
+                 for i, name in enumerate(self.names) if name in TOLERANCED]
+        corners = np.repeat(x[:, None], 2 ** len(moved), axis=1)
+        for j, signs in enumerate(itertools.product((-1.0, 1.0), repeat=len(moved))):
+            for (i, dev), sign in zip(moved, signs):
+                corners[i, j] += sign * dev
+        g = np.asarray(self._g(np.column_stack([x, corners]), params))
+        return g[:, 0], g[:, 1:].max(axis=1)
 
     def infeasible_for_every(self, materials) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the
