@@ -22,6 +22,10 @@ from designer.model.sections import Geometry, wire_channel
 # The limits of docs/model.md §4 a built part must meet whatever its sizes within tolerance.
 CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_snr", "adc_range", "fatigue_feature",
                  "deflection", "natural_frequency")
+# A section size at a corner is at least this (m): a deviation as large as the size leaves no beam.
+MIN_SIZE = 1e-6
+# A corner at which the model gives no number (a pocket through the section) breaks this limit.
+UNBUILDABLE = "corner_unbuildable"
 # A corner is written as the sign of each toleranced size's deviation, e.g. "D-t, p+t".
 SYMBOLS = {"width": "b", "height": "h", "diameter": "D", "wall": "t", "depth": "p", "hole": "d_h"}
 
@@ -56,7 +60,9 @@ def corners(g: Geometry, tol, cad) -> Geometry:
     for j, (name, part) in enumerate(toleranced(g)):
         nominal = np.broadcast_to(np.asarray(getattr(g, name), dtype=float), (n,))
         dev = tol.deviation(nominal, part)
-        out[name] = np.concatenate([nominal] + [nominal + s * dev for s in corner[:, j]])
+        # a pocket or hole smaller than its deviation is, at its least, not cut at all
+        least = 0.0 if part == "feature" else MIN_SIZE
+        out[name] = np.concatenate([nominal] + [np.maximum(nominal + s * dev, least) for s in corner[:, j]])
     built = replace(g, **out)
     width, depth = wire_channel(cad, g.feature, built.depth, g.pocket_width)
     return replace(built, channel_width=width, channel_depth=depth)
@@ -83,7 +89,19 @@ def worst(g: Geometry, m, spec, adjust=None) -> np.ndarray:
     rows = _normalised(built, m, spec, adjust)
     if not rows:
         return np.full(n, -np.inf)
-    return np.max(np.stack([r.reshape(-1, n)[1:] for r in rows.values()]), axis=(0, 1))
+    worst = np.max(np.stack([r.reshape(-1, n)[1:] for r in rows.values()]), axis=(0, 1))
+    return np.where(np.isnan(worst), 1.0, worst)  # as the UNBUILDABLE limit says
+
+
+def worst_each(g: Geometry, m, spec, adjust=None) -> np.ndarray:
+    """For one design ``g`` (numbers), each CORNER_LIMITS limit's largest normalised value over
+    its tolerance corners, as an array (empty when the spec has no tolerances; 1 where the model
+    gives no number, as the UNBUILDABLE limit says)."""
+    if not spec.tolerances.active:
+        return np.zeros(0)
+    rows = _normalised(corners(g, spec.tolerances, spec.cad), m, spec, adjust)
+    worst = np.array([np.max(r[1:]) for r in rows.values()])
+    return np.where(np.isnan(worst), 1.0, worst)
 
 
 def _normalised(built: Geometry, m, spec, adjust) -> dict:
@@ -126,17 +144,25 @@ def check(g: Geometry, m, spec, adjust=None) -> CornerCheck | None:
         a = analyse(built, m, spec, adjust=adjust)
         lims = [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS]
         k = np.array([np.broadcast_to(np.asarray(x, dtype=float), (len(corner) + 1,)) for x in a.sensitivities])
-    out, where, excess = [], [], {}
+    out, where, excess, lost = [], [], {}, None
     for lim in lims:
         values = np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(corner) + 1,))
-        i = 1 + int(np.argmax(values[1:]))
+        if np.isnan(values[1:]).any():
+            lost = 1 + int(np.flatnonzero(np.isnan(values[1:]))[0]) if lost is None else lost
+        if not np.isfinite(values[1:]).any() or not np.isfinite(values[0]):
+            continue
+        i = 1 + int(np.nanargmax(np.where(np.isfinite(values[1:]), values[1:], -np.inf)))
         out.append(Limit(lim.name, float(_at(lim.value, i)), float(_at(lim.limit, i)), lim.upper,
                          None if lim.scale is None else float(_at(lim.scale, i)), lim.unit,
                          None if lim.rating is None else float(_at(lim.rating, i))))
         where.append(label(names, corner[i - 1]))
         excess[lim.name] = float(values[i] - values[0])
+    if lost is not None:  # a corner the model cannot evaluate: the part is not a beam there
+        out.append(Limit(UNBUILDABLE, 1.0, 0.0, scale=1.0))
+        where.append(label(names, corner[lost - 1]))
     deviations = tuple((name, float(tol.deviation(getattr(g, name), part))) for name, part in toleranced(g))
     ratio = k[:, 1:] / k[:, :1] - 1
+    ratio = ratio[np.isfinite(ratio)] if np.isfinite(ratio).any() else np.zeros(1)
     return CornerCheck(tuple(out), tuple(where), excess, deviations, (float(ratio.min()), float(ratio.max())),
                        len(corner))
 

@@ -21,6 +21,15 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
     head = f"no design meets every limit; closest: {label}, violating " + ", ".join(violated) if violated else \
         f"no design meets every limit; closest: {label}"
     out.insert(0, head)
+    check = best.tolerance
+    if check is not None:
+        at = [f"{lim.name} at {corner}" for lim, corner in zip(check.limits, check.corners)
+              if not float(lim.normalised) <= model.FEASIBILITY_TOLERANCE]
+        if at:
+            sizes = ", ".join(f"{name} ±{dev * mm:.3g} mm" for name, dev in check.deviations)
+            out.append(f"at the corners of its tolerances ({spec.tolerances.label()}: {sizes}) it breaks "
+                       + ", ".join(at) + "; a finer tolerances.class, or tolerances.section and tolerances.feature "
+                       "of your own, leave the design more room (the figures below are at those corners)")
     a = best.analysis
     sv = spec.sigma_v
     if "force_error" in violated or "position_error" in violated:

@@ -55,7 +55,7 @@ IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
 # IPOPT's answers that are a verdict on the problem, not a failure of the solver: it converged
 # to a point that minimises the constraint violation. When every start ends so, another method
 # is not tried (on the bench suite such a fallback never found a feasible design).
-IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
+IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected", "Tolerance_Corners_Not_Held")
 EPIGRAPH_UPPER = 1e6
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -381,6 +381,8 @@ class FamilyProblem:
             used = np.maximum(step, 0.0)
         if held:
             s = min(held, key=lambda h: float(self.functions(h.x, params)[0]))
+        elif s.success:  # a verdict, as IPOPT's infeasibility is: from here no answer holds at its corners
+            s = replace(s, success=False, message="Tolerance_Corners_Not_Held")
         return replace(s, evaluations=runs)
 
     def corner_rows(self, x, params) -> tuple[np.ndarray, np.ndarray]:
@@ -394,9 +396,11 @@ class FamilyProblem:
         corners = np.repeat(x[:, None], 2 ** len(moved), axis=1)
         for j, signs in enumerate(itertools.product((-1.0, 1.0), repeat=len(moved))):
             for (i, dev), sign in zip(moved, signs):
-                corners[i, j] += sign * dev
+                least = 0.0 if TOLERANCED[self.names[i]] == "feature" else tolerance.MIN_SIZE / MM
+                corners[i, j] = max(corners[i, j] + sign * dev, least)  # as tolerance.corners builds them
         g = np.asarray(self._g(np.column_stack([x, corners]), params))
-        return g[:, 0], g[:, 1:].max(axis=1)
+        worst = g[:, 1:].max(axis=1)
+        return g[:, 0], np.where(np.isnan(worst), g[:, 0] + 1.0, worst)  # a corner with no number: far out
 
     def infeasible_for_every(self, materials) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the

@@ -2,7 +2,8 @@
 
 A dense grid over every variable of a family (the section, the feature and the first and
 last station) is evaluated at once with the numeric model; the best grid points are then
-polished by scipy's SLSQP with finite differences, rounded and checked. It is slow and
+polished by scipy's SLSQP with finite differences, rounded and checked; with tolerances, every
+limit is judged at the corners throughout (``model.tolerance``). It is slow and
 thorough: the yardstick the optimiser's answers are measured against (tests, ``bench``).
 """
 
@@ -12,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer import model
-from designer.model import MaterialParams
+from designer.model import MaterialParams, tolerance
 from designer.result.evaluation import Evaluation
 from designer.search.problem import MM, Family, FamilyVariables, families, in_nlp_units
 from designer.search.rounding import pick, round_and_check
@@ -61,7 +62,7 @@ def _evaluate(problem: FamilyVariables, mat: MaterialParams, x: np.ndarray):
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         a = model.analyse(g, mat, spec)
         lims = model.limits(g, a, mat, spec, include_targets=not problem.epigraph)
-        viol = model.worst_normalised(lims, len(x))
+        viol = np.maximum(model.worst_normalised(lims, len(x)), tolerance.worst(g, mat, spec))
         f = in_nlp_units(model.objective(a, spec), spec.objective)
     f = np.broadcast_to(np.asarray(f, dtype=float), (len(x),))
     bad = ~np.isfinite(viol) | ~np.isfinite(f)
@@ -79,7 +80,8 @@ def _polish(problem: FamilyVariables, mat: MaterialParams, x0: np.ndarray) -> np
         with np.errstate(all="ignore"):
             a = model.analyse(g, mat, spec)
             lims = model.limits(g, a, mat, spec, include_targets=not problem.epigraph)
-        return a, np.array([float(lim.normalised) for lim in lims])
+            corners = tolerance.worst_each(g, mat, spec)
+        return a, np.concatenate([[float(lim.normalised) for lim in lims], corners])
 
     def objective(v):
         a, _ = parts(v)

@@ -4,9 +4,11 @@ and the search finds designs whose corners all meet the limits."""
 from __future__ import annotations
 
 import itertools
+import json
 import math
 from dataclasses import replace
 
+import numpy as np
 import pytest
 from pathlib import Path
 
@@ -14,6 +16,8 @@ from designer import model
 from designer.errors import SpecError
 from designer.model import tolerance
 from designer.result.evaluation import channelled, evaluate, fixed_design
+from designer.bench.suite import generate_suite
+from designer.result.record import build_record
 from designer.search import optimize
 from designer.spec.reader import load_spec, parse_spec
 from designer.spec.tolerances import Tolerances
@@ -100,3 +104,28 @@ def test_bad_tolerances_name_the_key_the_value_and_what_is_allowed(tolerances, k
     with pytest.raises(SpecError) as err:
         _fixed(**tolerances)
     assert str(err.value).startswith(key) and allowed in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_deviation_larger_than_the_pocket_leaves_no_pocket_at_that_corner_and_a_finite_record():
+    # ISO 2768-m on a 0.05 mm deep flat: ±0.1 mm, so its corners are no flat at all and 0.15 mm.
+    # Every figure stays a number that design.json can hold.
+    bar = dict(ROUND_BAR, feature={"kind": "pocket", "depth": "0.05 mm"})
+    spec = parse_spec({"load": LOAD, "electronics": ELECTRONICS, "design": bar, "tolerances": {"class": "m"},
+                       "limits": {"min_pocket_depth": "0.05 mm"}})
+    ev = evaluate(fixed_design(spec), spec)
+    built = tolerance.corners(ev.design.geometry, spec.tolerances, spec.cad)
+    assert sorted(set(np.round(np.ravel(built.depth) * 1e3, 6))) == [0.0, 0.05, 0.15]
+    record = build_record("feasible", spec, ev)
+    json.dumps(record, allow_nan=False)
+    assert record["tolerances"]["deviations"] == {"diameter": pytest.approx(2e-4), "depth": pytest.approx(1e-4)}
+
+
+def test_a_search_that_the_tolerances_make_infeasible_says_so_and_at_which_corner():
+    # a bench-suite beam 0.7 mm high: ISO 2768-m's ±0.1 mm on its height and pocket leaves no
+    # design that meets the fatigue limit at the thin, deep corner
+    spec = next(m.spec for m in generate_suite(50, 0) if m.name == "049-short-beam")
+    assert optimize(spec).success
+    result = optimize(replace(spec, tolerances=Tolerances("m")))
+    assert not result.success
+    said = [m for m in result.messages if m.startswith("at the corners of its tolerances (ISO 2768-m")]
+    assert said and "fatigue_feature at b-t, h-t, p+t" in said[0]
