@@ -28,17 +28,12 @@ MM = 1e-3
 METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")
 IPOPT_TOLERANCE = 1e-9
 IPOPT_MAX_ITER = 300
-# With tolerances (docs/model.md §14) an answer is solved again with each corner-checked limit
-# tightened by how much worse it is at its worst corner, at most this many times, until every
-# corner holds; the tightening keeps this much more room, so that the corners still hold when
-# the answer moves a little from the point the excess was measured at.
-TOLERANCE_ROUNDS = 6
-# the NLP's variables that the tolerances move, and which deviation each takes
+# With tolerances (docs/model.md §14) the corners' deviations are taken at the start; when the
+# answer's sizes lie in another size range of the class, it is solved again from there, at most
+# this many times. The NLP's variables that the tolerances move, and which deviation each takes:
+DEVIATION_ROUNDS = 3
 TOLERANCED = {"width": "section", "height": "section", "side": "section", "diameter": "section", "wall": "section",
               "depth": "feature", "hole": "feature"}
-TOLERANCE_ROOM = 1e-4
-TOLERANCE_SETTLED = 1e-3  # the excess has settled when no row's moves by more (normalised) ...
-TOLERANCE_NEAR = 1e-2     # ... among the rows that bind: within this of the bound they were solved to
 #: casadi's options of every IPOPT solve. ``show_eval_warnings`` off: a trial step of IPOPT's
 #: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
 #: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
@@ -55,7 +50,7 @@ IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
 # IPOPT's answers that are a verdict on the problem, not a failure of the solver: it converged
 # to a point that minimises the constraint violation. When every start ends so, another method
 # is not tried (on the bench suite such a fallback never found a feasible design).
-IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected", "Tolerance_Corners_Not_Held")
+IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
 EPIGRAPH_UPPER = 1e6
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -242,8 +237,23 @@ class FamilyProblem:
         a = model.analyse(geometry, mat, spec, ops, adjust=adjustment)
         lims = [lim for lim in model.limits(geometry, a, mat, spec, include_targets=not epigraph, ops=ops)
                 if lim.name not in BOUND_LIMITS]
-        self.limit_names = [lim.name for lim in lims]
         g = [lim.normalised for lim in lims]
+        # with tolerances, each corner-checked limit again at every corner of the toleranced
+        # variables (docs/model.md §14): the deviations (mm) are parameters after the others
+        self.moved = [i for i, name in enumerate(variables.names) if name in TOLERANCED] \
+            if spec.tolerances.active else []
+        dev = ca.SX.sym("t", len(self.moved))
+        checked = [j for j, lim in enumerate(lims) if lim.name in tolerance.CORNER_LIMITS] if self.moved else []
+        self.limit_names = [lim.name for lim in lims] + [lims[j].name for j in checked] * 2 ** len(self.moved)
+        if checked:
+            rows = ca.Function("rows", [x, par], [ca.vertcat(*[g[j] for j in checked])])
+            for signs in itertools.product((-1.0, 1.0), repeat=len(self.moved)):
+                xc = [x[i] for i in range(variables.size)]
+                for k, (i, sign) in enumerate(zip(self.moved, signs)):
+                    least = 0.0 if TOLERANCED[variables.names[i]] == "feature" else tolerance.MIN_SIZE / MM
+                    xc[i] = ca.fmax(x[i] + sign * dev[k], least)
+                at = rows(ca.vertcat(*xc), par)
+                g += [at[r] for r in range(len(checked))]
         in_units = {"deflection": in_nlp_units(a.deflection, "deflection"), "mass": in_nlp_units(a.mass, "mass")}
         if epigraph:  # minimise e subject to each error term <= e
             e = x[n]
@@ -257,14 +267,25 @@ class FamilyProblem:
         g.append(f / par[CAP] - 1)
         self.n_constraints = len(g)
         gv = ca.vertcat(*g)
-        self.nlp = {"x": x, "p": par, "f": f, "g": gv}
-        self.nlp_secondary = {"x": x, "p": par, "f": secondary, "g": gv}
-        self.functions = ca.Function("fg", [x, par], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
-        self._g = ca.Function("g", [x, par], [gv])
-        self._corner_rows = np.array([name in tolerance.CORNER_LIMITS for name in self.limit_names]
-                                     + [False] * (self.n_constraints - len(self.limit_names)))
+        full = ca.vertcat(par, dev)
+        self.nlp = {"x": x, "p": full, "f": f, "g": gv}
+        self.nlp_secondary = {"x": x, "p": full, "f": secondary, "g": gv}
+        self._functions = ca.Function("fg", [x, full], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
         self._ipopt = {}
-        self._settled = {}  # stage -> the tolerance excess (per row) of its last settled answer
+
+    def functions(self, x, params):
+        """``(f, grad f, g, jac g)`` at ``x`` (NLP units) for ``params`` (``params``), the tolerance
+        corners' rows taken with the deviations of the sizes at ``x``."""
+        return self._functions(x, self.with_deviations(params, x))
+
+    def deviations(self, x) -> list[float]:
+        """The tolerances' deviations (mm) of the toleranced variables at ``x`` (NLP units)."""
+        return [float(self.spec.tolerances.deviation(float(x[i]) * MM, TOLERANCED[self.names[i]])) / MM
+                for i in self.moved]
+
+    def with_deviations(self, params, x) -> list[float]:
+        """The NLP's parameters: ``params`` and the deviations at ``x``."""
+        return list(params) + self.deviations(x)
 
     def at(self, spec, level: float) -> "FamilyProblem":
         """This swept problem at one level of its limit: ``spec`` is the spec with that level set
@@ -337,70 +358,17 @@ class FamilyProblem:
             x0[i] = min(max(x0[i], a), b)
         for i, v in (fixed or {}).items():
             lo[i] = hi[i] = x0[i] = v
-        if not self.spec.tolerances.active:
-            return _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
-        return self._held_at_corners(x0, params, stage, margin, lo, hi)
-
-    def _held_at_corners(self, x0, params, stage: str, margin, lo, hi) -> Solve:
-        """IPOPT's answer from ``x0`` with the row of each limit that a tolerance corner makes worse
-        tightened by that much more (``tolerance.check``'s excess, plus TOLERANCE_ROOM): solved
-        first with the excess this family's last settled answer had, then again from each answer
-        with the excess at it, until the rows that bind were solved with the excess at the answer
-        (within TOLERANCE_SETTLED) and every corner meets its limits (at most TOLERANCE_ROUNDS
-        runs). Of the answers whose corners all hold, the one with the best objective is returned
-        (else the last); the iterations of every run are counted in it."""
-        base = np.broadcast_to(np.asarray(margin, dtype=float), (self.n_constraints,))
-        used = self._settled.get(stage, np.zeros(self.n_constraints))
-        s = _run_ipopt(self.ipopt(stage), x0=x0, p=params, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-(base + used))
-        runs, held, last = s.evaluations, [], None
-        for _ in range(TOLERANCE_ROUNDS - 1):
-            if not s.success:
+        s = _run_ipopt(self.ipopt(stage), x0=x0, p=self.with_deviations(params, x0), lbx=lo, ubx=hi, lbg=-np.inf,
+                       ubg=-margin)
+        runs = s.evaluations
+        for _ in range(DEVIATION_ROUNDS):  # the answer's sizes crossed into another range of the class
+            if not s.success or self.deviations(s.x) == self.deviations(x0):
                 break
-            nominal, worst = self.corner_rows(s.x, params)
-            rows = self._corner_rows
-            extra = np.where(rows, np.maximum(worst - nominal, 0.0) + TOLERANCE_ROOM, 0.0)
-            # a row binds when its nominal value is at the bound it was solved to
-            binds = rows & (nominal + base + used >= -TOLERANCE_NEAR)
-            if np.max(worst[rows], initial=-np.inf) <= model.FEASIBILITY_TOLERANCE:
-                held.append(s)
-                if not np.any(binds & (np.abs(extra - used) > TOLERANCE_SETTLED)):
-                    self._settled[stage] = used
-                    break
-            # the excess at the answer moves against the excess it was solved with (a thicker
-            # section has a smaller excess): a secant step per binding row onto where they meet
-            step = extra.copy()
-            if last is not None:
-                moved = used - last[0]
-                ok = binds & (np.abs(moved) > 1e-12)
-                slope = np.clip((extra - last[1]) / np.where(ok, moved, 1.0), -4.0, 0.5)
-                step[ok] = (used + (extra - used) / (1 - slope))[ok]
-            last = used, extra
-            s = _run_ipopt(self.ipopt(stage), x0=s.x, p=params, lbx=lo, ubx=hi, lbg=-np.inf,
-                           ubg=-(base + np.maximum(step, 0.0)))
+            x0 = s.x
+            s = _run_ipopt(self.ipopt(stage), x0=x0, p=self.with_deviations(params, x0), lbx=lo, ubx=hi,
+                           lbg=-np.inf, ubg=-margin)
             runs += s.evaluations
-            used = np.maximum(step, 0.0)
-        if held:
-            s = min(held, key=lambda h: float(self.functions(h.x, params)[0]))
-        elif s.success:  # a verdict, as IPOPT's infeasibility is: from here no answer holds at its corners
-            s = replace(s, success=False, message="Tolerance_Corners_Not_Held")
         return replace(s, evaluations=runs)
-
-    def corner_rows(self, x, params) -> tuple[np.ndarray, np.ndarray]:
-        """The constraint rows at ``x`` (NLP units) and the largest of each over the tolerance
-        corners of the section's sizes and the feature's depth or hole (``spec.tolerances``), by
-        the NLP's own graph (a square biaxial bar's side moves both its sizes at once; the numeric
-        check of the rounded design judges each on its own)."""
-        x = np.asarray(x, dtype=float)
-        moved = [(i, float(self.spec.tolerances.deviation(x[i] * MM, TOLERANCED[name])) / MM)
-                 for i, name in enumerate(self.names) if name in TOLERANCED]
-        corners = np.repeat(x[:, None], 2 ** len(moved), axis=1)
-        for j, signs in enumerate(itertools.product((-1.0, 1.0), repeat=len(moved))):
-            for (i, dev), sign in zip(moved, signs):
-                least = 0.0 if TOLERANCED[self.names[i]] == "feature" else tolerance.MIN_SIZE / MM
-                corners[i, j] = max(corners[i, j] + sign * dev, least)  # as tolerance.corners builds them
-        g = np.asarray(self._g(np.column_stack([x, corners]), params))
-        worst = g[:, 1:].max(axis=1)
-        return g[:, 0], np.where(np.isnan(worst), g[:, 0] + 1.0, worst)  # a corner with no number: far out
 
     def infeasible_for_every(self, materials) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the
@@ -413,7 +381,8 @@ class FamilyProblem:
         lo, hi = self.bounds()
         solves = []
         for x0 in self.starts():
-            s = _run_ipopt(self.ipopt("relaxed"), x0=np.concatenate([x0, (low + high) / 2]), p=table[0, CAP:],
+            s = _run_ipopt(self.ipopt("relaxed"), x0=np.concatenate([x0, (low + high) / 2]),
+                           p=np.concatenate([table[0, CAP:], self.deviations(x0)]),
                            lbx=np.concatenate([lo, low]), ubx=np.concatenate([hi, high]), lbg=-np.inf, ubg=0.0)
             solves.append(replace(s, x=s.x[: self.size]))
             if s.message not in IPOPT_INFEASIBLE:

@@ -15,10 +15,12 @@ from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import ROUNDING, Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
-from designer.search.problem import IPOPT_INFEASIBLE, MM, METHODS, Family, FamilyProblem, Solve, families, in_nlp_units
+from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve, families,
+                                     in_nlp_units)
 from designer.search.rounding import buildable, floor_ceil, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
+from designer.spec.tolerances import ISO_2768_RANGES
 
 # When rounding to 0.01 mm breaks a limit that IPOPT's answer met, and no section on the grid
 # near it checks out with the rest solved again (``_on_the_grid``), IPOPT solves again with the
@@ -494,15 +496,48 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
     for c in candidates:
         problem = problems[c.family]
         ev = c.evaluation
-        untried = [x for x in problem.starts() if not any(np.array_equal(x, t) for t in c.tried)]
-        if ev is None or not ev.feasible or ev.objective > lead * (1 + CONTENDER_BAND) or not untried:
+        if ev is None or not ev.feasible or ev.objective > lead * (1 + CONTENDER_BAND):
             out.append(c)
             continue
-        again = solve_candidate(problem, catalogue.material(c.material), "ipopt", all_starts=True, starts=untried)
-        better = again.evaluation is not None and again.evaluation.feasible and again.evaluation.objective < ev.objective
-        out.append(replace(again, solves=c.solves + again.solves, fallbacks=c.fallbacks + again.fallbacks)
-                   if better else c)
+        material = catalogue.material(c.material)
+        untried = [x for x in problem.starts() if not any(np.array_equal(x, t) for t in c.tried)]
+        if untried:
+            again = solve_candidate(problem, material, "ipopt", all_starts=True, starts=untried)
+            better = (again.evaluation is not None and again.evaluation.feasible
+                      and again.evaluation.objective < ev.objective)
+            c = (replace(again, solves=c.solves + again.solves, fallbacks=c.fallbacks + again.fallbacks)
+                 if better else replace(c, solves=c.solves + again.solves))
+        solves, ranged = _in_smaller_ranges(problem, material, c.evaluation)
+        c = replace(c, solves=c.solves + tuple(solves))
+        if ranged is not None and ranged.objective < c.evaluation.objective:
+            c = replace(c, evaluation=ranged, fallbacks=c.fallbacks + (
+                "held below the end of a smaller size range of the tolerance class, where its deviation is smaller",))
+        out.append(c)
     return out
+
+
+def _in_smaller_ranges(problem: FamilyProblem, material, ev: Evaluation) -> tuple[list, Evaluation | None]:
+    """With an ISO 2768 class (docs/model.md §14), each toleranced size of ``ev`` held at most at the
+    end of the next smaller size range, where the class's deviation is smaller, and the rest solved
+    again from ``ev``: the solves, and the best of their checked designs that meets every limit (None
+    if none does). The deviations step up with the size, so an optimum may sit at a range's end,
+    which a solve with the deviations of one range does not see."""
+    tol = problem.spec.tolerances
+    x = _start_from(problem, ev)
+    lo, _ = problem.bounds()
+    solves, found = [], []
+    for i in problem.moved:
+        part = TOLERANCED[problem.names[i]]
+        k = int(np.searchsorted(ISO_2768_RANGES, x[i], side="left"))
+        if tol.grade == "none" or (tol.section if part == "section" else tol.feature) is not None \
+                or k == 0 or ISO_2768_RANGES[k - 1] <= lo[i]:
+            continue
+        s = problem.solve_ipopt(problem.params(material), x, box={i: (lo[i], ISO_2768_RANGES[k - 1])})
+        solves.append(s)
+        checked = round_and_check(problem.design(s.x, material), problem.spec) if s.success else None
+        if checked is not None and checked.feasible:
+            found.append(checked)
+    return solves, pick(found)
 
 
 def _start_from(problem: FamilyProblem, ev: Evaluation):
