@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import itertools
 import math
 import time
 from dataclasses import dataclass, replace
@@ -12,21 +11,16 @@ from scipy.optimize import OptimizeResult
 
 from designer import model
 from designer.errors import SolverError, SpecError, describe_allowed
-from designer.result.evaluation import ROUNDING, Evaluation
+from designer.result.evaluation import Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
-from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve, families,
+from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid
+from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, families,
                                      in_nlp_units)
-from designer.search.rounding import buildable, floor_ceil, only_targets_missed, pick, round_and_check
+from designer.search.rounding import buildable, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
 from designer.spec.tolerances import ISO_2768_RANGES
-
-# When rounding to 0.01 mm breaks a limit that IPOPT's answer met, and no section on the grid
-# near it checks out with the rest solved again (``_on_the_grid``), IPOPT solves again with the
-# limits that rounding broke, and only those, tightened by these normalised margins in turn
-# until the rounded design checks out.
-ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)  # those below the violation rounding caused are skipped
 
 
 @dataclass(frozen=True)
@@ -77,7 +71,6 @@ class Candidate:
             if self.stock_note:
                 out["stock_note"] = self.stock_note
         return out
-
 
 
 FALLBACK = {"ipopt": "slsqp"}  # every other method falls back to ipopt
@@ -132,8 +125,10 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 fallbacks.append(f"{m} start {i + 1}: reported success but violates "
                                       + ", ".join(v.name for v in ev.violations))
                 if m == "ipopt":
-                    s, ev = _back_off(problem, params, material, s, ev, solves, fallbacks,
+                    s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
                                       f"{m} start {i + 1}")
+            if m == "ipopt" and s.success and ev.feasible:
+                ev = closer_on_the_grid(problem, params, material, s, ev)
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
@@ -154,58 +149,6 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             break
     return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks), tried=tuple(tried),
                      winner=winner)
-
-
-def _back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, solves: list, fallbacks: list,
-              where: str):
-    """Rounding broke a limit. First the grid around the answer is searched with the numeric
-    model alone (``_nearby_on_the_grid``); its best is taken if it costs at most NEARBY_GAP over
-    the continuous answer. Otherwise the section sizes are also held at each of their neighbouring
-    0.01 mm values in turn and the rest (stations, depth) solved again, each answer rounded and
-    checked (``_on_the_grid``), and the better of the two is the answer on the grid. Only if neither
-    checks out are the limits that rounding broke (and no other) tightened, by each of ROUNDING_MARGINS
-    in turn from the first as large as the violation rounding caused; the first answer whose
-    rounded design breaks no limit of the NLP replaces it (under the error objective it may still
-    miss the targets: a verdict)."""
-    near = _nearby_on_the_grid(problem, material, s)
-    if near is not None and (in_nlp_units(near.objective, problem.spec.objective)
-                             <= float(problem.functions(s.x, params)[0]) * (1 + NEARBY_GAP)):
-        fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
-                         "taken instead")
-        return s, near
-    on_grid = _on_the_grid(problem, params, material, s, solves)
-    if near is not None and (on_grid is None or not on_grid[1].feasible or model.ranks_before(near, on_grid[1])):
-        fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
-                         "taken instead (it beats the section held on the grid and the rest solved again)")
-        return s, near
-    if on_grid is not None:
-        fallbacks.append(f"{where}: rounding broke a limit; the section held at its neighbouring 0.01 mm sizes "
-                         "and the rest solved again")
-        return on_grid
-    broken = [v for v in ev.violations if not (problem.epigraph and v.name in model.TARGET_LIMITS)]
-    names = sorted({v.name for v in broken} & set(problem.limit_names))
-    if not names:  # only bounds broke, which IPOPT keeps exactly: nothing to tighten
-        return s, ev
-    # a margin smaller than the violation rounding caused seldom survives the next rounding
-    worst = max(float(v.normalised) for v in broken)
-    for margin in [m for m in ROUNDING_MARGINS if m >= worst] or ROUNDING_MARGINS[-1:]:
-        s2 = problem.solve_ipopt(params, s.x, margin=problem.margins(names, margin))
-        solves.append(s2)
-        ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
-        if ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph)):
-            fallbacks.append(f"{where}: re-solved with {', '.join(names)} tightened by {margin:.0e}; "
-                                  "the rounded design " + ("meets every limit" if ev2.feasible else
-                                                           "misses only the accuracy targets"))
-            return s2, ev2
-    return s, ev
-
-
-# The variables that rounding holds at their grid values (and a stock row holds at its sizes)
-# while the others are solved again; the grid step in the NLP's units (mm), and how many steps
-# the search on the grid takes at most from the rounded sizes' best combination.
-SECTION_VARIABLES = ("width", "height", "side", "diameter", "wall")
-GRID_MM = ROUNDING / MM
-GRID_STEPS = 10
 
 
 def on_stock(problems: dict, candidates: list) -> list:
@@ -249,74 +192,6 @@ def _continuous_key(cand: Candidate):
     if ev is None:
         return (2, math.inf)
     return (0, ev.objective) if ev.feasible else (1, ev.worst_violation)
-
-
-# Grid steps past the rounded values that the numeric search around an answer tries in each
-# section size and in the feature's depth or hole (``_nearby_on_the_grid``).
-GRID_REACH = 2
-# The numeric search's best is taken without the IPOPT re-solves when its objective is within this
-# of the continuous answer's (a bound on every design near it). On the bench suite's 54 specs
-# rounding broke 93 answers; the numeric search found a design for about 30, the re-solves for 5;
-# where both did, the re-solves' was better by 0.06 % (within the tie band) and, once, by 1.7 %
-# (the numeric best 1.8 % over the continuous answer: this threshold sends it to the re-solves).
-NEARBY_GAP = 1e-2
-
-
-def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve) -> Evaluation | None:
-    """The best design on the 0.01 mm grid around the answer ``s``, by the numeric model alone:
-    every section size and the depth (or hole) from GRID_REACH steps below its rounded-down to as
-    many above its rounded-up value, the stations rounded down or up, all checked at once
-    (``round_and_check``'s ``reach``); then recentred on the best while that gives a better
-    design (at most GRID_STEPS times). None when no design there meets every limit."""
-    spec = problem.spec
-    ev = round_and_check(problem.design(s.x, material), spec, reach=GRID_REACH)
-    if ev is None or not ev.feasible:
-        return None
-    for _ in range(GRID_STEPS):
-        moved = round_and_check(ev.design, spec, reach=GRID_REACH)
-        if moved is None or not moved.feasible or not moved.objective < ev.objective:
-            break
-        ev = moved
-    return ev
-
-
-def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list):
-    """``(Solve, Evaluation)``: the best checked design with the section sizes on the 0.01 mm grid
-    near the answer and the other variables solved again with them held; None when no such design
-    meets every limit (or, under the error objective, misses only the targets). The sizes start
-    from each combination of rounding down and up; from the best of those, a step of 0.01 mm up
-    or down in one size at a time is taken while it gives a better design (at most
-    GRID_STEPS steps): the rounded sizes' best neighbour need not be the grid's best point (the
-    bench suite's 029-long-beam: 0.12 % better two steps away)."""
-    index = [i for i, name in enumerate(problem.names) if name in SECTION_VARIABLES]
-    choices = [[v / MM for v in floor_ceil(float(s.x[i]) * MM)] for i in index]
-    tried: dict = {}
-
-    def held(combo):
-        key = tuple(round(v / GRID_MM) for v in combo)
-        if key not in tried:
-            s2 = problem.solve_ipopt(params, s.x, fixed=dict(zip(index, combo)))
-            solves.append(s2)
-            ev2 = round_and_check(problem.design(s2.x, material), problem.spec) if s2.success else None
-            ok = ev2 is not None and (ev2.feasible or only_targets_missed(ev2, problem.epigraph))
-            tried[key] = (s2, ev2) if ok else None
-        return tried[key]
-
-    found = [f for f in map(held, itertools.product(*choices)) if f is not None]
-    if not found:
-        return None
-    best = pick([ev for _, ev in found])
-    here = next(f for f in found if f[1] is best)
-    for _ in range(GRID_STEPS):
-        centre = [here[0].x[i] for i in index]
-        steps = [centre[:k] + [centre[k] + sign * GRID_MM] + centre[k + 1:]
-                 for k in range(len(index)) for sign in (-1, 1)]
-        moves = [f for f in map(held, steps) if f is not None]
-        better = pick([here[1]] + [ev for _, ev in moves])
-        if better is here[1] or not better.objective < here[1].objective:
-            break
-        here = next(f for f in moves if f[1] is better)
-    return here
 
 
 def _unmachinable(spec, fam: Family) -> str:

@@ -24,7 +24,7 @@ from designer.search.rounding import only_targets_missed, pick, round_and_check
 from designer.spec import catalogue
 
 # A row whose rounded design breaks a limit its solve met is solved again with the broken limits,
-# and only those, tightened by these normalised margins in turn (as run.ROUNDING_MARGINS).
+# and only those, tightened by these normalised margins in turn (as ongrid.ROUNDING_MARGINS).
 ROW_MARGINS = (1e-4, 1e-3, 1e-2)
 SIZE_TOLERANCE = 1e-9   # mm: a row on a variable bound is inside it
 

@@ -233,9 +233,9 @@ def test_every_reported_section_is_a_row_of_the_table():
 
 def test_stock_none_is_the_continuous_search_and_never_reads_the_catalogue(monkeypatch):
     """``stock: none`` (the default) is the search as it was: the stock catalogue is not read,
-    no design carries a stock item, and the gripper finger's objective is within the 0.1 % tie
-    band of the objective README.md records for it (benchmarks/bench_optimize.py: 0.338429, which the
-    exhaustive reference search there does not beat)."""
+    no design carries a stock item, and the gripper finger's objective is no worse, within the 0.1 %
+    tie band, than the exhaustive reference search's (designer/search/reference.py, as
+    benchmarks/bench_optimize.py records it in README.md: 0.338429)."""
     def refuse():
         raise AssertionError("search.stock: none read the stock catalogue")
 
@@ -244,7 +244,7 @@ def test_stock_none_is_the_continuous_search_and_never_reads_the_catalogue(monke
     assert spec.search.stock == "none"
     found = optimize(spec)
     assert found.x.stock is None and found.get("continuous") is None
-    assert found.best.objective == pytest.approx(0.338429, rel=model.TIE_TOLERANCE)
+    assert found.best.objective <= 0.338429 * (1 + model.TIE_TOLERANCE)
     assert all("stock" not in c.record() for c in found.candidates)
     explicit = optimize(_spec(stock="none"))
     assert explicit.best.objective == found.best.objective and explicit.x == found.x
