@@ -26,7 +26,7 @@ CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_sn
 MIN_SIZE = 1e-6
 # A corner at which the model gives no number (a pocket through the section) breaks this limit.
 UNBUILDABLE = "corner_unbuildable"
-# A corner is written as the sign of each toleranced size's deviation, e.g. "D-t, p+t".
+# A corner is written as where each toleranced size is, e.g. "D min, p max" (a thin bar, a deep flat).
 SYMBOLS = {"width": "b", "height": "h", "diameter": "D", "wall": "t", "depth": "p", "hole": "d_h"}
 
 
@@ -51,11 +51,11 @@ def corners(g: Geometry, tol, cad) -> Geometry:
     c = len(corner)
     n = _count(g)
     out = {}
-    for f in fields(g):
+    for f in fields(g):  # the stations and every array, once for the nominal designs and once a corner
         v = getattr(g, f.name)
         if isinstance(v, tuple):
             out[f.name] = tuple(_tiled(x, n, c) for x in v)
-        elif isinstance(v, np.ndarray) or f.name in dict(toleranced(g)):
+        elif isinstance(v, np.ndarray):
             out[f.name] = _tiled(v, n, c)
     for j, (name, part) in enumerate(toleranced(g)):
         nominal = np.broadcast_to(np.asarray(getattr(g, name), dtype=float), (n,))
@@ -73,10 +73,9 @@ def _count(g: Geometry) -> int:
     return max(sizes, default=1)
 
 
-def _tiled(v, n: int, c: int):
-    if isinstance(v, np.ndarray) or v is not None and not isinstance(v, str):
-        return np.tile(np.broadcast_to(np.asarray(v, dtype=float), (n,)), c + 1)
-    return v
+def _tiled(v, n: int, c: int) -> np.ndarray:
+    """``v`` (a number or n of them) repeated for the nominal designs and each of ``c`` corners."""
+    return np.tile(np.broadcast_to(np.asarray(v, dtype=float), (n,)), c + 1)
 
 
 def worst(g: Geometry, m, spec, adjust=None) -> np.ndarray:
@@ -116,14 +115,12 @@ def _normalised(built: Geometry, m, spec, adjust) -> dict:
 @dataclass(frozen=True)
 class CornerCheck:
     """One design at its tolerance corners. ``limits``: each CORNER_LIMITS limit at its worst corner
-    (named as the limit), ``corners``: that corner, as ``label`` writes it; ``excess``: how much
-    further each limit's normalised value is at that corner than at the nominal design;
-    ``deviations``: ``(field, ± m)``; ``sensitivity``: the least and the greatest k_i / k_i
-    (nominal) - 1 over the stations and the corners."""
+    (named as the limit); ``corners``: that corner, as ``label`` writes it; ``deviations``:
+    ``(field, ± m)``; ``sensitivity``: the least and the greatest k_i / k_i(nominal) - 1 over the
+    stations and the corners; ``count``: how many corners."""
 
     limits: tuple[Limit, ...]
     corners: tuple[str, ...]
-    excess: dict
     deviations: tuple
     sensitivity: tuple[float, float]
     count: int
@@ -144,7 +141,7 @@ def check(g: Geometry, m, spec, adjust=None) -> CornerCheck | None:
         a = analyse(built, m, spec, adjust=adjust)
         lims = [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS]
         k = np.array([np.broadcast_to(np.asarray(x, dtype=float), (len(corner) + 1,)) for x in a.sensitivities])
-    out, where, excess, lost = [], [], {}, None
+    out, where, lost = [], [], None
     for lim in lims:
         values = np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(corner) + 1,))
         if np.isnan(values[1:]).any():
@@ -156,14 +153,13 @@ def check(g: Geometry, m, spec, adjust=None) -> CornerCheck | None:
                          None if lim.scale is None else float(_at(lim.scale, i)), lim.unit,
                          None if lim.rating is None else float(_at(lim.rating, i))))
         where.append(label(names, corner[i - 1]))
-        excess[lim.name] = float(values[i] - values[0])
     if lost is not None:  # a corner the model cannot evaluate: the part is not a beam there
         out.append(Limit(UNBUILDABLE, 1.0, 0.0, scale=1.0))
         where.append(label(names, corner[lost - 1]))
     deviations = tuple((name, float(tol.deviation(getattr(g, name), part))) for name, part in toleranced(g))
     ratio = k[:, 1:] / k[:, :1] - 1
     ratio = ratio[np.isfinite(ratio)] if np.isfinite(ratio).any() else np.zeros(1)
-    return CornerCheck(tuple(out), tuple(where), excess, deviations, (float(ratio.min()), float(ratio.max())),
+    return CornerCheck(tuple(out), tuple(where), deviations, (float(ratio.min()), float(ratio.max())),
                        len(corner))
 
 
@@ -172,5 +168,5 @@ def _at(value, i: int):
 
 
 def label(names, sign) -> str:
-    """A corner as ``D-t, p+t``."""
-    return ", ".join(f"{SYMBOLS[name]}{'+' if s > 0 else '-'}t" for name, s in zip(names, sign))
+    """A corner as ``D min, p max``."""
+    return ", ".join(f"{SYMBOLS[name]} {'max' if s > 0 else 'min'}" for name, s in zip(names, sign))
