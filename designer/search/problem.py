@@ -167,12 +167,12 @@ class FamilyVariables:
             hi.append(EPIGRAPH_UPPER)
         return np.array(lo), np.array(hi)
 
-    def starts(self) -> list[np.ndarray]:
-        """Deterministic start points: sections at 35 % and 70 % of their range, stations spread
-        evenly over the room between the clamp and the load region."""
+    def starts(self, fractions=(0.35, 0.7)) -> list[np.ndarray]:
+        """Deterministic start points: sections at 35 % and 70 % of their range (or ``fractions``),
+        stations spread evenly over the room between the clamp and the load region."""
         spec, lim = self.spec, self.spec.limits
         out = []
-        for frac in (0.35, 0.7):
+        for frac in fractions:
             v = {}
             for name, a, b in zip(self.names, self.lower, self.upper):
                 share = {"depth": 0.3, "hole": 0.5, "wall": 0.2}.get(name, frac)
@@ -319,8 +319,8 @@ class FamilyProblem:
     def bounds(self):
         return self.variables.bounds()
 
-    def starts(self) -> list[np.ndarray]:
-        return self.variables.starts()
+    def starts(self, fractions=(0.35, 0.7)) -> list[np.ndarray]:
+        return self.variables.starts(fractions)
 
     # solvers ----------------------------------------------------------------
     def ipopt(self, stage: str = "primary"):

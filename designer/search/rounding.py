@@ -25,7 +25,7 @@ def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
     return epigraph and all(v.name in model.TARGET_LIMITS for v in ev.violations)
 
 
-def round_and_check(design: Design, spec, reach: int = 0) -> Evaluation | None:
+def round_and_check(design: Design, spec, reach: int = 0, lowest: bool = False) -> Evaluation | None:
     """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points. A stock
     section (``design.stock``) is not rounded: only its feature and stations are.
 
@@ -33,7 +33,9 @@ def round_and_check(design: Design, spec, reach: int = 0) -> Evaluation | None:
     checked at once with the numeric model over numpy arrays, the best is chosen as ``pick``
     chooses, and that one design is evaluated again on its own and returned. None when no
     combination can be evaluated at all. ``reach`` adds that many grid steps below the rounded-down
-    and above the rounded-up value of each section size and the feature's depth or hole.
+    and above the rounded-up value of each section size and the feature's depth or hole. With
+    ``lowest``, the combination with the lowest objective that meets every limit is chosen instead
+    of the tie rule's.
     """
     g = design.geometry
     fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
@@ -70,7 +72,7 @@ def round_and_check(design: Design, spec, reach: int = 0) -> Evaluation | None:
     feasible = valid & (viol <= model.FEASIBILITY_TOLERANCE)
     if feasible.any():
         lead = objective[feasible].min()
-        band = feasible & model.ties(objective, lead)
+        band = feasible & (objective == lead if lowest else model.ties(objective, lead))
         idx = np.flatnonzero(band)
         best = idx[np.lexsort((objective[idx], mass[idx], deflection[idx]))[0]]
     else:

@@ -175,3 +175,38 @@ def test_a_rounding_that_costs_more_than_the_tie_band_searches_the_grid_around_t
     found = candidate.evaluation
     assert found.feasible and found.objective <= best * (1 + TIE_TOLERANCE)
     assert found.objective < rounded.objective * (1 - TIE_TOLERANCE)
+
+
+@pytest.mark.slow
+def test_the_grid_search_walks_past_steps_that_gain_less_than_the_tie_band():
+    """The bench suite's 022-loose-limits, 2024-T3 rectangle without a feature: rounding the height
+    up to 1.71 mm moves the best width 0.07 mm below the continuous one, each 0.01 mm step of it
+    gaining under the 0.1 % tie band. Reference: brute force over widths from 12 steps below the
+    rounded-down to 3 above the rounded-up value, heights 3 steps either way, the stations rounded
+    down or up, each judged by the evaluator; the search's design is that box's best within the
+    tie band."""
+    from dataclasses import replace
+
+    from designer.bench.suite import generate_suite
+    from designer.model import TIE_TOLERANCE
+    from designer.result.evaluation import evaluate
+    from designer.search.ongrid import _nearby_on_the_grid
+    from designer.search.problem import Family, FamilyProblem
+    from designer.search.rounding import floor_ceil
+    from designer.spec import catalogue
+
+    spec = next(m.spec for m in generate_suite(50, 0) if m.name == "022-loose-limits")
+    problem = FamilyProblem(spec, Family("rectangle", spec.search.feature))
+    mat = catalogue.material("2024-T3")
+    s = problem.solve_ipopt(problem.params(mat), problem.starts()[0])
+    found = _nearby_on_the_grid(problem, mat, s)
+    design = problem.design(s.x, mat)
+    g0 = design.geometry
+    widths = [round(g0.width - k * 1e-5, 8) for k in range(1, 13)] + list(floor_ceil(g0.width, 3))
+    best = np.inf
+    for b, h, *st in itertools.product(widths, floor_ceil(g0.height, 3), *[floor_ceil(x) for x in g0.stations]):
+        ev = evaluate(replace(design, geometry=replace(g0, width=b, height=h, stations=tuple(st))).rounded(spec.cad),
+                      spec)
+        if ev.feasible:
+            best = min(best, ev.objective)
+    assert found is not None and found.feasible and found.objective <= best * (1 + TIE_TOLERANCE)
