@@ -2,14 +2,21 @@
 
 The handlers remember the signal as well as raising: a solver that catches the exception in its
 own callback (IPOPT through casadi reports it as a user stop and returns) would otherwise let the
-run go on. ``check()`` after such a call raises it again.
+run go on. ``check()`` after such a call raises it again. Where Python itself ignores the
+exception (a weakref callback or ``__del__`` that it interrupted), the signal is sent again.
 """
 
 from __future__ import annotations
 
+import os
 import signal
+import sys
+import threading
 
 _received: int | None = None
+# A signal whose exception Python ignores (raised inside a weakref callback or a __del__, such as
+# the import system's module-lock callbacks) is sent again this much later, where it can stop the run.
+REDELIVERY_DELAY = 0.05
 
 
 class Terminated(BaseException):
@@ -48,10 +55,20 @@ def install():
         previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
     except ValueError:  # not the main thread
         return lambda: None
+    hook = sys.unraisablehook
+
+    def unraisable(args):
+        if isinstance(args.exc_value, (KeyboardInterrupt, Terminated)) and _received is not None:
+            threading.Timer(REDELIVERY_DELAY, os.kill, (os.getpid(), _received)).start()
+            return  # not printed: Python would say "Exception ignored in ..." and go on
+        hook(args)
+
+    sys.unraisablehook = unraisable
 
     def restore():
         global _received
         for s, h in previous.items():
             signal.signal(s, h)
+        sys.unraisablehook = hook
         _received = None   # the signal belonged to the run that handled it; later library calls go on
     return restore

@@ -94,3 +94,29 @@ def test_a_signal_stops_verify_and_leaves_no_scratch(tmp_path, delay):
     assert [x for x in err.splitlines() if "CasADi" not in x] == ["fpdesign: terminated"]
     assert not (tmp_path / "v").exists()
     assert list(scratch.iterdir()) == []      # no fpdesign-verify-* folder left
+
+
+def test_a_signal_raised_where_python_ignores_exceptions_is_delivered_again(capsys):
+    """SIGTERM arriving inside a weakref callback (the import system's module locks have them):
+    Python ignores the exception raised there and would print "Exception ignored in"; the run
+    must still stop, with nothing printed."""
+    import gc
+    import weakref
+
+    from designer import interrupt
+
+    class Thing:
+        pass
+
+    restore = interrupt.install()
+    try:
+        thing = Thing()
+        ref = weakref.ref(thing, lambda _: os.kill(os.getpid(), signal.SIGTERM) or time.sleep(0.01))
+        with pytest.raises(interrupt.Terminated):
+            del thing
+            gc.collect()
+            assert ref() is None
+            time.sleep(2.0)  # the signal delivered again stops this
+    finally:
+        restore()
+    assert "Exception ignored" not in capsys.readouterr().err
