@@ -22,8 +22,12 @@ from designer.model.sections import Geometry, wire_channel
 # The limits of docs/model.md §4 a built part must meet whatever its sizes within tolerance.
 CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_snr", "adc_range", "fatigue_feature",
                  "deflection", "natural_frequency")
-# A section size at a corner is at least this (m): a deviation as large as the size leaves no beam.
-MIN_SIZE = 1e-6
+# Which deviation each toleranced size of a Geometry takes, and the least it is at a corner (m): a
+# pocket or hole smaller than its deviation is, at its least, not cut at all; a section size at
+# least 1 µm (a deviation as large as the size leaves no beam).
+PART = {"width": "section", "height": "section", "diameter": "section", "wall": "section",
+        "depth": "feature", "hole": "feature"}
+LEAST = {"section": 1e-6, "feature": 0.0}
 # A corner at which the model gives no number (a pocket through the section) breaks this limit.
 UNBUILDABLE = "corner_unbuildable"
 # A corner is written as where each toleranced size is, e.g. "D min, p max" (a thin bar, a deep flat).
@@ -32,10 +36,9 @@ SYMBOLS = {"width": "b", "height": "h", "diameter": "D", "wall": "t", "depth": "
 
 def toleranced(g: Geometry) -> list[tuple[str, str]]:
     """``(field, part)`` of each toleranced size of ``g``: the section's sizes, then the feature's."""
-    out = {"rectangle": [("width", "section"), ("height", "section")], "round": [("diameter", "section")],
-           "tube": [("diameter", "section"), ("wall", "section")]}[g.section]
-    out += {"pocket": [("depth", "feature")], "hole": [("hole", "feature")]}.get(g.feature, [])
-    return out
+    names = {"rectangle": ["width", "height"], "round": ["diameter"], "tube": ["diameter", "wall"]}[g.section]
+    names += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
+    return [(name, PART[name]) for name in names]
 
 
 def signs(g: Geometry) -> np.ndarray:
@@ -60,9 +63,7 @@ def corners(g: Geometry, tol, cad) -> Geometry:
     for j, (name, part) in enumerate(toleranced(g)):
         nominal = np.broadcast_to(np.asarray(getattr(g, name), dtype=float), (n,))
         dev = tol.deviation(nominal, part)
-        # a pocket or hole smaller than its deviation is, at its least, not cut at all
-        least = 0.0 if part == "feature" else MIN_SIZE
-        out[name] = np.concatenate([nominal] + [np.maximum(nominal + s * dev, least) for s in corner[:, j]])
+        out[name] = np.concatenate([nominal] + [np.maximum(nominal + s * dev, LEAST[part]) for s in corner[:, j]])
     built = replace(g, **out)
     width, depth = wire_channel(cad, g.feature, built.depth, g.pocket_width)
     return replace(built, channel_width=width, channel_depth=depth)
@@ -80,36 +81,35 @@ def _tiled(v, n: int, c: int) -> np.ndarray:
 
 def worst(g: Geometry, m, spec, adjust=None) -> np.ndarray:
     """For each of ``g``'s n designs, the largest normalised value of CORNER_LIMITS over its
-    tolerance corners (not its nominal design); -inf when the spec has no tolerances."""
-    n = _count(g)
-    if not spec.tolerances.active:
-        return np.full(n, -np.inf)
-    built = corners(g, spec.tolerances, spec.cad)
-    rows = _normalised(built, m, spec, adjust)
-    if not rows:
-        return np.full(n, -np.inf)
-    worst = np.max(np.stack([r.reshape(-1, n)[1:] for r in rows.values()]), axis=(0, 1))
-    return np.where(np.isnan(worst), 1.0, worst)  # as the UNBUILDABLE limit says
+    tolerance corners (not its nominal design); -inf (to broadcast) when the spec has none."""
+    rows = _worst_rows(g, m, spec, adjust)
+    return rows.max(axis=0) if len(rows) else np.array(-np.inf)
 
 
 def worst_each(g: Geometry, m, spec, adjust=None) -> np.ndarray:
     """For one design ``g`` (numbers), each CORNER_LIMITS limit's largest normalised value over
-    its tolerance corners, as an array (empty when the spec has no tolerances; 1 where the model
-    gives no number, as the UNBUILDABLE limit says)."""
+    its tolerance corners, as an array (empty when the spec has no tolerances)."""
+    return _worst_rows(g, m, spec, adjust)[:, 0]
+
+
+def _worst_rows(g: Geometry, m, spec, adjust) -> np.ndarray:
+    """Each CORNER_LIMITS limit's largest normalised value over the corners, one row a limit and
+    one column a design of ``g``; 1 where the model gives no number, as the UNBUILDABLE limit says."""
     if not spec.tolerances.active:
-        return np.zeros(0)
-    rows = _normalised(corners(g, spec.tolerances, spec.cad), m, spec, adjust)
-    worst = np.array([np.max(r[1:]) for r in rows.values()])
-    return np.where(np.isnan(worst), 1.0, worst)
+        return np.zeros((0, 1))
+    n = _count(g)
+    _, lims, count = _at_corners(corners(g, spec.tolerances, spec.cad), m, spec, adjust)
+    rows = np.array([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (count,)).reshape(-1, n)[1:].max(axis=0)
+                     for lim in lims]).reshape(-1, n)
+    return np.where(np.isnan(rows), 1.0, rows)
 
 
-def _normalised(built: Geometry, m, spec, adjust) -> dict:
-    """The normalised value of each CORNER_LIMITS limit of ``built`` (arrays of n (1 + c))."""
-    size = _count(built)
+def _at_corners(built: Geometry, m, spec, adjust):
+    """``(analysis, CORNER_LIMITS limits, how many designs)`` of ``built`` (``corners``' arrays)."""
     with np.errstate(all="ignore"):
         a = analyse(built, m, spec, adjust=adjust)
-        return {lim.name: np.broadcast_to(np.asarray(lim.normalised, dtype=float), (size,))
-                for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS}
+        return a, [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS], \
+            _count(built)
 
 
 @dataclass(frozen=True)
@@ -136,11 +136,8 @@ def check(g: Geometry, m, spec, adjust=None) -> CornerCheck | None:
         return None
     names = [name for name, _ in toleranced(g)]
     corner = signs(g)
-    built = corners(g, tol, spec.cad)
-    with np.errstate(all="ignore"):
-        a = analyse(built, m, spec, adjust=adjust)
-        lims = [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS]
-        k = np.array([np.broadcast_to(np.asarray(x, dtype=float), (len(corner) + 1,)) for x in a.sensitivities])
+    a, lims, _ = _at_corners(corners(g, tol, spec.cad), m, spec, adjust)
+    k = np.array([np.broadcast_to(np.asarray(x, dtype=float), (len(corner) + 1,)) for x in a.sensitivities])
     out, where, lost = [], [], None
     for lim in lims:
         values = np.broadcast_to(np.asarray(lim.normalised, dtype=float), (len(corner) + 1,))

@@ -99,10 +99,14 @@ class Evaluation:
     tolerance: CornerCheck | None = None   # the design at its tolerance corners (docs/model.md §14)
 
     @property
+    def judged(self) -> tuple[Limit, ...]:
+        """Every limit the design is judged on: at its nominal sizes, then at its tolerance corners."""
+        return self.limits + (self.tolerance.limits if self.tolerance is not None else ())
+
+    @property
     def violations(self) -> list[Limit]:
         """The limits broken by the nominal design, then those broken at a tolerance corner."""
-        corners = self.tolerance.limits if self.tolerance is not None else ()
-        return [lim for lim in self.limits + corners if float(lim.normalised) > model.FEASIBILITY_TOLERANCE]
+        return [lim for lim in self.judged if float(lim.normalised) > model.FEASIBILITY_TOLERANCE]
 
     @property
     def feasible(self) -> bool:
@@ -111,8 +115,7 @@ class Evaluation:
     @property
     def worst_violation(self) -> float:
         """The largest normalised violation, 0 for a feasible design."""
-        corners = self.tolerance.limits if self.tolerance is not None else ()
-        return max([0.0] + [float(lim.normalised) for lim in self.limits + corners])
+        return max([0.0] + [float(lim.normalised) for lim in self.judged])
 
     @property
     def large_deflection(self) -> bool:

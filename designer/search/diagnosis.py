@@ -24,7 +24,7 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
     check = best.tolerance
     if check is not None:
         at = [f"{lim.name} at {corner}" for lim, corner in zip(check.limits, check.corners)
-              if not float(lim.normalised) <= model.FEASIBILITY_TOLERANCE]
+              if float(lim.normalised) > model.FEASIBILITY_TOLERANCE]
         if at:
             sizes = ", ".join(f"{name} ±{dev * mm:.3g} mm" for name, dev in check.deviations)
             out.append(f"at the corners of its tolerances ({spec.tolerances.label()}: {sizes}) it breaks "

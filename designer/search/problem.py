@@ -32,8 +32,7 @@ IPOPT_MAX_ITER = 300
 # answer's sizes lie in another size range of the class, it is solved again from there, at most
 # this many times. The NLP's variables that the tolerances move, and which deviation each takes:
 DEVIATION_ROUNDS = 3
-TOLERANCED = {"width": "section", "height": "section", "side": "section", "diameter": "section", "wall": "section",
-              "depth": "feature", "hole": "feature"}
+TOLERANCED = {**tolerance.PART, "side": "section"}
 #: casadi's options of every IPOPT solve. ``show_eval_warnings`` off: a trial step of IPOPT's
 #: line search may leave the beam's domain (a negative wall, a pocket deeper than the bar), where
 #: the model is NaN; IPOPT then shortens the step (it is built for that), but casadi would print
@@ -250,8 +249,7 @@ class FamilyProblem:
             for signs in itertools.product((-1.0, 1.0), repeat=len(self.moved)):
                 xc = [x[i] for i in range(variables.size)]
                 for k, (i, sign) in enumerate(zip(self.moved, signs)):
-                    least = 0.0 if TOLERANCED[variables.names[i]] == "feature" else tolerance.MIN_SIZE / MM
-                    xc[i] = ca.fmax(x[i] + sign * dev[k], least)
+                    xc[i] = ca.fmax(x[i] + sign * dev[k], tolerance.LEAST[TOLERANCED[variables.names[i]]] / MM)
                 at = rows(ca.vertcat(*xc), par)
                 g += [at[r] for r in range(len(checked))]
         in_units = {"deflection": in_nlp_units(a.deflection, "deflection"), "mass": in_nlp_units(a.mass, "mass")}

@@ -20,7 +20,6 @@ from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, 
 from designer.search.rounding import buildable, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
-from designer.spec.tolerances import ISO_2768_RANGES
 
 
 @dataclass(frozen=True)
@@ -403,17 +402,14 @@ def _in_smaller_ranges(problem: FamilyProblem, material, ev: Evaluation) -> tupl
     again from ``ev``: the solves, and the best of their checked designs that meets every limit (None
     if none does). The deviations step up with the size, so an optimum may sit at a range's end,
     which a solve with the deviations of one range does not see."""
-    tol = problem.spec.tolerances
     x = _start_from(problem, ev)
     lo, _ = problem.bounds()
     solves, found = [], []
     for i in problem.moved:
-        part = TOLERANCED[problem.names[i]]
-        k = int(np.searchsorted(ISO_2768_RANGES, x[i], side="left"))
-        if tol.grade == "none" or (tol.section if part == "section" else tol.feature) is not None \
-                or k == 0 or ISO_2768_RANGES[k - 1] <= lo[i]:
+        end = problem.spec.tolerances.smaller_range_end(x[i] * MM, TOLERANCED[problem.names[i]])
+        if end is None or end / MM <= lo[i]:
             continue
-        s = problem.solve_ipopt(problem.params(material), x, box={i: (lo[i], ISO_2768_RANGES[k - 1])})
+        s = problem.solve_ipopt(problem.params(material), x, box={i: (lo[i], end / MM)})
         solves.append(s)
         checked = round_and_check(problem.design(s.x, material), problem.spec) if s.success else None
         if checked is not None and checked.feasible:

@@ -54,6 +54,15 @@ class Tolerances:
         mm = np.asarray(size, dtype=float) * 1e3
         return table[np.minimum(np.searchsorted(ISO_2768_RANGES, mm, side="left"), len(table) - 1)]
 
+    def smaller_range_end(self, size: float, part: str) -> float | None:
+        """The upper end (m) of the class's next smaller size range below ``size`` (m) of ``part``,
+        where its deviation is smaller; None when ``part``'s deviation is given, without a class, or
+        in the smallest range."""
+        if self.grade == "none" or (self.section if part == "section" else self.feature) is not None:
+            return None
+        k = int(np.searchsorted(ISO_2768_RANGES, size * 1e3, side="left"))
+        return ISO_2768_RANGES[k - 1] * 1e-3 if k > 0 else None
+
     def label(self) -> str:
         """As the report and the drawing say it, e.g. ``ISO 2768-m`` or ``±0.02 mm (section)``."""
         parts = [f"ISO 2768-{self.grade}"] if self.grade != "none" else []
