@@ -257,12 +257,15 @@ class Fit:
     margin: float = 0.0
 
     def __call__(self, values: dict):
+        powers = {}  # each variable's powers taken once (a casadi graph gets a node per operation)
         total = 0.0
         for exps, c in zip(self.exponents, self.coefficients):
             term = c
             for name, e in zip(self.variables, exps):
                 if e:
-                    term = term * values[name] ** e
+                    if (name, e) not in powers:
+                        powers[name, e] = values[name] if e == 1 else values[name] ** e
+                    term = term * powers[name, e]
             total = total + term
         return total
 

@@ -169,8 +169,10 @@ def _is_number(value) -> bool:
 def worst_normalised(limits: list[Limit], n: int) -> np.ndarray:
     """The largest normalised value of ``limits`` for each of ``n`` designs evaluated at once
     (numeric arrays; a limit that does not vary is broadcast)."""
-    return np.max(np.stack([np.broadcast_to(np.asarray(lim.normalised, dtype=float), (n,)) for lim in limits]),
-                  axis=0)
+    worst = np.full(n, -np.inf)
+    for lim in limits:
+        np.maximum(worst, lim.normalised, out=worst)
+    return worst
 
 
 def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:

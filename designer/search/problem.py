@@ -368,17 +368,18 @@ class FamilyProblem:
             runs += s.evaluations
         return replace(s, evaluations=runs)
 
-    def infeasible_for_every(self, materials) -> tuple[bool, list]:
+    def infeasible_for_every(self, materials, starts=None) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the
         solves that said so. The material's parameters are let free between the least and the
         greatest of ``materials``' values, each on its own: every material lies in that box, so
-        when IPOPT finds the relaxed NLP infeasible from every start, each material's NLP is too
-        (with the same trust as a verdict on one material's NLP: IPOPT's infeasibility is local)."""
+        when IPOPT finds the relaxed NLP infeasible from every start (``starts``, in that order;
+        the usual ones unless given), each material's NLP is too (with the same trust as a verdict
+        on one material's NLP: IPOPT's infeasibility is local)."""
         table = np.array([self.params(m) for m in materials], dtype=float)
         low, high = table[:, :CAP].min(axis=0), table[:, :CAP].max(axis=0)
         lo, hi = self.bounds()
         solves = []
-        for x0 in self.starts():
+        for x0 in self.starts() if starts is None else starts:
             s = _run_ipopt(self.ipopt("relaxed"), x0=np.concatenate([x0, (low + high) / 2]),
                            p=np.concatenate([table[0, CAP:], self.deviations(x0)]),
                            lbx=np.concatenate([lo, low]), ubx=np.concatenate([hi, high]), lbg=-np.inf, ubg=0.0)

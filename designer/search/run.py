@@ -92,10 +92,13 @@ class SearchResult(OptimizeResult):
 
 
 def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False, starts=None,
-                    margin: float = 0.0) -> Candidate:
+                    margin: float = 0.0, proves=None) -> Candidate:
     """Solve one material x family from several starts (``problem.starts()`` unless given); fall
     back to another method when no start gives a verified design. Every answer is rounded and
-    checked. IPOPT keeps every constraint ``margin`` inside its limit."""
+    checked. IPOPT keeps every constraint ``margin`` inside its limit. ``proves``, if given, is
+    called when IPOPT's first start ends in an infeasibility verdict and returns a note and the
+    solves it ran: with a note (a relaxation covering this material is infeasible too,
+    ``optimize``), the other starts and the fallback are not run and the note joins the fallbacks."""
     spec = problem.spec
     params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
@@ -104,7 +107,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     if method in ("grid", "isres", "direct"):
         starts = starts[:1]  # global methods do not depend on the start
     methods = [method, FALLBACK.get(method, "ipopt")]
-    tried, winner = [], None
+    tried, winner, proved = [], None, ""
     for m in dict.fromkeys(methods):
         verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
         for i, x0 in enumerate(starts):
@@ -132,10 +135,19 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
             evaluation = pick(checked)
+            if (proves is not None and i == 0 and m == method == "ipopt" and len(starts) > 1
+                    and s.message in IPOPT_INFEASIBLE and not ev.feasible):
+                proved, relaxation = proves()
+                solves.extend(relaxation)
+                if proved:
+                    break
             if s.success and ev.feasible and winner is None and m == method:
                 winner = x0
             if s.success and ev.feasible and not all_starts:
                 break  # a verified answer: the other starts are kept for failures
+        if proved:
+            fallbacks.append(proved)
+            break
         # a feasible design from a solver that failed on every start is only its start point:
         # the fallback method still runs
         if evaluation is not None and evaluation.feasible and any(x.success for x in solves):
@@ -231,8 +243,10 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     warm = warm or {}
     total = len(mats) * len(fams)
     unmachinable = {}
-    # family -> (the relaxation's solves, the materials it covers): none of them meets every limit
-    proved = {}
+    # (family, the relaxations' solves, the proving one's answer, the material whose verdict began
+    # it, the others): groups
+    # of materials with no design that meets every limit, found by a relaxation (``_relaxing``)
+    proved = []
     for fam in fams:
         problem = given.get(fam) or FamilyProblem(spec, fam)
         problems[fam] = problem
@@ -240,32 +254,28 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         if why:
             unmachinable[fam] = why
         usual = problem.starts()  # the family's own; the one that gave the last verified answer goes first
-        solved = 0
+        relaxed, done = [], set()  # relaxations run in this family; materials they proved infeasible
         for k, mat in enumerate(mats):
+            if mat.name in done:
+                continue
             if (mat.name, fam) in skip:
                 candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "
                                                                       "level of the same limit",)))
                 continue
             start = warm.get((mat.name, fam))
+            rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip and m.name not in done]
+            proves = (None if why or method != "ipopt" or any((m.name, fam) in warm for m in [mat] + rest)
+                      else _relaxing(problem, mat, rest, usual, relaxed, done, proved))
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
-                    else solve_candidate(problem, mat, method,
+                    else solve_candidate(problem, mat, method, proves=proves,
                                          starts=usual if start is None else [_start_from(problem, start)] + usual))
             if any(x is cand.winner for x in usual):  # the next material is near it: that start first
                 usual = [cand.winner] + [x for x in usual if x is not cand.winner]
             candidates.append(cand)
-            solved += 1
             if progress is not None:
                 progress(len(candidates), total)
-            # the family's first material has no feasible design: whether any of the rest has
-            rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip]
-            if (solved == 1 and method == "ipopt" and not why and cand.status == "infeasible" and len(rest) > 1
-                    and not any((m.name, fam) in warm for m in rest)):
-                infeasible, relaxation = problem.infeasible_for_every(rest)
-                if infeasible:
-                    proved[fam] = (relaxation, rest)
-                    break
     if proved:
-        candidates += _proved_infeasible(problems, proved, candidates, method, progress, total)
+        candidates = _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
     if spec.search.stock != "none":
@@ -314,32 +324,88 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                         continuous=model.rank(continuous)[0] if continuous else None)
 
 
-def _proved_infeasible(problems: dict, proved: dict, candidates: list, method: str, progress, total: int) -> list:
-    """The candidates of the families that ``FamilyProblem.infeasible_for_every`` proved to have
-    no feasible design in any material: each material's design at the relaxation's answer, rounded
-    and checked (its least violation found there). When no other family has a feasible design,
-    they are solved in full instead, as every candidate is, so that the least-infeasible design
-    (and the diagnosis built on it) is each candidate's own."""
+# Materials whose Young's moduli are within this of each other are relaxed together when a
+# relaxation over every remaining material of the family finds a design: the modulus sets the
+# stiffness and the strain, the limits that most often leave a material without a design.
+ALIKE = 0.10
+# ... when the relaxation would spare this many other materials at least (it takes as many solves
+# as one material: every start)
+RELAXED_AT_LEAST = 2
+
+
+def _relaxing(problem: FamilyProblem, material, rest: list, usual: list, relaxed: list, done: set, proved: list):
+    """What ``solve_candidate`` calls when ``material``'s first start ends in an infeasibility
+    verdict: IPOPT on the relaxation (``FamilyProblem.infeasible_for_every``) over ``material`` and
+    the family's other remaining materials (the family's first relaxation), then, if that finds a
+    design, over those of a Young's modulus within ALIKE of its own. When one is infeasible too,
+    none of its materials has a design: they join ``done`` and ``proved``, and the note for
+    ``material`` is returned with no solves (they go with the materials proved); else '' and the
+    relaxations' solves. Each relaxation tries first the starts the material has not. None when
+    no group has RELAXED_AT_LEAST other materials."""
+    alike = [m for m in rest if abs(m.E / material.E - 1) <= ALIKE]
+    groups = [g for g in ([] if relaxed else [rest]) + [alike]
+              if len(g) >= RELAXED_AT_LEAST and (g is rest or relaxed or len(g) < len(rest))]
+    if not groups:
+        return None
+
+    def proves() -> tuple[str, tuple]:
+        ran = []
+        for group in groups:
+            relaxed.append(group)
+            infeasible, solves = problem.infeasible_for_every([material] + group, starts=usual[1:] + usual[:1])
+            if infeasible:
+                proved.append((problem.family, tuple(ran) + tuple(solves), solves[0].x, material, group))
+                done.update(m.name for m in group)
+                return (f"its other starts not run: with the material's properties free between the least and the "
+                        f"greatest of {_names([material] + group)}, IPOPT finds no design of {problem.family.label} "
+                        "that meets every limit (every start)"), ()
+            ran += solves
+        return "", tuple(ran)
+    return proves
+
+
+def _names(materials) -> str:
+    names = [m.name for m in materials]
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+def _proved_infeasible(problems: dict, proved: list, candidates: list, method: str, progress, total: int) -> list:
+    """The candidates of the materials a relaxation proved to have no feasible design in their
+    family (``_relaxing``): each material's design at the relaxation's answer, rounded and checked
+    (its least violation found there). When no candidate has a feasible design, they are solved in
+    full instead, as every candidate is, so that the least-infeasible design (and the diagnosis
+    built on it) is each candidate's own: the material whose verdict began a relaxation is then
+    solved from its other starts too. Returns ``candidates`` with these added."""
     solved_elsewhere = any(c.evaluation is not None and c.evaluation.feasible for c in candidates)
+    if not solved_elsewhere:
+        began = {(first.name, fam) for fam, _, _, first, _ in proved}
+        candidates = [_in_full(problems[c.family], c, method) if (c.material, c.family) in began else c
+                      for c in candidates]
     out = []
-    for fam, (relaxation, materials) in proved.items():
+    for fam, relaxation, at, first, materials in proved:
         problem = problems[fam]
         for i, mat in enumerate(materials):
             if not solved_elsewhere:
                 cand = solve_candidate(problem, mat, method)
                 cand = replace(cand, solves=(tuple(relaxation) if i == 0 else ()) + cand.solves)
             else:
-                ev = round_and_check(problem.design(relaxation[0].x, mat), problem.spec)
-                # said in full once a family, on the candidate that carries the relaxation's solves
-                note = (f"every material of {fam.label} is infeasible: with the material's properties free between "
-                        f"the least and the greatest of {len(materials)} materials', IPOPT finds no design that meets "
-                        "every limit (every start); each material's design shown is the one at that answer"
-                        if i == 0 else f"every material of {fam.label} is infeasible (see {materials[0].name})")
+                ev = round_and_check(problem.design(at, mat), problem.spec)
+                # said in full once a group, on the candidate that carries the relaxation's solves
+                note = (f"not solved: infeasible, as {first.name} is; with the material's properties free between the "
+                        f"least and the greatest of {_names([first] + materials)}, IPOPT finds no design of "
+                        f"{fam.label} that meets every limit (every start); the design shown is the one at that answer"
+                        if i == 0 else f"not solved: infeasible, as {first.name} is (see {materials[0].name})")
                 cand = Candidate(mat.name, fam, ev, tuple(relaxation) if i == 0 else (), (note,))
             out.append(cand)
             if progress is not None:
                 progress(len(candidates) + len(out), total)
-    return out
+    return candidates + out
+
+
+def _in_full(problem: FamilyProblem, cand: Candidate, method: str) -> Candidate:
+    """``cand``, stopped after its first start by a relaxation's verdict, solved from every start."""
+    again = solve_candidate(problem, catalogue.material(cand.material), method)
+    return replace(again, solves=cand.solves + again.solves)
 
 
 def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str = "ipopt",
