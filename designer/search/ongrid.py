@@ -5,9 +5,11 @@ as the last resort, the limits that rounding broke tightened."""
 from __future__ import annotations
 
 import itertools
+from dataclasses import replace
 
 from designer import model
-from designer.result.evaluation import ROUNDING, Evaluation
+from designer.errors import InputError
+from designer.result.evaluation import ROUNDING, Evaluation, evaluate
 from designer.search.problem import MM, FamilyProblem, Solve, in_nlp_units
 from designer.search.rounding import floor_ceil, only_targets_missed, pick, round_and_check
 
@@ -81,13 +83,23 @@ GRID_REACH = 2
 NEARBY_GAP = 1e-2
 
 
-def closer_on_the_grid(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation) -> Evaluation:
+def closer_on_the_grid(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
+                       neighbour: Evaluation | None = None) -> Evaluation:
     """``ev``, the rounded answer that meets every limit, or a better design on the grid around the
     answer (``_nearby_on_the_grid``) when rounding cost more than the tie band against the
-    continuous answer: rounding each size down or up need not find the grid's best point."""
+    continuous answer: rounding each size down or up need not find the grid's best point. Given a
+    ``neighbour`` (a trade-off front's design at the neighbouring level, on the grid), that design
+    judged under this spec is the one tried instead of the grid around the answer: a front's point
+    is a plotted trend, and the walk on every point of every front cost more than the search."""
     if in_nlp_units(ev.objective, problem.spec.objective) <= float(problem.functions(s.x, params)[0]) * (
             1 + model.TIE_TOLERANCE):
         return ev
+    if neighbour is not None:
+        try:
+            near = evaluate(replace(neighbour.design, material=material, adjustment=problem.adjustment), problem.spec)
+        except InputError:
+            return ev
+        return near if near.feasible and model.ranks_before(near, ev) else ev
     near = _nearby_on_the_grid(problem, material, s)
     return near if near is not None and model.ranks_before(near, ev) else ev
 

@@ -92,13 +92,14 @@ class SearchResult(OptimizeResult):
 
 
 def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False, starts=None,
-                    margin: float = 0.0, proves=None) -> Candidate:
+                    margin: float = 0.0, proves=None, neighbour: Evaluation | None = None) -> Candidate:
     """Solve one material x family from several starts (``problem.starts()`` unless given); fall
     back to another method when no start gives a verified design. Every answer is rounded and
     checked. IPOPT keeps every constraint ``margin`` inside its limit. ``proves``, if given, is
     called when IPOPT's first start ends in an infeasibility verdict and returns a note and the
     solves it ran: with a note (a relaxation covering this material is infeasible too,
-    ``optimize``), the other starts and the fallback are not run and the note joins the fallbacks."""
+    ``optimize``), the other starts and the fallback are not run and the note joins the fallbacks.
+    ``neighbour``: a trade-off front's design at the neighbouring level (``ongrid.closer_on_the_grid``)."""
     spec = problem.spec
     params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
@@ -130,7 +131,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                     s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
                                       f"{m} start {i + 1}")
             if m == "ipopt" and s.success and ev.feasible:
-                ev = closer_on_the_grid(problem, params, material, s, ev)
+                ev = closer_on_the_grid(problem, params, material, s, ev, neighbour)
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
@@ -267,7 +268,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
             proves = (None if why or method != "ipopt" or any((m.name, fam) in warm for m in [mat] + rest)
                       else _relaxing(problem, mat, rest, usual, relaxed, done, proved))
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
-                    else solve_candidate(problem, mat, method, proves=proves,
+                    else solve_candidate(problem, mat, method, proves=proves, neighbour=start,
                                          starts=usual if start is None else [_start_from(problem, start)] + usual))
             if any(x is cand.winner for x in usual):  # the next material is near it: that start first
                 usual = [cand.winner] + [x for x in usual if x is not cand.winner]
