@@ -21,7 +21,7 @@ ROUNDING_MARGINS = (1e-4, 1e-3, 1e-2, 5e-2)  # those below the violation roundin
 
 
 def back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, solves: list, fallbacks: list,
-             where: str):
+             where: str, front: bool = False):
     """Rounding broke a limit. First the grid around the answer is searched with the numeric
     model alone (``_nearby_on_the_grid``); its best is taken if it costs at most NEARBY_GAP over
     the continuous answer. Otherwise the section sizes are also held at each of their neighbouring
@@ -30,14 +30,16 @@ def back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
     checks out are the limits that rounding broke (and no other) tightened, by each of ROUNDING_MARGINS
     in turn from the first as large as the violation rounding caused; the first answer whose
     rounded design breaks no limit of the NLP replaces it (under the error objective it may still
-    miss the targets: a verdict)."""
+    miss the targets: a verdict). For a trade-off ``front``'s point the numeric grid's best is taken
+    whatever it costs, and the section is not held on the grid (a front is a plotted trend; those
+    re-solves took a third of the gripper finger's fronts)."""
     near = _nearby_on_the_grid(problem, material, s)
-    if near is not None and (in_nlp_units(near.objective, problem.spec.objective)
+    if near is not None and (front or in_nlp_units(near.objective, problem.spec.objective)
                              <= float(problem.functions(s.x, params)[0]) * (1 + NEARBY_GAP)):
         fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
                          "taken instead")
         return s, near
-    on_grid = _on_the_grid(problem, params, material, s, solves)
+    on_grid = None if front else _on_the_grid(problem, params, material, s, solves)
     if near is not None and (on_grid is None or not on_grid[1].feasible or model.ranks_before(near, on_grid[1])):
         fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
                          "taken instead (it beats the section held on the grid and the rest solved again)")

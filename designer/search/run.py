@@ -129,7 +129,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                                       + ", ".join(v.name for v in ev.violations))
                 if m == "ipopt":
                     s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
-                                      f"{m} start {i + 1}")
+                                      f"{m} start {i + 1}", front=neighbour is not None)
             if m == "ipopt" and s.success and ev.feasible:
                 ev = closer_on_the_grid(problem, params, material, s, ev, neighbour)
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
