@@ -11,7 +11,7 @@ from designer import model
 from designer.errors import InputError
 from designer.result.evaluation import ROUNDING, Evaluation, evaluate
 from designer.search.problem import MM, FamilyProblem, Solve, in_nlp_units
-from designer.search.rounding import floor_ceil, only_targets_missed, pick, round_and_check
+from designer.search.rounding import GridBox, floor_ceil, only_targets_missed, pick, round_and_check
 
 # When rounding to 0.01 mm breaks a limit that IPOPT's answer met, and no section on the grid
 # near it checks out with the rest solved again (``_on_the_grid``), IPOPT solves again with the
@@ -120,9 +120,10 @@ def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve) -> Evaluatio
     if ev is None or not ev.feasible:
         return None
     for _ in range(GRID_STEPS):
-        moved = round_and_check(ev.design, spec, reach=GRID_REACH, lowest=True)
+        box = GridBox.around(ev.design, spec, reach=GRID_REACH)
+        moved = None if box is None else box.choose(lowest=True)
         if moved is None or not moved.feasible or not moved.objective < ev.objective:
-            break
+            return round_and_check(ev.design, spec, reach=GRID_REACH) if box is None else box.choose()
         ev = moved
     return round_and_check(ev.design, spec, reach=GRID_REACH)
 

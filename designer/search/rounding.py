@@ -37,52 +37,73 @@ def round_and_check(design: Design, spec, reach: int = 0, lowest: bool = False) 
     ``lowest``, the combination with the lowest objective that meets every limit is chosen instead
     of the tie rule's.
     """
-    g = design.geometry
-    fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
-    if g.axes == 2 and g.section == "rectangle":
-        fields_.remove("height")  # a biaxial rectangle is square
-    if design.stock is not None:
-        fields_ = []  # a stock section is what the table says it is
-    fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
-    stations = [float(s) for s in g.stations]
-    choices = [floor_ceil(float(getattr(g, f)), reach) for f in fields_]
-    station_choices = [floor_ceil(s) for s in stations]
-    for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
-        station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
-    combos = np.array(list(itertools.product(*choices, *station_choices)))
-    named = {f: combos[:, i] for i, f in enumerate(fields_)}
-    if g.axes == 2 and g.section == "rectangle" and "width" in named:
-        named["height"] = named["width"]
-    st = combos[:, len(fields_):]
-    # the wire channels' depth follows the rounded pocket's, as the CAD cuts them
-    trial = channelled(replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
-                               length=round(float(g.length) / ROUNDING) * ROUNDING, **named), spec.cad)
-    params = design.material_params(spec)
-    with np.errstate(all="ignore"):
-        a = model.analyse(trial, params, spec, adjust=design.adjustment)
-        lims = model.limits(trial, a, params, spec)
-        viol = np.maximum(model.worst_normalised(lims, len(combos)),
-                          tolerance.worst(trial, params, spec, design.adjustment))
-        objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
-        deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
-        mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))
-    valid = np.isfinite(viol) & np.isfinite(objective) & np.all(np.diff(st, axis=1) > 0, axis=1)
-    if not valid.any():
-        return None
-    feasible = valid & (viol <= model.FEASIBILITY_TOLERANCE)
-    if feasible.any():
-        lead = objective[feasible].min()
-        band = feasible & (objective == lead if lowest else model.ties(objective, lead))
-        idx = np.flatnonzero(band)
-        best = idx[np.lexsort((objective[idx], mass[idx], deflection[idx]))[0]]
-    else:
-        best = int(np.argmin(np.where(valid, viol, np.inf)))
-    chosen = channelled(replace(g, stations=tuple(float(v) for v in st[best]), length=float(trial.length),
-                                **{f: float(v[best]) for f, v in named.items()}), spec.cad)
-    try:
-        return evaluate(Design(design.material, chosen, design.adjustment, design.stock), spec)
-    except InputError:
-        return None
+    box = GridBox.around(design, spec, reach)
+    return None if box is None else box.choose(lowest)
+
+
+class GridBox:
+    """The grid points around a design (``round_and_check``), judged at once with the numeric model."""
+
+    def __init__(self, design: Design, spec, trial, named: dict, st, viol, objective, deflection, mass, valid):
+        self.design, self.spec, self.trial, self.named, self.st = design, spec, trial, named, st
+        self.viol, self.objective, self.deflection, self.mass, self.valid = viol, objective, deflection, mass, valid
+
+    @classmethod
+    def around(cls, design: Design, spec, reach: int = 0) -> "GridBox | None":
+        """The box of ``round_and_check``; None when no point of it can be evaluated."""
+        g = design.geometry
+        fields_ = [f for f in ("width", "height", "diameter", "wall") if getattr(g, f) is not None]
+        if g.axes == 2 and g.section == "rectangle":
+            fields_.remove("height")  # a biaxial rectangle is square
+        if design.stock is not None:
+            fields_ = []  # a stock section is what the table says it is
+        fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
+        stations = [float(s) for s in g.stations]
+        choices = [floor_ceil(float(getattr(g, f)), reach) for f in fields_]
+        station_choices = [floor_ceil(s) for s in stations]
+        for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
+            station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
+        combos = np.array(list(itertools.product(*choices, *station_choices)))
+        named = {f: combos[:, i] for i, f in enumerate(fields_)}
+        if g.axes == 2 and g.section == "rectangle" and "width" in named:
+            named["height"] = named["width"]
+        st = combos[:, len(fields_):]
+        # the wire channels' depth follows the rounded pocket's, as the CAD cuts them
+        trial = channelled(replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
+                                   length=round(float(g.length) / ROUNDING) * ROUNDING, **named), spec.cad)
+        params = design.material_params(spec)
+        with np.errstate(all="ignore"):
+            a = model.analyse(trial, params, spec, adjust=design.adjustment)
+            lims = model.limits(trial, a, params, spec)
+            viol = np.maximum(model.worst_normalised(lims, len(combos)),
+                              tolerance.worst(trial, params, spec, design.adjustment))
+            objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
+            deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
+            mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))
+        valid = np.isfinite(viol) & np.isfinite(objective) & np.all(np.diff(st, axis=1) > 0, axis=1)
+        if not valid.any():
+            return None
+        return cls(design, spec, trial, named, st, viol, objective, deflection, mass, valid)
+
+    def choose(self, lowest: bool = False) -> Evaluation | None:
+        """The box's best point, evaluated on its own (``round_and_check``'s choice)."""
+        objective, valid = self.objective, self.valid
+        feasible = valid & (self.viol <= model.FEASIBILITY_TOLERANCE)
+        if feasible.any():
+            lead = objective[feasible].min()
+            band = feasible & (objective == lead if lowest else model.ties(objective, lead))
+            idx = np.flatnonzero(band)
+            best = idx[np.lexsort((objective[idx], self.mass[idx], self.deflection[idx]))[0]]
+        else:
+            best = int(np.argmin(np.where(valid, self.viol, np.inf)))
+        design = self.design
+        chosen = channelled(replace(design.geometry, stations=tuple(float(v) for v in self.st[best]),
+                                    length=float(self.trial.length),
+                                    **{f: float(v[best]) for f, v in self.named.items()}), self.spec.cad)
+        try:
+            return evaluate(Design(design.material, chosen, design.adjustment, design.stock), self.spec)
+        except InputError:
+            return None
 
 
 def pick(evaluations: list) -> Evaluation | None:
