@@ -249,6 +249,24 @@ def tolerance_markdown(tol: dict) -> list[str]:
     return lines + [limit_row(c, c["corner"]) for c in tol["constraints"]]
 
 
+def general_tolerance_markdown(tol: dict) -> list[str]:
+    """The design at the corners of the drawing's general tolerances, which were not checked."""
+    broken = [c for c in tol["constraints"] if not c["satisfied"]]
+    low, high = tol["sensitivity_spread"]
+    lines = ["## Tolerances", "",
+             f"Not checked (the spec names no `tolerances:`): the limits above are judged at the nominal "
+             f"sizes. The drawing asks for the general tolerances of {tol['label']}; at their {tol['corners']} "
+             "corners (every toleranced size at its nominal ± deviation) "
+             + (f"{len(broken)} {'limits break' if len(broken) > 1 else 'limit breaks'}, each at its worst corner below. "
+                f"Give `tolerances: {{class: {tol['class']}}}` in the spec to have the search keep every limit "
+                "at every corner." if broken else "every limit holds.")
+             + f" Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}.", ""]
+    if broken:
+        lines += ["| limit | worst corner | value | bound | margin | |", "|---|---|---|---|---|---|"]
+        lines += [limit_row(c, c["corner"]) for c in broken]
+    return lines
+
+
 def limit_row(c: dict, *before) -> str:
     """A design.json constraint record as a row of the report's limit tables, after ``before``."""
     flag = "**violated**" if not c["satisfied"] else ("binds" if c["active"] else "")
@@ -274,6 +292,8 @@ def markdown(record: dict) -> str:
     lines += [limit_row(c) for c in record["constraints"]]
     if record.get("tolerances"):
         lines += [""] + tolerance_markdown(record["tolerances"])
+    elif record.get("general_tolerances"):
+        lines += [""] + general_tolerance_markdown(record["general_tolerances"])
     budget = record["predicted"].get("budget")
     if budget is not None:
         lines += ["", "## Error budget", "", budget_caption(budget) + ".", "",

@@ -29,6 +29,8 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
         record["predicted"]["budget"] = budget_record(spec, evaluation)
     if evaluation.tolerance is not None:
         record["tolerances"] = tolerance_record(spec, evaluation)
+    elif (general := general_tolerance_record(spec, evaluation)) is not None:
+        record["general_tolerances"] = general
     if evaluation.large_deflection:
         record["messages"].append(large_deflection_message(evaluation))
     if extra:
@@ -43,6 +45,30 @@ def tolerance_record(spec, evaluation: Evaluation) -> dict:
     check = evaluation.tolerance
     return {"label": spec.tolerances.label(), "deviations": dict(check.deviations), "corners": check.count,
             "constraints": check.records(), "sensitivity_spread": list(check.sensitivity)}
+
+
+# The general tolerances the drawing asks for when the spec names none (outputs.drawing.sheet).
+DRAWING_CLASS = "m"
+
+
+def general_tolerance_record(spec, evaluation: Evaluation) -> dict | None:
+    """Without ``tolerances:`` in the spec the search judges nominal sizes only, while the drawing
+    asks for the general tolerances of ISO 2768-m: the design at their corners (docs/model.md §14),
+    as ``tolerance_record`` gives it, with ``checked: false``. None when the model cannot judge the
+    corners (a design that is not a beam)."""
+    from dataclasses import replace
+
+    from designer.model import tolerance, unbuildable
+    from designer.spec.tolerances import Tolerances
+
+    design = evaluation.design
+    if unbuildable(design.geometry) is not None:
+        return None
+    drawn = replace(spec, tolerances=Tolerances(DRAWING_CLASS))
+    check = tolerance.check(design.geometry, design.material_params(drawn), drawn, design.adjustment)
+    return {"label": drawn.tolerances.label(), "class": DRAWING_CLASS, "checked": False,
+            "deviations": dict(check.deviations),
+            "corners": check.count, "constraints": check.records(), "sensitivity_spread": list(check.sensitivity)}
 
 
 def front_end_record(spec, evaluation: Evaluation) -> dict | None:

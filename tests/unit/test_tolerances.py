@@ -96,6 +96,33 @@ def test_a_design_that_passes_nominally_fails_at_a_corner_and_the_search_avoids_
     assert held.best.objective > nominal.objective  # the room for the tolerances costs accuracy
 
 
+def test_without_tolerances_the_record_says_which_limits_break_at_the_drawings_general_tolerances():
+    # The gripper's untoleranced optimum: the search judged nominal sizes only, while its drawing
+    # asks for ISO 2768-m. design.json's general_tolerances and report.md say so, with each broken
+    # limit at its worst corner. Reference: every corner built and judged on its own (_each_corner).
+    from designer.outputs.report import markdown
+
+    plain = load_spec(EXAMPLES / "gripper-finger.yaml")
+    drawn = replace(plain, tolerances=Tolerances("m"))
+    nominal = optimize(plain).best
+    record = json.loads(json.dumps(build_record("optimal", plain, nominal)))
+    assert "tolerances" not in record
+    general = record["general_tolerances"]
+    assert general["label"] == "ISO 2768-m" and general["checked"] is False and general["corners"] == 4
+    broken = [c for c in general["constraints"] if not c["satisfied"]]
+    assert {c["name"] for c in broken} >= {"fatigue_feature"}
+    reference = _each_corner(nominal, drawn)
+    assert reference > 0.05
+    limits = {lim.name: lim for lim in evaluate(nominal.design, drawn).tolerance.limits}
+    assert max(float(limits[c["name"]].normalised) for c in broken) == pytest.approx(reference, rel=1e-9)
+    text = markdown(record)
+    assert "Not checked (the spec names no `tolerances:`)" in text and "ISO 2768-m" in text
+    assert all(f"| {c['name']} | {c['corner']} |" in text for c in broken)
+    # with the tolerances checked, the record carries them instead
+    held = optimize(drawn).best
+    assert "general_tolerances" not in build_record("optimal", drawn, held)
+
+
 @pytest.mark.parametrize("tolerances, key, allowed", [
     ({"class": "H7"}, "tolerances.class", "f, m, c, v"),
     ({"section": "-0.1 mm"}, "tolerances.section", "0 to 5 mm"),
