@@ -75,12 +75,31 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         rows.insert(3, ("stock", d["stock"]["label"]))
     if record.get("stock"):
         rows.insert(4 if d.get("stock") else 3, ("continuous optimum", continuous_text(record["stock"])))
+    tolerances = tolerance_text(record)
+    if tolerances:
+        rows.append(("tolerances", tolerances))
     if d.get("adjustment"):
         rows.append(("model factors (3-D / model)", factors_text(d["adjustment"])))
     rounds = record.get("verify_rounds")
     if rounds:
         rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def tolerance_text(record: dict) -> str:
+    """The tolerance corners in a line: the checked class and whether every limit holds there, or
+    (without ``tolerances:``) which limits break at the drawing's general tolerances; '' for neither."""
+    checked = record.get("tolerances")
+    tol = checked or record.get("general_tolerances")
+    if not tol:
+        return ""
+    broken = [c for c in tol["constraints"] if not c["satisfied"]]
+    said = ", ".join(f"{c['name']} {c['margin']:+.1%}" for c in broken)
+    if checked:
+        return (f"{tol['label']}: every limit holds at its {tol['corners']} corners" if not broken
+                else f"{tol['label']}: breaks {said} at a corner")
+    return (f"not checked; at the drawing's {tol['label']} every limit holds" if not broken
+            else f"not checked; at the drawing's {tol['label']}: {said} (report.md)")
 
 
 def error_rows(record: dict) -> list[tuple[str, str]]:

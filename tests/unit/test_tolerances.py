@@ -100,7 +100,7 @@ def test_without_tolerances_the_record_says_which_limits_break_at_the_drawings_g
     # The gripper's untoleranced optimum: the search judged nominal sizes only, while its drawing
     # asks for ISO 2768-m. design.json's general_tolerances and report.md say so, with each broken
     # limit at its worst corner. Reference: every corner built and judged on its own (_each_corner).
-    from designer.outputs.report import markdown
+    from designer.outputs.report import markdown, summary_rows
 
     plain = load_spec(EXAMPLES / "gripper-finger.yaml")
     drawn = replace(plain, tolerances=Tolerances("m"))
@@ -118,6 +118,8 @@ def test_without_tolerances_the_record_says_which_limits_break_at_the_drawings_g
     text = markdown(record)
     assert "Not checked (the spec names no `tolerances:`)" in text and "ISO 2768-m" in text
     assert all(f"| {c['name']} | {c['corner']} |" in text for c in broken)
+    rows = dict(summary_rows(record))  # the terminal's summary names them too
+    assert rows["tolerances"].startswith("not checked") and all(c["name"] in rows["tolerances"] for c in broken)
     # with the tolerances checked, the record carries them instead
     held = optimize(drawn).best
     assert "general_tolerances" not in build_record("optimal", drawn, held)
