@@ -244,9 +244,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     warm = warm or {}
     total = len(mats) * len(fams)
     unmachinable = {}
-    # (family, the relaxations' solves, the proving one's answer, the material whose verdict began
-    # it, the others): groups
-    # of materials with no design that meets every limit, found by a relaxation (``_relaxing``)
+    # groups of materials with no design that meets every limit, found by a relaxation
+    # (``_relaxing``): (family, the relaxations' solves, the proving one's answer, the material
+    # whose verdict began it, the others)
     proved = []
     for fam in fams:
         problem = given.get(fam) or FamilyProblem(spec, fam)
