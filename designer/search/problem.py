@@ -50,6 +50,11 @@ IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
 # to a point that minimises the constraint violation. When every start ends so, another method
 # is not tried (on the bench suite such a fallback never found a feasible design).
 IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
+# IPOPT's warm start (``FamilyProblem.solve_ipopt``'s ``warm``): the multipliers of a solve nearby
+# and a small barrier parameter; a trade-off front's level started from its neighbour's answer
+# converges in about half the iterations of a cold start (the gripper finger: 9 -> 4-7)
+WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6, "ipopt.warm_start_bound_push": 1e-9,
+                "ipopt.warm_start_mult_bound_push": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9}
 EPIGRAPH_UPPER = 1e6
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
@@ -81,6 +86,7 @@ class Solve:
     message: str
     evaluations: int
     method: str
+    multipliers: tuple | None = None   # IPOPT's (lam_x, lam_g) at the answer: a warm start for a solve near it
 
 
 @dataclass(frozen=True)
@@ -329,6 +335,8 @@ class FamilyProblem:
             import casadi as ca
 
             opts = dict(IPOPT_OPTIONS, **{"ipopt.tol": IPOPT_TOLERANCE, "ipopt.max_iter": IPOPT_MAX_ITER})
+            if stage == "warm":
+                opts.update(WARM_OPTIONS)
             nlp = self.nlp_secondary if stage == "secondary" else self.nlp
             if stage == "relaxed":
                 par = nlp["p"]
@@ -344,11 +352,26 @@ class FamilyProblem:
         out[[i for i, name in enumerate(self.limit_names) if name in set(names)]] = margin
         return out
 
-    def solve_ipopt(self, params, x0, stage: str = "primary", margin=0.0, fixed=None, box=None) -> Solve:
+    def solve_ipopt(self, params, x0, stage: str = "primary", margin=0.0, fixed=None, box=None,
+                    warm: Solve | None = None) -> Solve:
         """One IPOPT run; ``margin`` (a number, or one per constraint row as ``margins`` gives)
         tightens the constraints to ``g <= -margin``; ``fixed`` maps
         variable indices to values (NLP units) they are held at, ``box`` to ``(low, high)`` bounds
-        that replace the variable's own."""
+        that replace the variable's own. ``warm``: a primary solve near ``x0`` whose multipliers
+        start this one (IPOPT's warm start; solved again cold if that does not succeed)."""
+        if stage == "primary" and warm is not None and self._fits(warm):
+            s = self._solve(params, x0, "warm", margin, fixed, box, warm.multipliers)
+            if s.success:
+                return s
+            cold = self._solve(params, x0, stage, margin, fixed, box)
+            return replace(cold, evaluations=cold.evaluations + s.evaluations)
+        return self._solve(params, x0, stage, margin, fixed, box)
+
+    def _fits(self, warm: Solve) -> bool:
+        return (warm.multipliers is not None and len(warm.multipliers[0]) == self.size
+                and len(warm.multipliers[1]) == self.n_constraints)
+
+    def _solve(self, params, x0, stage, margin, fixed, box, multipliers=None) -> Solve:
         lo, hi = self.bounds()
         x0 = np.array(x0, dtype=float)
         for i, (a, b) in (box or {}).items():
@@ -356,15 +379,16 @@ class FamilyProblem:
             x0[i] = min(max(x0[i], a), b)
         for i, v in (fixed or {}).items():
             lo[i] = hi[i] = x0[i] = v
+        start = {} if multipliers is None else {"lam_x0": multipliers[0], "lam_g0": multipliers[1]}
         s = _run_ipopt(self.ipopt(stage), x0=x0, p=self.with_deviations(params, x0), lbx=lo, ubx=hi, lbg=-np.inf,
-                       ubg=-margin)
+                       ubg=-margin, **start)
         runs = s.evaluations
         for _ in range(DEVIATION_ROUNDS):  # the answer's sizes crossed into another range of the class
             if not s.success or self.deviations(s.x) == self.deviations(x0):
                 break
             x0 = s.x
-            s = _run_ipopt(self.ipopt(stage), x0=x0, p=self.with_deviations(params, x0), lbx=lo, ubx=hi,
-                           lbg=-np.inf, ubg=-margin)
+            s = _run_ipopt(self.ipopt("primary" if stage == "warm" else stage), x0=x0,
+                           p=self.with_deviations(params, x0), lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
             runs += s.evaluations
         return replace(s, evaluations=runs)
 
@@ -407,4 +431,4 @@ def _run_ipopt(solver, **args) -> Solve:
     stats = solver.stats()
     evals = int(stats.get("iter_count", 0))
     return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
-                 evals, "ipopt")
+                 evals, "ipopt", (np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel()))

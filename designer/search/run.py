@@ -15,8 +15,8 @@ from designer.result.evaluation import Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid
-from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, families,
-                                     in_nlp_units)
+from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
+                                     families, in_nlp_units)
 from designer.search.rounding import buildable, only_targets_missed, pick, round_and_check
 from designer.search.stock import same_section, search_stock
 from designer.spec import catalogue
@@ -36,6 +36,7 @@ class Candidate:
     outranked: bool = False                # with search.stock: every row bounded below the chosen design
     tried: tuple = ()                      # the start points the first method ran from, in order
     winner: object = None                  # the start point whose answer was verified, if one was
+    solution: object = None                # the Solve whose answer gave ``evaluation`` (a warm start nearby)
 
     @property
     def status(self) -> str:
@@ -92,14 +93,16 @@ class SearchResult(OptimizeResult):
 
 
 def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False, starts=None,
-                    margin: float = 0.0, proves=None, neighbour: Evaluation | None = None) -> Candidate:
+                    margin: float = 0.0, proves=None, neighbour: Evaluation | None = None,
+                    warm: Solve | None = None) -> Candidate:
     """Solve one material x family from several starts (``problem.starts()`` unless given); fall
     back to another method when no start gives a verified design. Every answer is rounded and
     checked. IPOPT keeps every constraint ``margin`` inside its limit. ``proves``, if given, is
     called when IPOPT's first start ends in an infeasibility verdict and returns a note and the
     solves it ran: with a note (a relaxation covering this material is infeasible too,
     ``optimize``), the other starts and the fallback are not run and the note joins the fallbacks.
-    ``neighbour``: a trade-off front's design at the neighbouring level (``ongrid.closer_on_the_grid``)."""
+    ``neighbour``: a trade-off front's design at the neighbouring level (``ongrid.closer_on_the_grid``),
+    the first start; ``warm``: the solve that gave it, whose multipliers start IPOPT there."""
     spec = problem.spec
     params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
@@ -108,11 +111,12 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     if method in ("grid", "isres", "direct"):
         starts = starts[:1]  # global methods do not depend on the start
     methods = [method, FALLBACK.get(method, "ipopt")]
-    tried, winner, proved = [], None, ""
+    tried, winner, proved, answers = [], None, "", {}
     for m in dict.fromkeys(methods):
         verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
         for i, x0 in enumerate(starts):
-            s = solve(problem, m, params, x0, margin)
+            s = (problem.solve_ipopt(params, x0, margin=margin, warm=warm) if i == 0 and warm is not None and m == "ipopt"
+                 else solve(problem, m, params, x0, margin))
             solves.append(s)
             if m == method:
                 tried.append(x0)
@@ -135,6 +139,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)
+            answers[id(ev)] = s
             evaluation = pick(checked)
             if (proves is not None and i == 0 and m == method == "ipopt" and len(starts) > 1
                     and s.message in IPOPT_INFEASIBLE and not ev.feasible):
@@ -160,7 +165,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                                   "reach); no fallback")
             break
     return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks), tried=tuple(tried),
-                     winner=winner)
+                     winner=winner, solution=answers.get(id(evaluation)))
 
 
 def on_stock(problems: dict, candidates: list) -> list:
@@ -223,14 +228,16 @@ def _unmachinable(spec, fam: Family) -> str:
 
 
 def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True,
-             problems: dict | None = None, warm: dict | None = None, skip=()) -> SearchResult:
+             problems: dict | None = None, warm: dict | None = None, skip=(), warm_solves: dict | None = None
+             ) -> SearchResult:
     """Search every allowed material and section family; return the verified best design.
 
     ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
     ``problems`` maps a family to the ``FamilyProblem`` to solve it with (built here when not
     given); ``warm`` maps ``(material name, family)`` to a checked design (an Evaluation) that
     candidate's solves start from before the usual starts: a trade-off front's neighbouring level
-    (the contenders are then not solved again from every start: the warm start is their other one).
+    (the contenders are then not solved again from every start: the warm start is their other one);
+    ``warm_solves`` maps the same keys to the solves that gave those designs (IPOPT's warm start).
     ``skip`` holds ``(material name, family)`` pairs not solved (no design; a trade-off front's
     candidates that a looser level of its limit already left without a feasible design).
     """
@@ -269,6 +276,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                       else _relaxing(problem, mat, rest, usual, relaxed, done, proved))
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
                     else solve_candidate(problem, mat, method, proves=proves, neighbour=start,
+                                         warm=None if start is None else (warm_solves or {}).get((mat.name, fam)),
                                          starts=usual if start is None else [_start_from(problem, start)] + usual))
             if any(x is cand.winner for x in usual):  # the next material is near it: that start first
                 usual = [cand.winner] + [x for x in usual if x is not cand.winner]
