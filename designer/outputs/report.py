@@ -263,9 +263,14 @@ def tolerance_markdown(tol: dict) -> list[str]:
              f"Built to {tol['label']}; {sizes}: each limit below was checked at all {tol['corners']} corners "
              "(every toleranced size at its nominal ± deviation); its worst corner is shown. "
              f"Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}, which each sensor's "
-             "own calibration absorbs.", "",
-             "| limit | worst corner | value | bound | margin | |", "|---|---|---|---|---|---|"]
-    return lines + [limit_row(c, c["corner"]) for c in tol["constraints"]]
+             "own calibration absorbs.", ""]
+    return lines + corner_table(tol["constraints"])
+
+
+def corner_table(constraints: list) -> list[str]:
+    """Limits at their worst tolerance corners as a table of the report."""
+    return (["| limit | worst corner | value | bound | margin | |", "|---|---|---|---|---|---|"]
+            + [limit_row(c, c["corner"]) for c in constraints])
 
 
 def general_tolerance_markdown(tol: dict) -> list[str]:
@@ -280,10 +285,7 @@ def general_tolerance_markdown(tol: dict) -> list[str]:
                 f"Give `tolerances: {{class: {tol['class']}}}` in the spec to have the search keep every limit "
                 "at every corner." if broken else "every limit holds.")
              + f" Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}.", ""]
-    if broken:
-        lines += ["| limit | worst corner | value | bound | margin | |", "|---|---|---|---|---|---|"]
-        lines += [limit_row(c, c["corner"]) for c in broken]
-    return lines
+    return lines + (corner_table(broken) if broken else [])
 
 
 def limit_row(c: dict, *before) -> str:

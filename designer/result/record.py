@@ -42,8 +42,12 @@ def tolerance_record(spec, evaluation: Evaluation) -> dict:
     """The design at its tolerance corners (docs/model.md §14): the class, each toleranced size's
     deviation (m), each corner-checked limit at its worst corner, and how far the sensitivities k_i
     move across the corners (the least and the greatest k_i / k_i(nominal) - 1)."""
-    check = evaluation.tolerance
-    return {"label": spec.tolerances.label(), "deviations": dict(check.deviations), "corners": check.count,
+    return corner_record(spec.tolerances.label(), evaluation.tolerance)
+
+
+def corner_record(label: str, check) -> dict:
+    """A design at its tolerance corners (a ``model.tolerance.CornerCheck``) as design.json keeps it."""
+    return {"label": label, "deviations": dict(check.deviations), "corners": check.count,
             "constraints": check.records(), "sensitivity_spread": list(check.sensitivity)}
 
 
@@ -66,9 +70,7 @@ def general_tolerance_record(spec, evaluation: Evaluation) -> dict | None:
         return None
     drawn = replace(spec, tolerances=Tolerances(DRAWING_CLASS))
     check = tolerance.check(design.geometry, design.material_params(drawn), drawn, design.adjustment)
-    return {"label": drawn.tolerances.label(), "class": DRAWING_CLASS, "checked": False,
-            "deviations": dict(check.deviations),
-            "corners": check.count, "constraints": check.records(), "sensitivity_spread": list(check.sensitivity)}
+    return {**corner_record(drawn.tolerances.label(), check), "class": DRAWING_CLASS, "checked": False}
 
 
 def front_end_record(spec, evaluation: Evaluation) -> dict | None:

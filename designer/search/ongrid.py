@@ -123,7 +123,7 @@ def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve) -> Evaluatio
         box = GridBox.around(ev.design, spec, reach=GRID_REACH)
         moved = None if box is None else box.choose(lowest=True)
         if moved is None or not moved.feasible or not moved.objective < ev.objective:
-            return round_and_check(ev.design, spec, reach=GRID_REACH) if box is None else box.choose()
+            return None if box is None else box.choose()
         ev = moved
     return round_and_check(ev.design, spec, reach=GRID_REACH)
 

@@ -228,16 +228,15 @@ def _unmachinable(spec, fam: Family) -> str:
 
 
 def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True,
-             problems: dict | None = None, warm: dict | None = None, skip=(), warm_solves: dict | None = None
-             ) -> SearchResult:
+             problems: dict | None = None, warm: dict | None = None, skip=()) -> SearchResult:
     """Search every allowed material and section family; return the verified best design.
 
     ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
     ``problems`` maps a family to the ``FamilyProblem`` to solve it with (built here when not
-    given); ``warm`` maps ``(material name, family)`` to a checked design (an Evaluation) that
-    candidate's solves start from before the usual starts: a trade-off front's neighbouring level
-    (the contenders are then not solved again from every start: the warm start is their other one);
-    ``warm_solves`` maps the same keys to the solves that gave those designs (IPOPT's warm start).
+    given); ``warm`` maps ``(material name, family)`` to a Candidate whose checked design that
+    candidate's solves start from before the usual starts, IPOPT with its solve's multipliers: a
+    trade-off front's neighbouring level (the contenders are then not solved again from every
+    start: the warm start is their other one).
     ``skip`` holds ``(material name, family)`` pairs not solved (no design; a trade-off front's
     candidates that a looser level of its limit already left without a feasible design).
     """
@@ -270,13 +269,14 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                 candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "
                                                                       "level of the same limit",)))
                 continue
-            start = warm.get((mat.name, fam))
+            prior = warm.get((mat.name, fam))
+            start = None if prior is None else prior.evaluation
             rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip and m.name not in done]
             proves = (None if why or method != "ipopt" or any((m.name, fam) in warm for m in [mat] + rest)
                       else _relaxing(problem, mat, rest, usual, relaxed, done, proved))
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
                     else solve_candidate(problem, mat, method, proves=proves, neighbour=start,
-                                         warm=None if start is None else (warm_solves or {}).get((mat.name, fam)),
+                                         warm=None if prior is None else prior.solution,
                                          starts=usual if start is None else [_start_from(problem, start)] + usual))
             if any(x is cand.winner for x in usual):  # the next material is near it: that start first
                 usual = [cand.winner] + [x for x in usual if x is not cand.winner]

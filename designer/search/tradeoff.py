@@ -13,7 +13,7 @@ from dataclasses import replace
 import numpy as np
 
 from designer.search.problem import FamilyProblem, families
-from designer.search.run import optimize
+from designer.search.run import Candidate, optimize
 
 LEVELS = 9
 MATERIALS = 4     # the best distinct materials of the search take part in the fronts
@@ -51,26 +51,26 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
         for i in order:
             level = float(levels[i])
             variant = replace(base, limits=replace(base.limits, **{key: level}))
-            near = found.get(i - 1 if i > centre else i + 1,
-                             [(c.material, c.family, c.evaluation, c.solution) for c in outcome.candidates])
-            warm = {(m, fam): ev for m, fam, ev, _ in near if ev is not None and ev.feasible and fam in graphs}
-            solves = {(m, fam): s for m, fam, ev, s in near if (m, fam) in warm and s is not None}
+            near = found.get(i - 1 if i > centre else i + 1, outcome.candidates)
+            warm = {(c.material, c.family): c for c in near
+                    if c.evaluation is not None and c.evaluation.feasible and c.family in graphs}
             # the limit tightens as the deflection's level falls or the frequency's rises: a
             # candidate with no feasible design at the looser neighbouring level has none here
             tighter = i <= centre if key == "max_deflection" else i >= centre
             skip = {(m, fam) for m in leading for fam in graphs if (m, fam) not in warm} if tighter else set()
             if len(skip) == len(leading) * len(graphs):
-                found[i] = [(m, fam, None, None) for m in leading for fam in graphs]
+                found[i] = [Candidate(m, fam, None) for m in leading for fam in graphs]
             else:
-                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm, warm_solves=solves,
+                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm,
                                   problems={fam: g.at(variant, level) for fam, g in graphs.items()})
-                found[i] = [(c.material, c.family, c.evaluation, c.solution) for c in result.candidates]
+                found[i] = result.candidates
             done += 1
             if progress is not None:
                 progress(done, len(sweeps) * LEVELS)
         points = []
         for i, level in enumerate(levels):
-            for material, fam, ev, _ in found[i]:
+            for c in found[i]:
+                material, fam, ev = c.material, c.family, c.evaluation
                 # x: the limit the design was solved under; value: its own deflection or
                 # frequency, which the deflection limit's room (docs/model.md §4) keeps below x
                 points.append({"material": material, "section": fam.label, "x": float(level),
