@@ -365,7 +365,7 @@ def candidate_order(record: dict) -> str:
             "the first is the reported design.")
     if any(c.get("status") == "outranked" for c in record.get("candidates", [])):
         text += (" Outranked: no stock size was solved, as the family's continuous optimum (≥, a bound on "
-                 "every stock size) already ranks below the chosen stock design.")
+                 "every stock size) already ranks below the chosen design.")
     return text
 
 

@@ -78,13 +78,13 @@ def design(spec, options: DesignOptions = DesignOptions()) -> DesignResult:
 def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
     """The trade-off fronts around an optimised design (``search.tradeoff``), or None where they do
     not apply: no optimum, an objective other than the error, a design the 3-D check corrected
-    (the fronts are the plain model's, and such a design is not on them) or a stock design (the
-    fronts are of continuous sizes)."""
+    (the fronts are the plain model's, and such a design is not on them) or a search on stock (the
+    fronts are of continuous sizes, but for tubes, which are always from stock)."""
     found, correction = result.search, result.correction
     if found is None or not found.success or spec.objective != "error" or (correction and correction.corrected):
         return None
-    if found.best.design.stock is not None:
-        return None  # the fronts are of continuous sizes; a stock design is not on them
+    if spec.search.stock != "none":
+        return None  # the fronts are of continuous sizes (tubes apart); a stock design is not on them
     from designer.search.tradeoff import fronts
 
     return fronts(spec, found, progress=None if progress is None else

@@ -3,12 +3,14 @@
 A dense grid over every variable of a family (the section, the feature and the first and
 last station) is evaluated at once with the numeric model; the best grid points are then
 polished by scipy's SLSQP with finite differences, rounded and checked; with tolerances, every
-limit is judged at the corners throughout (``model.tolerance``). It is slow and
+limit is judged at the corners throughout (``model.tolerance``). A family whose sections come from
+stock (tubes always) is searched so with its section held at each row in turn. It is slow and
 thorough: the yardstick the optimiser's answers are measured against (tests, ``bench``).
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 
 import numpy as np
 
@@ -17,33 +19,55 @@ from designer.model import MaterialParams, tolerance
 from designer.result.evaluation import Evaluation
 from designer.search.problem import MM, Family, FamilyVariables, families, in_nlp_units
 from designer.search.rounding import pick, round_and_check
+from designer.search.stock import on_stock, stock_rows, stock_system
 
 POLISH_STARTS = 6
 
 
 def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluation | None:
-    """Best verified design of one material and family by grid + polish (None if none evaluates)."""
+    """Best verified design of one material and family by grid + polish (None if none evaluates).
+    A family on stock (``stock.stock_system``: tubes always) is gridded and polished row by row,
+    its section held at each row's sizes."""
     problem = FamilyVariables.of(spec, family)  # variables and bounds only: no casadi graph
     mat = MaterialParams.of(material, spec.limits)
-    x = _grid(problem, levels)
+    if stock_system(spec, family) == "none":
+        rows, held = [None], [problem]
+    else:
+        rows, _ = stock_rows(problem, material)
+        held = [_held(problem, mm) for _, mm, _ in rows]
+    grids = [_grid(p, levels) for p in held]
+    x = np.concatenate(grids) if grids else np.empty((0, len(problem.names)))
+    which = np.repeat(np.arange(len(grids)), [len(g) for g in grids])
     f, viol = _evaluate(problem, mat, x)
-    order = np.lexsort((f, viol > 0))
-    starts = x[order[:POLISH_STARTS]]
+    order = np.lexsort((f, viol > 0))[:POLISH_STARTS]
     checked = []
-    for x0 in starts:
-        for candidate in (x0, _polish(problem, mat, x0)):
-            ev = round_and_check(problem.design(candidate, material), spec)
+    for x0, k in zip(x[order], which[order]):
+        for candidate in (x0, _polish(held[k], mat, x0)):
+            design = problem.design(candidate, material)
+            if rows[k] is not None:
+                design = on_stock(design, rows[k][0], rows[k][2])
+            ev = round_and_check(design, spec)
             if ev is not None:
                 checked.append(ev)
     return pick(checked)
 
 
+def _held(problem: FamilyVariables, sizes: dict) -> FamilyVariables:
+    """``problem`` with the variables of ``sizes`` (mm by variable index) held at those values."""
+    lower, upper = problem.lower.copy(), problem.upper.copy()
+    for i, v in sizes.items():
+        lower[i] = upper[i] = v
+    return replace(problem, lower=lower, upper=upper)
+
+
 def _grid(problem: FamilyVariables, levels: int) -> np.ndarray:
-    """Every variable on ``levels`` points; inner stations evenly between the first and last."""
+    """Every variable on ``levels`` points (one where it is held); inner stations evenly between
+    the first and last."""
     names = problem.names
     n_st = problem.spec.stations
     free = [i for i, n in enumerate(names) if not n.startswith("station_") or n in ("station_1", f"station_{n_st}")]
-    axes = [np.linspace(problem.lower[i], problem.upper[i], levels) for i in free]
+    axes = [np.linspace(problem.lower[i], problem.upper[i], levels if problem.upper[i] > problem.lower[i] else 1)
+            for i in free]
     mesh = np.meshgrid(*axes, indexing="ij")
     x = np.empty((mesh[0].size, len(names)))
     for j, i in enumerate(free):

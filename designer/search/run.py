@@ -18,7 +18,7 @@ from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_gr
 from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
                                      families, in_nlp_units)
 from designer.search.rounding import buildable, only_targets_missed, pick, round_and_check
-from designer.search.stock import same_section, search_stock
+from designer.search.stock import same_section, search_stock, stock_rows, stock_system
 from designer.spec import catalogue
 
 
@@ -31,9 +31,9 @@ class Candidate:
     evaluation: Evaluation | None
     solves: tuple = ()
     fallbacks: tuple = ()
-    continuous: Evaluation | None = None   # with search.stock: the continuous answer the stock search began from
-    stock_note: str = ""                   # with search.stock: why no stock row meets every limit
-    outranked: bool = False                # with search.stock: every row bounded below the chosen design
+    continuous: Evaluation | None = None   # on stock: the continuous answer the stock search began from
+    stock_note: str = ""                   # on stock: why no stock row meets every limit
+    outranked: bool = False                # on stock: every row bounded below the chosen design
     tried: tuple = ()                      # the start points the first method ran from, in order
     winner: object = None                  # the start point whose answer was verified, if one was
     solution: object = None                # the Solve whose answer gave ``evaluation`` (a warm start nearby)
@@ -169,24 +169,36 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
 
 
 def on_stock(problems: dict, candidates: list) -> list:
-    """Every candidate with its section a row of the stock catalogue (``search.stock``), searched
-    from its continuous answer (``search.stock.search_stock``). The candidates go best continuous
-    answer first, and the best stock design so far caps the others' search: a family whose rows are
-    all bounded above it is ``outranked`` without a row solved. Sets of rows that a relaxation
-    shows infeasible are dropped; when that leaves no stock design that meets every limit, the
-    search runs again keeping them, so that the least-infeasible stock design is reported."""
+    """Every candidate whose family's sections come from stock (``search.stock``, and tubes
+    always: ``stock.stock_system``) with its section a row of the stock catalogue, searched from
+    its continuous answer (``search.stock.search_stock``). The candidates go best continuous
+    answer first, and the best design so far (on stock, or of continuous sizes in a family that
+    is not on stock) caps the others' search: a family whose rows are all bounded above it is
+    ``outranked`` without a row solved. Sets of rows that a relaxation shows infeasible are
+    dropped; when that leaves no design that meets every limit, the search runs again keeping
+    them, so that the least-infeasible stock design is reported."""
+    if not any(stock_system(problems[c.family].spec, c.family) != "none" for c in candidates):
+        return candidates
     found = _on_stock(problems, candidates, prune_infeasible=True)
     if any(c.evaluation is not None and c.evaluation.feasible for c in found):
         return found
+    if any(c.evaluation is not None and stock_system(problems[c.family].spec, c.family) == "none" for c in found):
+        return found  # a bar of continuous sizes is the least infeasible design; tubes add no better one
     return _on_stock(problems, candidates, prune_infeasible=False)
 
 
 def _on_stock(problems: dict, candidates: list, prune_infeasible: bool) -> list:
-    order = sorted(range(len(candidates)), key=lambda i: _continuous_key(candidates[i]))
-    out, cap = list(candidates), math.inf
+    stocked = [stock_system(problems[c.family].spec, c.family) != "none" for c in candidates]
+    order = sorted((i for i in range(len(candidates)) if stocked[i]), key=lambda i: _continuous_key(candidates[i]))
+    out = list(candidates)
+    cap = min((c.evaluation.objective for c, s in zip(candidates, stocked)
+               if not s and c.evaluation is not None and c.evaluation.feasible), default=math.inf)
+    # under stock: none (tubes alone on stock) a tube with no feasible continuous design is not
+    # searched row by row unless nothing else has a design (``on_stock``)
+    tubes_only = prune_infeasible and problems[candidates[0].family].spec.search.stock == "none"
     for i in order:
         cand = candidates[i]
-        if math.isfinite(cap) and (cand.evaluation is None or not cand.evaluation.feasible):
+        if (math.isfinite(cap) or tubes_only) and (cand.evaluation is None or not cand.evaluation.feasible):
             # no design of continuous sizes met every limit, so no stock size (a subset) can
             out[i] = replace(cand, evaluation=None, continuous=cand.evaluation,
                              stock_note=f"{cand.material} {cand.family.label}: no design of continuous sizes meets "
@@ -194,8 +206,15 @@ def _on_stock(problems: dict, candidates: list, prune_infeasible: bool) -> list:
             continue
         problem = problems[cand.family]
         material = catalogue.material(cand.material, "search.materials")
+        rows, note = stock_rows(problem, material)
+        if not rows:
+            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation, stock_note=note)
+            continue
+        if cand.evaluation is not None and cand.evaluation.objective > cap * (1 + model.TIE_TOLERANCE):
+            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation, outranked=True)
+            continue  # its continuous optimum bounds every row: none can rank before the cap
         x0 = _start_from(problem, cand.evaluation) if cand.evaluation is not None else problem.starts()[0]
-        found = search_stock(problem, material, x0, cap=cap, prune_infeasible=prune_infeasible)
+        found = search_stock(problem, material, x0, rows=rows, cap=cap, prune_infeasible=prune_infeasible)
         ev = found.evaluation
         out[i] = replace(cand, evaluation=ev, solves=cand.solves + found.solves, continuous=cand.evaluation,
                          stock_note=found.note if ev is None or not ev.feasible else "", outranked=found.outranked)
@@ -287,8 +306,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         candidates = _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
-    if spec.search.stock != "none":
-        candidates = on_stock(problems, candidates)
+    candidates = on_stock(problems, candidates)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
     seconds = time.perf_counter() - t0
@@ -316,6 +334,10 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
             raise SpecError(f"search.stock: {spec.search.stock!r} leaves no stock size to try: "
                             + "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))
                             + "; try stock: any, other materials or sections, or wider limits")
+        if any(c.stock_note for c in candidates):
+            raise SpecError("search.sections: " + ", ".join(spec.search.sections) + " leaves no size to try: "
+                            + "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))
+                            + "; try rectangle or round sections, other materials, or wider limits")
         raise SolverError("no solver returned a design that could be evaluated; try another method")
     best = candidates[0].evaluation
     if best.feasible:
@@ -327,7 +349,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     if best.design.stock is not None:
         message = f"{best.design.label()} ({best.design.stock.label}) " + ("meets every limit" if best.feasible
                                                                          else "is the least infeasible stock design")
-    continuous = [c.continuous for c in candidates if c.continuous is not None and c.continuous.feasible]
+    continuous = [c.continuous for c in candidates if spec.search.stock != "none" and c.continuous is not None
+                  and c.continuous.feasible]
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
                         candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations,
                         continuous=model.rank(continuous)[0] if continuous else None)
@@ -421,11 +444,16 @@ def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str 
             margin: float = 0.0) -> Candidate:
     """``previous``'s material and ``family`` solved again with the model adjusted by
     ``adjustment`` (a ``model.Adjustment``), from ``previous`` first and then the usual starts;
-    IPOPT keeps every constraint ``margin`` inside its limit. No tie-break stage: it would
-    move the design back onto the limits the margin keeps it off."""
+    IPOPT keeps every constraint ``margin`` inside its limit. A family on stock
+    (``stock.stock_system``) has its rows searched again, the section staying a row. No tie-break
+    stage: it would move the design back onto the limits the margin keeps it off."""
     problem = FamilyProblem(spec, family, adjustment)
+    material = previous.design.material
+    if stock_system(spec, family) != "none":  # the section stays a stock row: the rows are searched again
+        found = search_stock(problem, material, _start_from(problem, previous), margin=margin)
+        return Candidate(material.name, family, found.evaluation, found.solves, stock_note=found.note)
     starts = [_start_from(problem, previous)] + problem.starts()
-    return solve_candidate(problem, previous.design.material, method, starts=starts, margin=margin)
+    return solve_candidate(problem, material, method, starts=starts, margin=margin)
 
 
 # Candidates whose verified objective is within this of the best are solved from every start, not

@@ -1,7 +1,8 @@
 """The discrete section search: the best design whose section is a row of the stock catalogue.
 
 A family's section sizes (``SECTION_VARIABLES``) are taken from the rows of the material's
-stock tables (``spec.stock``); stations and pocket depth stay continuous. The rows are searched by
+stock tables (``stock_system``: ``search.stock``, and for a tube always, as no bore is made but
+from tube stock); stations and pocket depth stay continuous. The rows are searched by
 branch and bound over boxes of rows: the NLP with the section sizes bounded to the box around a set
 of rows is a relaxation of every row in the set, so its optimum bounds their objectives from below.
 Sets are taken best bound first and split until a set is one row, which is solved with its section
@@ -41,6 +42,15 @@ class StockOutcome:
     outranked: bool = False     # every row is bounded above ``cap``: none was solved
 
 
+def stock_system(spec, family) -> str:
+    """The stock tables ``family``'s sections come from under ``spec``: ``search.stock``, or with
+    ``stock: none`` ``any`` for a tube (a bore through a bar's length is not drilled: the tube is
+    bought) and ``none`` (continuous sizes) for the others."""
+    if spec.search.stock != "none":
+        return spec.search.stock
+    return "any" if family.section == "tube" else "none"
+
+
 def stock_rows(problem: FamilyProblem, material) -> tuple[list, str]:
     """``([(StockItem, sizes in mm by variable index, sizes in m by name)], note)``: the rows of ``material``'s
     stock tables for this family inside the NLP's variable bounds; the note says why there are
@@ -48,15 +58,18 @@ def stock_rows(problem: FamilyProblem, material) -> tuple[list, str]:
     spec, fam = problem.spec, problem.family
     table = catalogue.stock()
     family = table.family_of(material.name)
-    rows = table.rows(material.name, fam.section, spec.search.stock, spec.axes)
-    systems = "metric and imperial" if spec.search.stock == "any" else spec.search.stock
+    system = stock_system(spec, fam)
+    rows = table.rows(material.name, fam.section, system, spec.axes)
+    systems = "metric and imperial" if system == "any" else system
     shapes = {"round": "round bar", "tube": "round tube", "rectangle": "flat or square bar"}[fam.section]
+    why = "" if spec.search.stock != "none" else \
+        " (with stock: none a tube still comes from tube stock: a bore is not drilled)"
     if family is None:
         return [], (f"{material.name} is in no stock family (a catalogue of your own gives its materials one "
-                    "under stock.families): this family is infeasible on stock")
+                    "under stock.families): this family is infeasible on stock" + why)
     if not rows:
         return [], (f"no {systems} stock {shapes} of {material.name} ({family}) in the stock catalogue: this "
-                    "family is infeasible on stock")
+                    "family is infeasible on stock" + why)
     index = {name: i for i, name in enumerate(problem.names)}
     fitting = []
     for item, values in rows:
@@ -65,7 +78,7 @@ def stock_rows(problem: FamilyProblem, material) -> tuple[list, str]:
             fitting.append((item, mm, values))
     if not fitting:
         return [], (f"none of the {len(rows)} {systems} stock {shapes} sizes of {material.name} fits "
-                    "limits.width, limits.height and limits.min_wall: this family is infeasible on stock")
+                    "limits.width, limits.height and limits.min_wall: this family is infeasible on stock" + why)
     return fitting, ""
 
 
@@ -85,7 +98,7 @@ def same_section(design, like):
 
 
 def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = math.inf,
-                 prune_infeasible: bool = False) -> StockOutcome:
+                 prune_infeasible: bool = False, margin: float = 0.0) -> StockOutcome:
     """The best stock row for one material x family, from ``x0`` (the continuous answer, NLP
     units); ``rows`` (as ``stock_rows`` gives them) limits the search to those rows. ``cap``
     (objective, SI): a design another family has on stock; rows bounded above it by more than the
@@ -95,7 +108,8 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     infeasible holds no row that meets every limit. It is dropped when a design that meets every
     limit is known (the cap, or a row checked here), or always with ``prune_infeasible``: then the
     outcome has no least-infeasible design for such rows (the search runs again without it when
-    no stock design meets every limit, ``run.on_stock``)."""
+    no stock design meets every limit, ``run.on_stock``). IPOPT keeps every constraint ``margin``
+    inside its limit (``run.resolve``)."""
     rows, note = stock_rows(problem, material) if rows is None else (rows, "")
     if not rows:
         return StockOutcome(None, (), 0, 0, note)
@@ -111,7 +125,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
 
     def relax(members, start):
         box = {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
-        s = problem.solve_ipopt(params, start, box=box)
+        s = problem.solve_ipopt(params, start, box=box, margin=margin)
         solves.append(s)
         return s
 
@@ -120,13 +134,14 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
         item, fixed, exact = rows[member]
         found = []
         for x in [start] + problem.starts():
-            s = problem.solve_ipopt(params, x, fixed=fixed)
+            s = problem.solve_ipopt(params, x, fixed=fixed, margin=margin)
             solves.append(s)
             ev = round_and_check(on_stock(problem.design(s.x, material), item, exact), spec)
             if ev is not None and s.success and not ev.feasible and not only_targets_missed(ev, problem.epigraph):
                 broken = [v.name for v in ev.violations]  # rounding the stations or depth broke these
-                for margin in ROW_MARGINS:
-                    s2 = problem.solve_ipopt(params, s.x, fixed=fixed, margin=problem.margins(broken, margin))
+                for tighter in ROW_MARGINS:
+                    s2 = problem.solve_ipopt(params, s.x, fixed=fixed,
+                                           margin=np.maximum(margin, problem.margins(broken, tighter)))
                     solves.append(s2)
                     ev2 = round_and_check(on_stock(problem.design(s2.x, material), item, exact), spec) \
                         if s2.success else None

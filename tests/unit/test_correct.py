@@ -107,6 +107,25 @@ def test_a_design_that_fails_in_3d_is_corrected_and_passes(monkeypatch):
     assert "## 3-D check" in text and "after correction (round 1)" in text
 
 
+def test_a_corrected_tube_stays_a_row_of_the_tube_tables(monkeypatch):
+    """A tube comes from tube stock (no bore is drilled, ``search.stock``), also after a 3-D
+    correction: the round that adjusts the model searches the tube rows again instead of freeing
+    the section. Reference: the stand-in's ratios, as above, and the rows of materials/stock.yaml."""
+    from designer.spec import catalogue
+
+    verify, _ = _stand_in()
+    monkeypatch.setattr("designer.checks.fea.verify_design", verify)
+    spec = parse_spec_text(STIFF_FINGER.replace("sections: [round]", "sections: [tube]"))
+    result = design(spec, DesignOptions(verify=True, verify_mesh="coarse", tradeoff=False))
+    rounds = result.record["verify_rounds"]
+    assert not rounds[0]["passed"] and rounds[-1]["passed"] and len(rounds) >= 2
+    rows = {item for item, _ in catalogue.stock().rows("7075-T6", "tube", "any")}
+    d = result.evaluation.design
+    assert d.stock in rows and (d.geometry.diameter, d.geometry.wall) == d.stock.sizes
+    assert result.record["design"]["adjustment"]["deflection"] == pytest.approx(DEFLECTION_RATIO, rel=1e-12)
+    assert result.verification.deflection_fea <= spec.limits.max_deflection
+
+
 def test_a_loop_that_cannot_pass_reports_the_spec_infeasible_in_3d_with_every_round(monkeypatch):
     verify, calls = _stand_in(stress_over=0.1)
     monkeypatch.setattr("designer.checks.fea.verify_design", verify)

@@ -231,23 +231,62 @@ def test_every_reported_section_is_a_row_of_the_table():
     assert notes[("301-full-hard", "round")].evaluation is None
 
 
-def test_stock_none_is_the_continuous_search_and_never_reads_the_catalogue(monkeypatch):
-    """``stock: none`` (the default) is the search as it was: the stock catalogue is not read,
-    no design carries a stock item, and the gripper finger's objective is no worse, within the 0.1 %
-    tie band, than the exhaustive reference search's (designer/search/reference.py, as
-    benchmarks/bench_optimize.py records it in README.md: 0.338429)."""
+def test_stock_none_keeps_bars_continuous_and_never_reads_the_catalogue(monkeypatch):
+    """``stock: none`` (the default) without tubes is the continuous search: the stock catalogue
+    is not read, no design carries a stock item, and the gripper finger's objective is no worse,
+    within the 0.1 % tie band, than the exhaustive reference search's (designer/search/reference.py,
+    as benchmarks/bench_optimize.py records it in README.md: 0.338429)."""
     def refuse():
         raise AssertionError("search.stock: none read the stock catalogue")
 
     monkeypatch.setattr(catalogue, "stock", refuse)
-    spec = _spec()
+    spec = _spec(sections=("rectangle", "round"))
     assert spec.search.stock == "none"
     found = optimize(spec)
     assert found.x.stock is None and found.get("continuous") is None
     assert found.best.objective <= 0.338429 * (1 + model.TIE_TOLERANCE)
     assert all("stock" not in c.record() for c in found.candidates)
-    explicit = optimize(_spec(stock="none"))
-    assert explicit.best.objective == found.best.objective and explicit.x == found.x
+
+
+def test_with_stock_none_a_tube_is_still_a_row_of_the_tube_tables(monkeypatch):
+    """No bore is drilled through a beam: with ``stock: none`` the tube family's sections are
+    rows of the tube tables (metric and imperial) while bars stay continuous. Reference: every
+    row of the reduced tube table solved with its section held (brute force); the search's tube
+    matches the best within the 0.1 % tie band, and is the row ``stock: any`` chooses."""
+    _reduced(monkeypatch, REDUCED)
+    spec = _spec(materials=("7075-T6",), sections=("tube",))
+    assert spec.search.stock == "none"
+    found = optimize(spec)
+    problem = FamilyProblem(spec, Family("tube", "pocket"))
+    material = catalogue.material("7075-T6")
+    every = [ev for _, ev in brute_force(problem, material, _start_from(problem, found.candidates[0].continuous))
+             if ev is not None and ev.feasible]
+    assert found.success and found.x.stock is not None and found.x.stock.shape == "round tube"
+    assert (found.x.geometry.diameter, found.x.geometry.wall) == found.x.stock.sizes
+    assert found.x.stock.sizes in {(_metres(d, "mm"), _metres(t, "mm"))
+                                   for d, ts in REDUCED["al-tube-metric"].items() for t in ts}
+    assert found.best.objective == pytest.approx(min(ev.objective for ev in every), rel=model.TIE_TOLERANCE)
+    assert found.get("continuous") is None   # not a search on stock: no "stock costs" line
+    assert optimize(_spec(materials=("7075-T6",), sections=("tube",), stock="any")).x.stock == found.x.stock
+
+
+def test_no_reported_design_or_candidate_has_a_bore_without_tube_stock():
+    """The gripper finger with every section and the default ``stock: none``: rectangles and round
+    bars continuous, every tube (chosen or not) a stock item of its material, and the titanium tube,
+    of which there is no stock, infeasible saying so."""
+    found = optimize(_spec())
+    assert found.x.stock is None or found.x.stock.shape == "round tube"
+    tubes = [c for c in found.candidates if c.family.section == "tube"]
+    assert tubes
+    for c in found.candidates:
+        ev = c.evaluation
+        if ev is not None and c.family.section == "tube":
+            assert ev.design.stock is not None and ev.design.stock.shape == "round tube", c.material
+            assert (ev.design.geometry.diameter, ev.design.geometry.wall) == ev.design.stock.sizes
+        elif ev is not None:
+            assert ev.design.stock is None, (c.material, c.family.label)
+    ti = next(c for c in tubes if c.material == "Ti-6Al-4V")
+    assert ti.evaluation is None and "no metric and imperial stock round tube of Ti-6Al-4V" in ti.stock_note
 
 
 def test_an_infeasible_stock_choice_is_bad_input(tmp_path, capsys):
