@@ -138,6 +138,8 @@ def _draw_common(rng, f_range, x_range, materials=(2, 3), sections=(1, 2)) -> _D
     feature = str(rng.choice(["pocket", "pocket", "pocket", "pocket", "none", "hole"]))
     if feature == "hole":
         secs = ["rectangle"]
+    if secs == ["tube"] and not any(catalogue.stock().rows(m, "tube", "any") for m in mats):
+        secs = ["round", "tube"]  # a tube is only bought (docs/model.md §5): a family these materials can make
     f_min = _log_uniform(rng, *f_range[0])
     f_max = f_min * _log_uniform(rng, *f_range[1])
     x_max = _log_uniform(rng, *x_range)

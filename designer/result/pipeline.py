@@ -95,8 +95,31 @@ def evaluate_fixed(spec) -> DesignResult:
     """Judge the spec's fixed ``design:`` block, rounded to 0.01 mm as every reported design is."""
     ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
     messages = [] if ev.feasible else ["the design violates: " + ", ".join(v.name for v in ev.violations)]
+    messages += _bore_not_from_stock(spec, ev.design)
     record = build_record("feasible" if ev.feasible else "infeasible", spec, ev, messages=messages)
     return DesignResult(_with_large_deflection(record), ev)
+
+
+# A fixed tube's sizes match a stock row when each is within half the 0.01 mm step designs are
+# written to (m): a 1/2 x 0.065 in tube written 12.7 x 1.65 mm is that row.
+STOCK_MATCH = 5e-6
+
+
+def _bore_not_from_stock(spec, design) -> list[str]:
+    """A warning when a fixed tube is no tube stock size of its material (``materials/stock.yaml``,
+    metric or imperial): its bore would be drilled along the beam, which the search never offers."""
+    g = design.geometry
+    if g.section != "tube":
+        return []
+    from designer.spec import catalogue
+
+    rows = catalogue.stock().rows(design.material.name, "tube", "any", spec.axes)
+    if any(abs(v["diameter"] - g.diameter) <= STOCK_MATCH and abs(v["wall"] - g.wall) <= STOCK_MATCH for _, v in rows):
+        return []
+    bore = g.diameter - 2 * g.wall
+    return [f"design.section: a tube Ø{g.diameter * 1e3:.2f} x {g.wall * 1e3:.2f} mm is no metric or imperial tube "
+            f"stock size of {design.material.name} (materials/stock.yaml, `fpdesign materials`): its Ø{bore * 1e3:.2f} mm "
+            f"bore would be drilled {g.length * 1e3:.0f} mm deep"]
 
 
 def _with_large_deflection(record: dict) -> dict:

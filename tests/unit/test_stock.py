@@ -352,3 +352,18 @@ def test_with_no_feasible_stock_design_the_least_infeasible_row_is_reported(monk
     assert not found.success
     assert found.x.stock is not None and found.best is not None
     assert not any("IPOPT finds no design" in c.stock_note for c in found.candidates if c.evaluation is not None)
+
+
+def test_evaluate_warns_of_a_fixed_tube_that_is_no_stock_size():
+    """The paper's prototype C, a 6061-T6 tube 12.7 x 1.65 mm, is 1/2 x 0.065 in drawn tube
+    (ASTM B210, in the imperial tube table to 0.01 mm): no warning. With a 2.2 mm wall it is no
+    stock size, and evaluate says its 8.3 mm bore (12.7 - 2 x 2.2) would be drilled the beam's
+    length."""
+    from designer.result.pipeline import evaluate_fixed
+
+    spec = load_spec(EXAMPLES / "prototype-c.yaml")
+    assert not any("stock size" in m for m in evaluate_fixed(spec).record["messages"])
+    thick = replace(spec, design=replace(spec.design, section=replace(spec.design.section, wall=0.0022)))
+    found = [m for m in evaluate_fixed(thick).record["messages"] if "stock size" in m]
+    assert len(found) == 1 and "design.section" in found[0] and "Ø8.30 mm bore" in found[0]
+    assert f"drilled {spec.free_length * 1e3:.0f} mm deep" in found[0]
