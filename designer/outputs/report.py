@@ -331,8 +331,13 @@ def markdown(record: dict) -> str:
             defl = "–" if c.get("deflection") is None else f"{c['deflection'] * 1e3:.3g} mm"
             mass = "–" if c.get("mass") is None else f"{c['mass'] * 1e3:.3g} g"
             status = c["status"] + (" (corrected in 3-D)" if c.get("adjustment") else "")
-            lines.append(f"| {i} | {c['material']} | {c['section']} | {status} | {obj} | {_violation(c)} | {defl} "
+            section = c["section"] + (f" ({c['stock']})" if c.get("stock") else "")
+            lines.append(f"| {i} | {c['material']} | {section} | {status} | {obj} | {_violation(c)} | {defl} "
                          f"| {mass} |")
+        notes = [f"- {c['material']} {c['section']}: {c['stock_note']}" for c in record["candidates"]
+                 if c.get("stock_note") and c.get("objective") is None]
+        if notes:
+            lines += ["", "Without a stock design:", ""] + notes
     solver = record.get("solver", {})
     if solver.get("method") not in (None, "none"):
         lines += ["", "## Solver", "", f"method {solver['method']}, {solver.get('seconds', 0):.3g} s, "

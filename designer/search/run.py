@@ -195,10 +195,10 @@ def _on_stock(problems: dict, candidates: list, prune_infeasible: bool) -> list:
                if not s and c.evaluation is not None and c.evaluation.feasible), default=math.inf)
     # under stock: none (tubes alone on stock) a tube with no feasible continuous design is not
     # searched row by row unless nothing else has a design (``on_stock``)
-    tubes_only = prune_infeasible and problems[candidates[0].family].spec.search.stock == "none"
+    bars_continuous = prune_infeasible and problems[candidates[0].family].spec.search.stock == "none"
     for i in order:
         cand = candidates[i]
-        if (math.isfinite(cap) or tubes_only) and (cand.evaluation is None or not cand.evaluation.feasible):
+        if (math.isfinite(cap) or bars_continuous) and (cand.evaluation is None or not cand.evaluation.feasible):
             # no design of continuous sizes met every limit, so no stock size (a subset) can
             out[i] = replace(cand, evaluation=None, continuous=cand.evaluation,
                              stock_note=f"{cand.material} {cand.family.label}: no design of continuous sizes meets "

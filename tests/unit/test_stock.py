@@ -20,6 +20,8 @@ import yaml
 
 from designer import model
 from designer.cli import main
+from designer.outputs import report
+from designer.result.record import search_record
 from designer.search.problem import Family, FamilyProblem
 from designer.search.run import _start_from, optimize, solve_candidate
 from designer.search.stock import brute_force, search_stock, stock_rows
@@ -274,7 +276,8 @@ def test_no_reported_design_or_candidate_has_a_bore_without_tube_stock():
     """The gripper finger with every section and the default ``stock: none``: rectangles and round
     bars continuous, every tube (chosen or not) a stock item of its material, and the titanium tube,
     of which there is no stock, infeasible saying so."""
-    found = optimize(_spec())
+    spec = _spec()
+    found = optimize(spec)
     assert found.x.stock is None or found.x.stock.shape == "round tube"
     tubes = [c for c in found.candidates if c.family.section == "tube"]
     assert tubes
@@ -287,6 +290,8 @@ def test_no_reported_design_or_candidate_has_a_bore_without_tube_stock():
             assert ev.design.stock is None, (c.material, c.family.label)
     ti = next(c for c in tubes if c.material == "Ti-6Al-4V")
     assert ti.evaluation is None and "no metric and imperial stock round tube of Ti-6Al-4V" in ti.stock_note
+    text = report.markdown(search_record(spec, found))  # the report says why, below its candidate table
+    assert "- Ti-6Al-4V tube: no metric and imperial stock round tube of Ti-6Al-4V" in text
 
 
 def test_an_infeasible_stock_choice_is_bad_input(tmp_path, capsys):
