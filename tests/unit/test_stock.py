@@ -21,6 +21,7 @@ import yaml
 from designer import model
 from designer.cli import main
 from designer.outputs import report
+from designer.outputs.plots.candidates import plot_candidates
 from designer.result.record import search_record
 from designer.search.problem import Family, FamilyProblem
 from designer.search.run import _start_from, optimize, solve_candidate
@@ -290,8 +291,14 @@ def test_no_reported_design_or_candidate_has_a_bore_without_tube_stock():
             assert ev.design.stock is None, (c.material, c.family.label)
     ti = next(c for c in tubes if c.material == "Ti-6Al-4V")
     assert ti.evaluation is None and "no metric and imperial stock round tube of Ti-6Al-4V" in ti.stock_note
-    text = report.markdown(search_record(spec, found))  # the report says why, below its candidate table
+    record = search_record(spec, found)
+    text = report.markdown(record)  # the report says why, below its candidate table
     assert "- Ti-6Al-4V tube: no metric and imperial stock round tube of Ti-6Al-4V" in text
+    # the candidates chart: the titanium tube has no stock size; an outranked tube shows its bound
+    texts = [t.get_text() for t in plot_candidates(record).axes[0].texts]
+    assert "  no stock size (report.md says why)" in texts
+    bounds = [c.continuous.objective for c in tubes if c.outranked]
+    assert bounds and all(any(f"≥ {b:.4g}" in t for t in texts) for b in bounds)
 
 
 def test_an_infeasible_stock_choice_is_bad_input(tmp_path, capsys):

@@ -36,7 +36,7 @@ def plot_candidates(design: Mapping, ax=None):
         colour = C_STATUS.get(row["status"], "#7f7f7f")
         infeasible = row["status"] in ("infeasible", "failed")
         if value is None:
-            ax.text(bottom if log else 0.0, yi, "  no design found", va="center", fontsize=8, color=colour)
+            ax.text(bottom if log else 0.0, yi, "  " + _missing_text(row, scale), va="center", fontsize=8, color=colour)
             continue
         ax.barh(yi, value - bottom, left=bottom, height=0.7, color=colour, alpha=0.45 if infeasible else 0.85,
                 hatch="xx" if infeasible else None, edgecolor="black" if row["chosen"] else colour,
@@ -82,6 +82,16 @@ def plot_candidates(design: Mapping, ax=None):
     return fig
 
 
+def _missing_text(row: Mapping, scale: float) -> str:
+    """What a candidate without a design shows: outranked on stock (with the bound its continuous
+    optimum sets), no stock size that meets every limit, or no design at all."""
+    if row["status"] == "outranked" and row.get("bound") is not None:
+        return f"outranked: every stock size ≥ {fmt_number(row['bound'] * scale, 4)} (its continuous optimum)"
+    if row.get("no_stock"):
+        return "no stock size (report.md says why)"
+    return "no design found"
+
+
 def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
     raw = design.get("candidates") or []
     if not isinstance(raw, Sequence) or isinstance(raw, str):
@@ -99,6 +109,7 @@ def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
                      "deflection": optional_number(c.get("deflection")),
                      "mass": optional_number(c.get("mass")),
                      "worst_violation": optional_number(c.get("worst_violation")),
+                     "bound": optional_number(c.get("continuous_objective")), "no_stock": bool(c.get("stock_note")),
                      "chosen": str(c.get("material")) == s.material and str(c.get("section")) in chosen_labels})
     if not any(r["chosen"] for r in rows):
         rows.append({"material": s.material, "section": s.section, "status": s.status or "feasible",
