@@ -98,7 +98,7 @@ def same_section(design, like):
 
 
 def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = math.inf,
-                 prune_infeasible: bool = False, margin: float = 0.0) -> StockOutcome:
+                 prune_infeasible: bool = False, margin: float = 0.0, every_row: bool = False) -> StockOutcome:
     """The best stock row for one material x family, from ``x0`` (the continuous answer, NLP
     units); ``rows`` (as ``stock_rows`` gives them) limits the search to those rows. ``cap``
     (objective, SI): a design another family has on stock; rows bounded above it by more than the
@@ -109,7 +109,10 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     limit is known (the cap, or a row checked here), or always with ``prune_infeasible``: then the
     outcome has no least-infeasible design for such rows (the search runs again without it when
     no stock design meets every limit, ``run.on_stock``). IPOPT keeps every constraint ``margin``
-    inside its limit (``run.resolve``)."""
+    inside its limit (``run.resolve``). ``every_row``: the least infeasible row is sought (no design
+    met every limit, ``run.on_stock``): no bound can prune, so every row is solved once from
+    ``x0``, without relaxations, and a start that ends in IPOPT's infeasibility verdict ends the row's
+    solves."""
     rows, note = stock_rows(problem, material) if rows is None else (rows, "")
     if not rows:
         return StockOutcome(None, (), 0, 0, note)
@@ -150,8 +153,10 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
                         break
             if ev is not None:
                 found.append(ev)
-            if s.success:
-                break  # a converged answer, checked: other starts are for a solve that failed
+            if s.success or (every_row and s.message in IPOPT_INFEASIBLE):
+                # a converged answer, checked: other starts are for a solve that failed; looking for
+                # the least infeasible row (nothing meets every limit), a verdict is answer enough
+                break
         ev = pick(found)
         if ev is not None:
             checked.append(ev)
@@ -163,6 +168,10 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
         return s.message in IPOPT_INFEASIBLE and (prune_infeasible or math.isfinite(best_nlp))
 
     everything = list(range(len(rows)))
+    if every_row:
+        for member in everything:
+            leaf(member, x0)
+        return _outcome(problem, material, rows, checked, solves, len(rows), 0)
     root = relax(everything, x0)
     heap, pruned = [], 0
     if dropped(root):
@@ -186,6 +195,11 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             child_bound = objective(s) if s.success else bound  # a failed relaxation bounds nothing new
             heapq.heappush(heap, (max(child_bound, bound), counter, part, s.x if s.success else start))
             counter += 1
+    return _outcome(problem, material, rows, checked, solves, leaves, pruned)
+
+
+def _outcome(problem, material, rows, checked, solves, leaves: int, pruned: int) -> StockOutcome:
+    """The stock search's outcome from the rows checked (``leaves`` solved, ``pruned`` dropped)."""
     evaluation = pick(checked)
     if evaluation is None and leaves == 0 and pruned == len(rows):
         return StockOutcome(None, tuple(solves), len(rows), 0,
@@ -193,6 +207,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
                             "section free between the rows' sizes IPOPT finds no design that does)")
     if evaluation is None and leaves == 0:
         return StockOutcome(None, tuple(solves), len(rows), 0, "", outranked=True)
+    note = ""
     if evaluation is None:
         note = f"no stock row of {material.name} {problem.family.label} could be solved"
     elif not evaluation.feasible:
