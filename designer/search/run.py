@@ -168,34 +168,35 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                      winner=winner, solution=answers.get(id(evaluation)))
 
 
-def on_stock(problems: dict, candidates: list) -> list:
+def on_stock(spec, problems: dict, candidates: list) -> list:
     """Every candidate whose family's sections come from stock (``search.stock``, and tubes
     always: ``stock.stock_system``) with its section a row of the stock catalogue, searched from
     its continuous answer (``search.stock.search_stock``). The candidates go best continuous
     answer first, and the best design so far (on stock, or of continuous sizes in a family that
     is not on stock) caps the others' search: a family whose rows are all bounded above it is
     ``outranked`` without a row solved. Sets of rows that a relaxation shows infeasible are
-    dropped; when that leaves no design that meets every limit, the search runs again keeping
-    them, so that the least-infeasible stock design is reported."""
-    if not any(stock_system(problems[c.family].spec, c.family) != "none" for c in candidates):
+    dropped; when that leaves no design that meets every limit (and no bar of continuous sizes
+    has one to report), every row is solved again, so that the least-infeasible stock design is
+    reported."""
+    stocked = [stock_system(spec, c.family) != "none" for c in candidates]
+    if not any(stocked):
         return candidates
-    found = _on_stock(problems, candidates, prune_infeasible=True)
+    found = _on_stock(spec, problems, candidates, stocked, prune_infeasible=True)
     if any(c.evaluation is not None and c.evaluation.feasible for c in found):
         return found
-    if any(c.evaluation is not None and stock_system(problems[c.family].spec, c.family) == "none" for c in found):
+    if any(c.evaluation is not None and not s for c, s in zip(found, stocked)):
         return found  # a bar of continuous sizes is the least infeasible design; tubes add no better one
-    return _on_stock(problems, candidates, prune_infeasible=False)
+    return _on_stock(spec, problems, candidates, stocked, prune_infeasible=False)
 
 
-def _on_stock(problems: dict, candidates: list, prune_infeasible: bool) -> list:
-    stocked = [stock_system(problems[c.family].spec, c.family) != "none" for c in candidates]
+def _on_stock(spec, problems: dict, candidates: list, stocked: list, prune_infeasible: bool) -> list:
     order = sorted((i for i in range(len(candidates)) if stocked[i]), key=lambda i: _continuous_key(candidates[i]))
     out = list(candidates)
     cap = min((c.evaluation.objective for c, s in zip(candidates, stocked)
                if not s and c.evaluation is not None and c.evaluation.feasible), default=math.inf)
     # under stock: none (tubes alone on stock) a tube with no feasible continuous design is not
     # searched row by row unless nothing else has a design (``on_stock``)
-    bars_continuous = prune_infeasible and problems[candidates[0].family].spec.search.stock == "none"
+    bars_continuous = prune_infeasible and spec.search.stock == "none"
     for i in order:
         cand = candidates[i]
         if (math.isfinite(cap) or bars_continuous) and (cand.evaluation is None or not cand.evaluation.feasible):
@@ -307,7 +308,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         candidates = _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
-    candidates = on_stock(problems, candidates)
+    candidates = on_stock(spec, problems, candidates)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
     seconds = time.perf_counter() - t0
@@ -331,14 +332,13 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     if not any(c.evaluation is not None for c in candidates):
         if unmachinable:
             raise SpecError("search.sections: " + "; ".join(f"{fam.label}: {why}" for fam, why in unmachinable.items()))
+        notes = "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))
         if spec.search.stock != "none":
-            raise SpecError(f"search.stock: {spec.search.stock!r} leaves no stock size to try: "
-                            + "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))
-                            + "; try stock: any, other materials or sections, or wider limits")
-        if any(c.stock_note for c in candidates):
-            raise SpecError("search.sections: " + ", ".join(spec.search.sections) + " leaves no size to try: "
-                            + "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))
-                            + "; try rectangle or round sections, other materials, or wider limits")
+            raise SpecError(f"search.stock: {spec.search.stock!r} leaves no stock size to try: {notes}; try stock: "
+                            "any, other materials or sections, or wider limits")
+        if notes:
+            raise SpecError(f"search.sections: {', '.join(spec.search.sections)} leaves no size to try: {notes}; "
+                            "try rectangle or round sections, other materials, or wider limits")
         raise SolverError("no solver returned a design that could be evaluated; try another method")
     best = candidates[0].evaluation
     if best.feasible:
