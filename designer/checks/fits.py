@@ -159,9 +159,15 @@ FIT_FORMS = {
 FIT_DOMAINS: dict = {
     # A pocket or flat short for its section reads a gauge strain that scatters more than any
     # smooth fit follows (the load flows round a short pocket rather than through it): on a tube,
-    # from -8 % to +14 % of the beam model's below half the diameter; on a bar, from -7 % to +17 %
+    # from -8 % to +34 % of the beam model's below half the diameter; on a bar, from -7 % to +17 %
     # below 0.9 of its height. Their gauge strain is fitted, and designs are kept, above that.
-    "tube-pocket": {"strain": {"length_ratio": (0.5, math.inf)}},
+    # A tube's flat of half to one diameter still reads from -7 % to +11 % of the beam model's
+    # (study.MID_TUBE_GROUPS: a deep flat over a thin ligament, whose ends and sides share the load
+    # as no beam parameter says; no fit of depth, wall and length follows it within 4 %), while
+    # from one diameter up a quadratic in depth and wall meets the 2 % rule: tube flats start
+    # there (the pocket is the gauge's backing and margins long, so the tube is at most that thick),
+    # and their extra length and K_t are fitted there too.
+    "tube-pocket": {q: {"length_ratio": (1.0, math.inf)} for q in ("strain", "extra_length", "stress")},
     # on a round bar from 0.3 of the diameter: a flat of a fifth of the diameter reads up to 16 %
     # above the beam model's strain, and no fit of 10 terms or fewer follows it within 4 %
     "round-pocket": {"strain": {"length_ratio": (0.3, math.inf)}},

@@ -150,6 +150,13 @@ NEAR_CLAMP_SLOTS = {**POCKET_BOXES["rectangle-pocket"], "pocket_width_ratio": (0
 NEAR_CLAMP_GROUPS = (("round-pocket", NEAR_CLAMP_ROUND_FLATS, 32),
                      ("tube-pocket", NEAR_CLAMP_TUBE_FLATS, 24),
                      ("rectangle-pocket", NEAR_CLAMP_SLOTS, 16))
+# Tube flats of half a diameter to a little over one (a Ø10-16 mm tube under a 3 mm gauge's
+# pocket), where the gauge strain turns from the short flat's rise to the long one's level
+# through a dip: Halton points beyond the main tube group's (the fourth element: points skipped),
+# so that their depths, walls and radii are new ones too.
+MID_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.5, 1.1),
+                  "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
+MID_TUBE_GROUPS = (("tube-pocket", MID_TUBE_FLATS, 40, 48),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -203,11 +210,11 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
 
 
 def group_cases(groups) -> list[Case]:
-    """The cases of pocket groups ``(family, box, number of Halton points)``."""
+    """The cases of pocket groups ``(family, box, number of Halton points[, points skipped])``."""
     out = []
-    for fam, box, count in groups:
+    for fam, box, count, *skip in groups:
         names = list(box)
-        for point in halton(count, len(names)):
+        for point in halton(count + sum(skip), len(names))[sum(skip):]:
             u = {k: t if k == "notch_ratio" else lo + t * (hi - lo)
                  for k, t, (lo, hi) in zip(names, point, box.values())}
             case = pocket_case(fam, u, box)
@@ -219,7 +226,7 @@ def group_cases(groups) -> list[Case]:
 def cases(families=None) -> list[Case]:
     """The study's grid, family by family; ``near_clamp_cases`` are the last of their families."""
     mm = 1e-3
-    out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS)
+    out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -484,6 +491,7 @@ def main(argv=None) -> int:
     p.add_argument("--round-clamp", action="store_true", help="only the round bars and tubes near the clamp")
     p.add_argument("--hole-width", action="store_true", help="only the holes in bars narrower or wider than high")
     p.add_argument("--hole-far", action="store_true", help="only the holes two heights from the clamp")
+    p.add_argument("--tube-flats", action="store_true", help="only the tube flats of half to one diameter")
     p.add_argument("--fit", type=Path, metavar="CSV", help="fit this study table instead of running the study")
     p.add_argument("--refresh", action="store_true",
                    help="solve the table's (-o) extra lengths again from its 3-D deflections with today's beam model "
@@ -528,6 +536,7 @@ def main(argv=None) -> int:
 
     chosen = (near_clamp_cases() if args.near_clamp else round_clamp_cases() if args.round_clamp
               else hole_width_cases() if args.hole_width else hole_far_cases() if args.hole_far
+              else group_cases(MID_TUBE_GROUPS) if args.tube_flats
               else cases(args.family))
     for case in chosen:
         try:

@@ -115,7 +115,11 @@ def test_a_corrected_tube_stays_a_row_of_the_tube_tables(monkeypatch):
 
     verify, _ = _stand_in()
     monkeypatch.setattr("designer.checks.fea.verify_design", verify)
-    spec = parse_spec_text(STIFF_FINGER.replace("sections: [round]", "sections: [tube]"))
+    # a plain tube: a flat is studied only on a tube no thicker than the flat is long
+    # (designer/checks/fits.py FIT_DOMAINS), which this flat leaves no stock tube
+    spec = parse_spec_text(STIFF_FINGER.replace("sections: [round]\n  feature: pocket",
+                                                "sections: [tube]\n  feature: none"))
+    assert spec.search.sections == ("tube",) and spec.search.feature == "none"
     result = design(spec, DesignOptions(verify=True, verify_mesh="coarse", tradeoff=False))
     rounds = result.record["verify_rounds"]
     assert not rounds[0]["passed"] and rounds[-1]["passed"] and len(rounds) >= 2
