@@ -37,6 +37,8 @@ def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluat
         held = [_held(problem, mm) for _, mm, _ in rows]
     grids = [_grid(p, levels) for p in held]
     x = np.concatenate(grids) if grids else np.empty((0, len(problem.names)))
+    if not len(x):      # a family on stock without a row of this material
+        return None
     which = np.repeat(np.arange(len(grids)), [len(g) for g in grids])
     f, viol = _evaluate(problem, mat, x)
     order = np.lexsort((f, viol > 0))[:POLISH_STARTS]

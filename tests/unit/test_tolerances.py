@@ -176,3 +176,13 @@ def test_the_search_under_a_class_finds_the_reference_searchs_best_across_its_si
     assert found.feasible and yardstick.feasible
     assert found.objective <= yardstick.objective * (1 + model.TIE_TOLERANCE)
     assert found.design.geometry.height <= 0.006  # in the smaller range
+
+
+def test_the_reference_search_of_a_family_without_stock_rows_under_tolerances_is_none():
+    """A tube is a tube stock row (docs/model.md §5) and titanium tube is not stocked
+    (materials/stock.yaml): the reference search has no point to judge, and says so, also when
+    the tolerance corners are judged (it once failed on the empty grid there)."""
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    spec = replace(spec, tolerances=Tolerances("m"))
+    tube = next(f for f in families(spec) if f.section == "tube")
+    assert reference.reference_search(spec, tube, catalogue.material("Ti-6Al-4V"), levels=3) is None
