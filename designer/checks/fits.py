@@ -165,8 +165,8 @@ FIT_DOMAINS: dict = {
     # (study.MID_TUBE_GROUPS: a deep flat over a thin ligament, whose ends and sides share the load
     # as no beam parameter says; no fit of depth, wall and length follows it within 4 %), while
     # from one diameter up a quadratic in depth and wall meets the 2 % rule: tube flats start
-    # there (the pocket is the gauge's backing and margins long, so the tube is at most that thick),
-    # and their extra length and K_t are fitted there too.
+    # there (a searched flat is made that long, search.problem.pocket_as_needed), and their extra
+    # length and K_t are fitted there too.
     "tube-pocket": {q: {"length_ratio": (1.0, math.inf)} for q in ("strain", "extra_length", "stress")},
     # on a round bar from 0.3 of the diameter: a flat of a fifth of the diameter reads up to 16 %
     # above the beam model's strain, and no fit of 10 terms or fewer follows it within 4 %

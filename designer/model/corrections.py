@@ -26,6 +26,7 @@ model alike.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -534,14 +535,10 @@ class Widened:
         return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
 
 
-def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
-    """``(name, value, low, high)`` for every parameter a fit of ``g``'s family uses: the design must
-    stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
-    first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``)."""
-    fam = family(g)
-    # a fit's clamp_ratio bounds the first station's (the others are further out)
-    values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0]}
-    box = {}    # where fits share a parameter, the design stays inside all of their ranges
+def domain_box(fam: str, table: Corrections) -> dict:
+    """``{parameter: (low, high)}``: where every fit of family ``fam`` holds (where fits share a
+    parameter, inside all of their ranges); the first station's clamp ratio as ``NEAR_CLAMP_BOUND``."""
+    box = {}
     for quantity in ("strain", "extra_length", "stress", "near_clamp"):
         fit = table.fit(fam, quantity)
         for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
@@ -550,6 +547,36 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
             name = NEAR_CLAMP_BOUND if name == "clamp_ratio" else name
             old_lo, old_hi = box.get(name, (lo, hi))
             box[name] = (max(lo, old_lo), min(hi, old_hi))
+    return box
+
+
+def least_pocket_length(g: Geometry, table: Corrections):
+    """The shortest pocket (slot or flat) of ``g``'s section that its family's fits hold for: the
+    domain's least ``length_ratio`` times the section size and, where the fits read the gauge grid's
+    gap to the flat's ends (``grid_gap_decays``), the gap their largest decays allow; 0 without
+    fits or without a pocket (a number, an array or a casadi expression, as ``g``'s sizes)."""
+    if g.feature != "pocket":
+        return 0.0
+    box = domain_box(family(g), table)
+    size, ops = g.size, ops_for(g.size)
+    out = 0.0
+    lo = box.get("length_ratio", (-math.inf, math.inf))[0]
+    if math.isfinite(lo) and lo > 0:
+        out = ops.fmax(out, lo * size)
+    for name, rate in GAP_RATES.items():    # exp(-k (l - l_grid) / (2 size)) <= high
+        high = box.get(name, (-math.inf, math.inf))[1]
+        if 0 < high < 1:
+            out = ops.fmax(out, g.grid_length + 2 * size * math.log(1 / high) / rate)
+    return out
+
+
+def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
+    """``(name, value, low, high)`` for every parameter a fit of ``g``'s family uses: the design must
+    stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
+    first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``)."""
+    # a fit's clamp_ratio bounds the first station's (the others are further out)
+    values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0]}
+    box = domain_box(family(g), table)
     out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
     clamp = clamp_fit(table)
     if clamp is not None:

@@ -152,7 +152,15 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
 
 
 def _clamp_room(g: Geometry, spec) -> float:
-    """The nearest a first station may come to the clamp face (the clamp-clearance limit)."""
+    """The nearest a first station may come to the clamp face (the clamp-clearance limit); for a
+    pocket, with the shortest one the spec allows (a searched pocket may be longer where the
+    corrections need it, ``search.problem.pocket_as_needed``: the same rows for the numeric model
+    and the NLP, whose length is an expression)."""
+    if g.feature == "pocket":
+        least = smallest_feature_length(spec, "pocket")
+        if _is_number(g.feature_length):    # a fixed design's pocket may be shorter than the rule
+            least = min(least, float(g.feature_length))
+        return spec.limits.clamp_clearance + least / 2
     return spec.limits.clamp_clearance + float(g.feature_length) / 2 if _is_number(g.feature_length) else 0.0
 
 

@@ -145,13 +145,14 @@ class FamilyVariables:
         stations = tuple(named[f"station_{i + 1}"] for i in range(spec.stations))
         depth = named.get("depth", 0.0)
         channel = wire_channel(spec.cad, fam.feature, depth, wp, ops_for(depth))
-        return Geometry(section=fam.section, feature=fam.feature, stations=stations, length=spec.free_length,
-                        width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
-                        wall=named.get("wall"), depth=depth, hole=named.get("hole", 0.0),
-                        pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length,
-                        grid_length=spec.gauge.grid_length, grid_width=spec.gauge.grid_width, axes=spec.axes,
-                        floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0,
-                        channel_width=channel[0], channel_depth=channel[1])
+        g = Geometry(section=fam.section, feature=fam.feature, stations=stations, length=spec.free_length,
+                     width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
+                     wall=named.get("wall"), depth=depth, hole=named.get("hole", 0.0),
+                     pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length,
+                     grid_length=spec.gauge.grid_length, grid_width=spec.gauge.grid_width, axes=spec.axes,
+                     floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0,
+                     channel_width=channel[0], channel_depth=channel[1])
+        return pocket_as_needed(g, lp)
 
     def design(self, x, material) -> Design:
         return Design(material, self.geometry([float(v) * MM for v in x[: len(self.names)]]), self.adjustment)
@@ -191,6 +192,23 @@ class FamilyVariables:
             x = np.clip([v[n] for n in self.names], self.lower, self.upper)
             out.append(np.append(x, 1.0) if self.epigraph else x)
         return out
+
+
+def pocket_as_needed(g: Geometry, least: float, step: float = 0.0) -> Geometry:
+    """``g`` with its pocket ``least`` long (the spec's rule: the gauge's backing and margins), or
+    longer where the feature corrections hold only for a longer one (``corrections.
+    least_pocket_length``: a flat on a tube at least the tube's diameter long); with ``step``, that
+    length rounded up to it (a design's sizes are on the 0.01 mm grid)."""
+    from designer.model import corrections
+
+    if g.feature != "pocket":
+        return g
+    need = corrections.least_pocket_length(g, corrections.load())
+    length = ops_for(need).fmax(least, need)
+    if step:
+        length = np.ceil(np.asarray(length, dtype=float) / step - 1e-9) * step
+        length = float(length) if length.ndim == 0 else length
+    return replace(g, pocket_length=length)
 
 
 def in_nlp_units(value, objective: str):

@@ -68,9 +68,16 @@ class GridBox:
         if g.axes == 2 and g.section == "rectangle" and "width" in named:
             named["height"] = named["width"]
         st = combos[:, len(fields_):]
-        # the wire channels' depth follows the rounded pocket's, as the CAD cuts them
+        # the wire channels' depth follows the rounded pocket's, as the CAD cuts them; a searched
+        # pocket is as long as the rounded section needs (``pocket_as_needed``), on the grid
         trial = channelled(replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
                                    length=round(float(g.length) / ROUNDING) * ROUNDING, **named), spec.cad)
+        if g.feature == "pocket":
+            from designer.search.problem import pocket_as_needed
+
+            length = pocket_as_needed(trial, spec.pocket_size()[0], ROUNDING).pocket_length
+            named["pocket_length"] = np.broadcast_to(length, (len(combos),))
+            trial = replace(trial, pocket_length=named["pocket_length"])
         params = design.material_params(spec)
         with np.errstate(all="ignore"):
             a = model.analyse(trial, params, spec, adjust=design.adjustment)

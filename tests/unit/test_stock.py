@@ -340,16 +340,15 @@ def test_optimize_on_stock_names_the_item_and_the_continuous_optimum(tmp_path, c
 
 
 def test_rows_a_relaxation_finds_infeasible_are_infeasible_one_by_one():
-    """The weigh-bar on metric stock: Ti-6Al-4V round bar is dropped whole, its relaxation (the
-    diameter free between the table's sizes) being infeasible. Reference: brute force, every row
-    of its table solved on its own with its diameter held, rounded and checked: none meets every
-    limit."""
-    spec = _spec("weigh-bar", stock="metric")
+    """The probe on imperial stock: 2024-T3 tube is dropped whole, its relaxation (the sizes
+    free between the table's) being infeasible. Reference: brute force, every row of its table
+    solved on its own with its sizes held, rounded and checked: none meets every limit."""
+    spec = _spec("probe", stock="imperial")
     found = optimize(spec)
-    cand = next(c for c in found.candidates if c.material == "Ti-6Al-4V" and c.family.section == "round")
+    cand = next(c for c in found.candidates if c.material == "2024-T3" and c.family.section == "tube")
     assert cand.status == "infeasible" and "IPOPT finds no design" in cand.stock_note
-    problem = FamilyProblem(spec, Family("round", spec.search.feature))
-    material = catalogue.material("Ti-6Al-4V")
+    problem = FamilyProblem(spec, Family("tube", spec.search.feature))
+    material = catalogue.material("2024-T3")
     x0 = _start_from(problem, cand.continuous)
     every = brute_force(problem, material, x0)
     assert len(every) > 10

@@ -1,0 +1,52 @@
+"""A searched pocket is the gauge's backing and margins long, or as long as the feature
+corrections need (docs/model.md §7): their 3-D study holds a flat on a tube only from one
+diameter long, a flat on a thick round bar only where its ends are far enough from the gauge
+grid. Reference: the study's domain in materials/corrections.yaml and the numeric model."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from designer.model import corrections
+from designer.result.evaluation import ROUNDING, evaluate
+from designer.search import optimize
+from designer.spec.reader import load_spec
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def _on_grid(value: float) -> bool:
+    return value / ROUNDING == pytest.approx(round(value / ROUNDING), abs=1e-6)
+
+
+def test_the_weigh_bars_flat_is_as_long_as_the_corrections_need_and_no_longer():
+    """The weigh-bar's Ø29 mm round bar: the rule's 8.9 mm flat (BF350-3AA's 6.9 mm backing and
+    1 mm margins) leaves the gauge grid too near the flat's ends for the round flats' strain fit
+    (its grid-gap decays' domain), so the reported flat is longer; 0.01 mm shorter it would leave
+    the domain."""
+    spec = load_spec(EXAMPLES / "weigh-bar.yaml")
+    found = optimize(spec)
+    ev = found.best
+    g = ev.design.geometry
+    rule = spec.pocket_size()[0]
+    assert ev.feasible and g.section == "round" and g.pocket_length > rule + ROUNDING / 2
+    assert _on_grid(g.pocket_length)
+    shorter = evaluate(replace(ev.design, geometry=replace(g, pocket_length=g.pocket_length - ROUNDING)), spec)
+    assert any(v.name.startswith("domain_") for v in shorter.violations)
+
+
+def test_a_tube_flat_is_at_least_as_long_as_the_tube_is_thick():
+    """The gripper finger searched over tubes of 7075-T6 only: the tube flats' fits start at
+    ``length_ratio`` 1 (docs/model.md §7 table), so the chosen stock tube's flat is at least its
+    diameter long, whatever the rule's 8.9 mm says, and the design meets every limit."""
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    spec = replace(spec, search=replace(spec.search, materials=("7075-T6",), sections=("tube",)))
+    found = optimize(spec)
+    g = found.best.design.geometry
+    low = corrections.load().fit("tube-pocket", "strain").domain["length_ratio"][0]
+    assert found.success and g.section == "tube" and g.feature == "pocket"
+    assert g.pocket_length >= low * g.diameter - 1e-12 and _on_grid(g.pocket_length)
+    assert g.pocket_length > spec.pocket_size()[0]
