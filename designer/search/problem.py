@@ -198,17 +198,17 @@ def pocket_as_needed(g: Geometry, least: float, step: float = 0.0) -> Geometry:
     """``g`` with its pocket ``least`` long (the spec's rule: the gauge's backing and margins), or
     longer where the feature corrections hold only for a longer one (``corrections.
     least_pocket_length``: a flat on a tube at least the tube's diameter long); with ``step``, that
-    length rounded up to it (a design's sizes are on the 0.01 mm grid)."""
+    longer length rounded up to it (a design's sizes are on the 0.01 mm grid; the rule's is kept)."""
     from designer.model import corrections
 
     if g.feature != "pocket":
         return g
     need = corrections.least_pocket_length(g, corrections.load())
-    length = ops_for(need).fmax(least, need)
-    if step:
-        length = np.ceil(np.asarray(length, dtype=float) / step - 1e-9) * step
-        length = float(length) if length.ndim == 0 else length
-    return replace(g, pocket_length=length)
+    if not step:
+        return replace(g, pocket_length=ops_for(need).fmax(least, need))
+    need = np.asarray(need, dtype=float)
+    length = np.where(need > least, np.ceil(need / step - 1e-9) * step, least)
+    return replace(g, pocket_length=float(length) if length.ndim == 0 else length)
 
 
 def in_nlp_units(value, objective: str):
