@@ -369,13 +369,14 @@ def candidate_order(record: dict) -> str:
             "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
             "the first is the reported design.")
     if any(c.get("status") == "outranked" for c in record.get("candidates", [])):
-        text += (" Outranked: no stock size was solved, as the family's continuous optimum (≥, a bound on "
-                 "every stock size) already ranks below the chosen design.")
+        text += (" Outranked: its optimum before rounding (≥, a bound on every size of the 0.01 mm grid or "
+                 "of stock) already ranks below the chosen design, so it was not rounded or no stock size "
+                 "was solved.")
     return text
 
 
 def _objective_cell(c: dict) -> str:
-    """A candidate's objective; for one outranked on stock, the bound its continuous optimum sets."""
+    """A candidate's objective; for one outranked, the bound its optimum before rounding sets."""
     value = c.get("objective")
     if value is None and c.get("status") == "outranked" and c.get("continuous_objective") is not None:
         return f"≥ {c['continuous_objective']:.4g}"

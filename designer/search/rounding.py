@@ -134,3 +134,17 @@ def floor_ceil(v: float, reach: int = 0) -> tuple:
     lo = math.floor(v / ROUNDING + 1e-9)
     hi = math.ceil(v / ROUNDING - 1e-9)
     return tuple(round(k * ROUNDING, 8) for k in range(max(lo - reach, 1) if reach else lo, hi + reach + 1))
+
+
+def outranked_before_rounding(problem, material, s, cap: float | None) -> Evaluation | None:
+    """The evaluation of IPOPT's answer ``s`` before rounding when it meets every limit there (or
+    misses only the accuracy targets, under the error objective) and its objective is above ``cap``
+    (rounding to the grid only loses); None otherwise."""
+    if cap is None or not s.success:
+        return None
+    try:
+        ev = evaluate(problem.design(s.x, material), problem.spec)
+    except InputError:
+        return None
+    met = ev.feasible or only_targets_missed(ev, problem.epigraph)
+    return ev if met and ev.objective > cap else None

@@ -17,7 +17,8 @@ from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid
 from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
                                      families, in_nlp_units)
-from designer.search.rounding import buildable, only_targets_missed, pick, round_and_check
+from designer.search.rounding import (buildable, only_targets_missed, outranked_before_rounding, pick,
+                                      round_and_check)
 from designer.search.stock import same_section, search_stock, stock_rows, stock_system
 from designer.spec import catalogue
 
@@ -33,7 +34,8 @@ class Candidate:
     fallbacks: tuple = ()
     continuous: Evaluation | None = None   # on stock: the continuous answer the stock search began from
     stock_note: str = ""                   # on stock: why no stock row meets every limit
-    outranked: bool = False                # on stock: every row bounded below the chosen design
+    outranked: bool = False                # on stock: every row bounded below the chosen design; or ...
+    unrounded: bool = False                # ... its answer before rounding, ``continuous``, already far below
     tried: tuple = ()                      # the start points the first method ran from, in order
     winner: object = None                  # the start point whose answer was verified, if one was
     solution: object = None                # the Solve whose answer gave ``evaluation`` (a warm start nearby)
@@ -62,7 +64,9 @@ class Candidate:
                        violated=[lim.name for lim in ev.violations])
         if self.fallbacks:
             out["fallbacks"] = list(self.fallbacks)
-        if self.continuous is not None or self.stock_note:
+        if self.unrounded:
+            out.update(continuous_objective=self.continuous.objective, continuous_status="optimal")
+        elif self.continuous is not None or self.stock_note:
             stock = None if ev is None else ev.design.stock
             out.update(stock=None if stock is None else stock.label,
                        continuous_objective=None if self.continuous is None else self.continuous.objective,
@@ -94,7 +98,7 @@ class SearchResult(OptimizeResult):
 
 def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False, starts=None,
                     margin: float = 0.0, proves=None, neighbour: Evaluation | None = None,
-                    warm: Solve | None = None) -> Candidate:
+                    warm: Solve | None = None, cap: float | None = None) -> Candidate:
     """Solve one material x family from several starts (``problem.starts()`` unless given); fall
     back to another method when no start gives a verified design. Every answer is rounded and
     checked. IPOPT keeps every constraint ``margin`` inside its limit. ``proves``, if given, is
@@ -102,7 +106,10 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     solves it ran: with a note (a relaxation covering this material is infeasible too,
     ``optimize``), the other starts and the fallback are not run and the note joins the fallbacks.
     ``neighbour``: a trade-off front's design at the neighbouring level (``ongrid.closer_on_the_grid``),
-    the first start; ``warm``: the solve that gave it, whose multipliers start IPOPT there."""
+    the first start; ``warm``: the solve that gave it, whose multipliers start IPOPT there.
+    ``cap``: when IPOPT's first answer, before rounding, is already above it and rounding breaks a
+    limit, the candidate is ``outranked`` (its continuous optimum kept as the bound) instead of
+    repaired: ``optimize`` gives the best design found so far, CONTENDER_BAND over."""
     spec = problem.spec
     params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
@@ -131,6 +138,12 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
                 fallbacks.append(f"{m} start {i + 1}: reported success but violates "
                                       + ", ".join(v.name for v in ev.violations))
+                bound = outranked_before_rounding(problem, material, s, cap) if m == "ipopt" and i == 0 else None
+                if bound is not None:
+                    fallbacks.append(f"outranked: its answer before rounding, {bound.objective:.4g}, is more than "
+                                     f"{CONTENDER_BAND:.0%} above the best design found before it; not repaired")
+                    return Candidate(material.name, problem.family, None, tuple(solves), tuple(fallbacks),
+                                     continuous=bound, outranked=True, unrounded=True, tried=tuple(tried))
                 if m == "ipopt":
                     s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
                                       f"{m} start {i + 1}", front=neighbour is not None)
@@ -199,6 +212,8 @@ def _on_stock(spec, problems: dict, candidates: list, stocked: list, prune_infea
     bars_continuous = prune_infeasible and spec.search.stock == "none"
     for i in order:
         cand = candidates[i]
+        if cand.outranked:  # by its continuous answer already (``solve_candidate``'s cap): a bound on every row
+            continue
         if (math.isfinite(cap) or bars_continuous) and (cand.evaluation is None or not cand.evaluation.feasible):
             # no design of continuous sizes met every limit, so no stock size (a subset) can
             out[i] = replace(cand, evaluation=None, continuous=cand.evaluation,
@@ -249,7 +264,7 @@ def _unmachinable(spec, fam: Family) -> str:
 
 
 def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True,
-             problems: dict | None = None, warm: dict | None = None, skip=()) -> SearchResult:
+             problems: dict | None = None, warm: dict | None = None, skip=(), outrank: bool = True) -> SearchResult:
     """Search every allowed material and section family; return the verified best design.
 
     ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
@@ -260,6 +275,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     start: the warm start is their other one).
     ``skip`` holds ``(material name, family)`` pairs not solved (no design; a trade-off front's
     candidates that a looser level of its limit already left without a feasible design).
+    ``outrank``: a candidate whose first answer, before rounding, is CONTENDER_BAND above the best
+    design found before it is not repaired (``solve_candidate``'s ``cap``); a trade-off front, which
+    draws every candidate of its materials, asks for each.
     """
     if method not in METHODS:
         raise SpecError(f"method: {method!r} is not allowed; must be {describe_allowed(METHODS)}")
@@ -292,11 +310,13 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                 continue
             prior = warm.get((mat.name, fam))
             start = None if prior is None else prior.evaluation
+            leads = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible]
+            cap = min(leads) * (1 + CONTENDER_BAND) if leads and method == "ipopt" and outrank else None
             rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip and m.name not in done]
             proves = (None if why or method != "ipopt" or any((m.name, fam) in warm for m in [mat] + rest)
                       else _relaxing(problem, mat, rest, usual, relaxed, done, proved))
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
-                    else solve_candidate(problem, mat, method, proves=proves, neighbour=start,
+                    else solve_candidate(problem, mat, method, proves=proves, neighbour=start, cap=cap,
                                          warm=None if prior is None else prior.solution,
                                          starts=usual if start is None else [_start_from(problem, start)] + usual))
             if any(x is cand.winner for x in usual):  # the next material is near it: that start first

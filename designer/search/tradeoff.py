@@ -57,11 +57,14 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             # the limit tightens as the deflection's level falls or the frequency's rises: a
             # candidate with no feasible design at the looser neighbouring level has none here
             tighter = i <= centre if key == "max_deflection" else i >= centre
-            skip = {(m, fam) for m in leading for fam in graphs if (m, fam) not in warm} if tighter else set()
+            # (one outranked by the main search had a design: it is solved, not skipped)
+            ranked_out = {(c.material, c.family) for c in near if c.unrounded}
+            skip = ({(m, fam) for m in leading for fam in graphs if (m, fam) not in warm and (m, fam) not in ranked_out}
+                    if tighter else set())
             if len(skip) == len(leading) * len(graphs):
                 found[i] = [Candidate(m, fam, None) for m in leading for fam in graphs]
             else:
-                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm,
+                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm, outrank=False,
                                   problems={fam: g.at(variant, level) for fam, g in graphs.items()})
                 found[i] = result.candidates
             done += 1

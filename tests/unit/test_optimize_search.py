@@ -353,3 +353,27 @@ def test_a_warm_start_from_a_nearby_solve_reaches_the_cold_answer_in_fewer_itera
     f = lambda s: float(problem.functions(s.x, params)[0])  # noqa: E731
     assert f(warm) == pytest.approx(f(cold), rel=1e-6)
     assert warm.evaluations < cold.evaluations
+
+
+def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaired():
+    # The weigh-bar: candidates whose first answer, before rounding, is more than CONTENDER_BAND
+    # above the best design found before them, and which rounding breaks, are outranked instead of
+    # repaired. Reference: the same search repairing every candidate (outrank=False): the same
+    # reported design, each outranked candidate's repaired design no better than its bound, and
+    # fewer IPOPT runs.
+    from designer.search.run import CONTENDER_BAND
+
+    spec = load_spec(EXAMPLES / "weigh-bar.yaml")
+    capped = search.optimize(spec)
+    full = search.optimize(spec, outrank=False)
+    assert capped.best.objective == pytest.approx(full.best.objective, rel=1e-12)
+    assert capped.best.design.label() == full.best.design.label()
+    skipped = [c for c in capped.candidates if c.unrounded]
+    assert skipped and all(c.status == "outranked" and c.evaluation is None for c in skipped)
+    repaired = {(c.material, c.family): c for c in full.candidates}
+    for c in skipped:
+        assert c.continuous.objective > capped.best.objective * (1 + CONTENDER_BAND)
+        other = repaired[(c.material, c.family)].evaluation
+        assert other is None or other.objective >= c.continuous.objective * (1 - 1e-9)
+        assert c.record()["continuous_objective"] == c.continuous.objective
+    assert capped.solver["solves"] < full.solver["solves"]

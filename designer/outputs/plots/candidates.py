@@ -83,10 +83,10 @@ def plot_candidates(design: Mapping, ax=None):
 
 
 def _missing_text(row: Mapping, scale: float) -> str:
-    """What a candidate without a design shows: outranked on stock (with the bound its continuous
-    optimum sets), no stock size that meets every limit, or no design at all."""
+    """What a candidate without a design shows: outranked (with the bound its optimum before
+    rounding sets), no stock size that meets every limit, or no design at all."""
     if row["status"] == "outranked" and row.get("bound") is not None:
-        return f"outranked: every stock size ≥ {fmt_number(row['bound'] * scale, 4)} (its continuous optimum)"
+        return f"outranked: ≥ {fmt_number(row['bound'] * scale, 4)} (its optimum before rounding)"
     if row.get("no_stock"):
         return "no stock size (report.md says why)"
     return "no design found"
