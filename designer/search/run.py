@@ -310,7 +310,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                 continue
             prior = warm.get((mat.name, fam))
             start = None if prior is None else prior.evaluation
-            leads = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible]
+            # (a family on stock is searched on its rows later: its continuous design is no lead)
+            leads = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible
+                     and stock_system(spec, c.family) == "none"]
             cap = min(leads) * (1 + CONTENDER_BAND) if leads and method == "ipopt" and outrank else None
             rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip and m.name not in done]
             proves = (None if why or method != "ipopt" or any((m.name, fam) in warm for m in [mat] + rest)

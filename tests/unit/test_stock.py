@@ -381,3 +381,33 @@ def test_evaluate_warns_of_a_fixed_tube_that_is_no_stock_size():
     found = [m for m in evaluate_fixed(thick).record["messages"] if "stock size" in m]
     assert len(found) == 1 and "design.section" in found[0] and "Ø8.30 mm bore" in found[0]
     assert f"drilled {spec.free_length * 1e3:.0f} mm deep" in found[0]
+
+
+# The bench suite's 002-kilonewton (``bench.generate_suite(54, 0)``): tubes only, whose best
+# continuous design meets every limit while no stock tube does.
+TUBES_ONLY = """name: 002-kilonewton
+load: {force: [192.1 N, 2.546 kN], position: [239.3 mm, 403.8 mm]}
+electronics: {excitation: 3.3 V, gain: 1000.0, noise: 0.2656 mV}
+gauge: CEA-06-125UW-120
+bridge: quarter
+stations: 2
+limits: {width: [9.003 mm, 152.5 mm], height: [9.003 mm, 116.5 mm], min_wall: 1 mm, max_deflection: 8.077 mm}
+targets: {force_error: 2.27 %, position_error: 13 mm}
+search: {materials: [7075-T6, C17200, 301-full-hard], sections: [tube], feature: none}
+objective: deflection
+"""
+
+
+def test_a_tube_s_continuous_design_outranks_nothing_as_its_rows_may_all_fail():
+    """A continuous tube is searched on its stock rows afterwards, so it sets no bound under
+    which other candidates go unrepaired (``optimize``'s outranking before rounding): here no
+    stock tube meets every limit, and the least infeasible row is reported, as the search that
+    repairs every candidate reports it (it once found no design to report at all)."""
+    from designer.spec.reader import parse_spec_text
+
+    spec = parse_spec_text(TUBES_ONLY)
+    found = optimize(spec)
+    assert not found.success and found.x.stock is not None and found.x.stock.shape == "round tube"
+    assert not any(c.unrounded for c in found.candidates)
+    full = optimize(spec, outrank=False)
+    assert found.x.stock == full.x.stock and found.best.objective == full.best.objective
