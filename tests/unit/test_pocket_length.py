@@ -50,3 +50,31 @@ def test_a_tube_flat_is_at_least_as_long_as_the_tube_is_thick():
     assert found.success and g.section == "tube" and g.feature == "pocket"
     assert g.pocket_length >= low * g.diameter - 1e-12 and _on_grid(g.pocket_length)
     assert g.pocket_length > spec.pocket_size()[0]
+
+
+# The bench suite's 011-loose-limits (``bench.generate_suite(54, 0)``).
+LOOSE_LIMITS = """name: 011-loose-limits
+load: {force: [652.9 mN, 20.28 N], position: [80.08 mm, 269.7 mm]}
+electronics: {excitation: 2.5 V, gain: 128.0, noise_strain: 0.007359 ue}
+gauge: BF120-3AA
+bridge: full
+stations: 2
+limits: {width: [0.8236 mm, 40.58 mm], height: [0.8236 mm, 35.42 mm], min_pocket_depth: 0.5 mm,
+  min_wall: 1 mm, fatigue: false}
+targets: {force_error: 1.1 %, position_error: 3.249 mm}
+search: {materials: [2024-T3, Ti-6Al-4V, '304'], sections: [rectangle, round, tube], feature: pocket}
+objective: mass
+"""
+
+
+def test_ipopt_is_not_held_at_the_kink_between_the_rule_and_the_needed_length():
+    """The slot's length is the larger of the rule's and the fits' need, which have a kink where
+    they cross; with a plain max() IPOPT stopped there, 4.9 % above the design COBYLA (nlopt,
+    derivative-free, no gradients to stall on) finds. Reference: COBYLA's own search."""
+    from designer.model import TIE_TOLERANCE
+    from designer.spec.reader import parse_spec_text
+
+    spec = parse_spec_text(LOOSE_LIMITS)
+    ipopt, cobyla = optimize(spec), optimize(spec, method="cobyla")
+    assert ipopt.success and cobyla.success
+    assert ipopt.best.objective <= cobyla.best.objective * (1 + TIE_TOLERANCE)
