@@ -47,8 +47,11 @@ def test_reported_design_meets_every_limit_when_rebuilt_from_design_json(name, t
     n = len(spec.search.materials) * len(spec.search.sections)
     assert len(record["candidates"]) == n
     assert {c["status"] for c in record["candidates"]} <= {"optimal", "infeasible", "failed", "outranked"}
-    # (outranked: a tube, whose rows of the tube stock the best bar already ranks before)
-    assert all(c["section"] == "tube" for c in record["candidates"] if c["status"] == "outranked")
+    # (outranked: a tube, whose rows of the tube stock the best bar already ranks before, or a bar
+    # whose answer before rounding was already 5 % above the best found before it: either way its
+    # bound ranks below the reported design)
+    outranked = [c for c in record["candidates"] if c["status"] == "outranked"]
+    assert all(c["continuous_objective"] > record["predicted"]["objective"] for c in outranked)
     assert record["solver"]["method"] == "ipopt" and record["solver"]["evaluations"] > 0
 
 
