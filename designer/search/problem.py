@@ -19,7 +19,7 @@ import numpy as np
 from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
-from designer.model import tolerance
+from designer.model import corrections, tolerance
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
 from designer.result.evaluation import Design
@@ -202,8 +202,6 @@ def pocket_as_needed(g: Geometry, least: float, step: float = 0.0) -> Geometry:
     longer where the feature corrections hold only for a longer one (``corrections.
     least_pocket_length``: a flat on a tube at least the tube's diameter long); with ``step``, that
     longer length rounded up to it (a design's sizes are on the 0.01 mm grid; the rule's is kept)."""
-    from designer.model import corrections
-
     if g.feature != "pocket":
         return g
     need = corrections.least_pocket_length(g, corrections.load())

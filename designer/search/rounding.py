@@ -17,6 +17,7 @@ from designer import model
 from designer.errors import InputError
 from designer.model import tolerance
 from designer.result.evaluation import ROUNDING, Design, Evaluation, channelled, evaluate
+from designer.search.problem import pocket_as_needed
 
 
 def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
@@ -73,8 +74,6 @@ class GridBox:
         trial = channelled(replace(g, stations=tuple(st[:, i] for i in range(st.shape[1])),
                                    length=round(float(g.length) / ROUNDING) * ROUNDING, **named), spec.cad)
         if g.feature == "pocket":
-            from designer.search.problem import pocket_as_needed
-
             length = pocket_as_needed(trial, spec.pocket_size()[0], ROUNDING).pocket_length
             named["pocket_length"] = np.broadcast_to(length, (len(combos),))
             trial = replace(trial, pocket_length=named["pocket_length"])

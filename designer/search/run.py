@@ -42,9 +42,10 @@ class Candidate:
 
     @property
     def status(self) -> str:
-        """optimal | infeasible | failed (no answer could be evaluated); on stock also
-        outranked (no row solved: the continuous optimum, a bound on every row, ranks below the
-        chosen stock design), and infeasible when there is no row to try."""
+        """optimal | infeasible | failed (no answer could be evaluated); outranked: on stock, no
+        row solved (the continuous optimum, a bound on every row, ranks below the chosen stock
+        design), or not rounded (``unrounded``: its answer before rounding already ranked far
+        below); on stock also infeasible when there is no row to try."""
         if self.outranked:
             return "outranked"
         if self.evaluation is None:
@@ -64,12 +65,11 @@ class Candidate:
                        violated=[lim.name for lim in ev.violations])
         if self.fallbacks:
             out["fallbacks"] = list(self.fallbacks)
-        if self.unrounded:
-            out.update(continuous_objective=self.continuous.objective, continuous_status="optimal")
-        elif self.continuous is not None or self.stock_note:
-            stock = None if ev is None else ev.design.stock
-            out.update(stock=None if stock is None else stock.label,
-                       continuous_objective=None if self.continuous is None else self.continuous.objective,
+        if self.continuous is not None or self.stock_note:
+            if not self.unrounded:  # a family on stock: its item (none when outranked before rounding)
+                stock = None if ev is None else ev.design.stock
+                out["stock"] = None if stock is None else stock.label
+            out.update(continuous_objective=None if self.continuous is None else self.continuous.objective,
                        continuous_status=None if self.continuous is None else
                        ("optimal" if self.continuous.feasible else "infeasible"))
             if self.stock_note:
