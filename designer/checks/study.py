@@ -157,6 +157,13 @@ NEAR_CLAMP_GROUPS = (("round-pocket", NEAR_CLAMP_ROUND_FLATS, 32),
 MID_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.5, 1.1),
                   "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
 MID_TUBE_GROUPS = (("tube-pocket", MID_TUBE_FLATS, 40, 48),)
+# Round flats short for their bar and near the clamp (a kilonewton lug's Ø90 mm bar under a 3 mm
+# gauge's 28 mm flat, 0.14 D from the clamp face): their gauge grid's centre a quarter to half a
+# diameter out, nearer than the NEAR_CLAMP_GROUPS' longer flats put it, where the clamp's decay is
+# steep.
+NEAR_CLAMP_SHORT_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.28, 0.55), "notch_ratio": (1.55, 7.0),
+                                "lp_grid": (2.4, 4.0), "clamp_ratio": (0.1, 0.3)}
+NEAR_CLAMP_SHORT_GROUPS = (("round-pocket", NEAR_CLAMP_SHORT_ROUND_FLATS, 20),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -226,7 +233,7 @@ def group_cases(groups) -> list[Case]:
 def cases(families=None) -> list[Case]:
     """The study's grid, family by family; ``near_clamp_cases`` are the last of their families."""
     mm = 1e-3
-    out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS)
+    out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS + NEAR_CLAMP_SHORT_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -492,6 +499,8 @@ def main(argv=None) -> int:
     p.add_argument("--hole-width", action="store_true", help="only the holes in bars narrower or wider than high")
     p.add_argument("--hole-far", action="store_true", help="only the holes two heights from the clamp")
     p.add_argument("--tube-flats", action="store_true", help="only the tube flats of half to one diameter")
+    p.add_argument("--short-flats-near-clamp", action="store_true",
+                   help="only the round flats short for their bar near the clamp (NEAR_CLAMP_SHORT_GROUPS)")
     p.add_argument("--fit", type=Path, metavar="CSV", help="fit this study table instead of running the study")
     p.add_argument("--refresh", action="store_true",
                    help="solve the table's (-o) extra lengths again from its 3-D deflections with today's beam model "
@@ -537,6 +546,7 @@ def main(argv=None) -> int:
     chosen = (near_clamp_cases() if args.near_clamp else round_clamp_cases() if args.round_clamp
               else hole_width_cases() if args.hole_width else hole_far_cases() if args.hole_far
               else group_cases(MID_TUBE_GROUPS) if args.tube_flats
+              else group_cases(NEAR_CLAMP_SHORT_GROUPS) if args.short_flats_near_clamp
               else cases(args.family))
     for case in chosen:
         try:

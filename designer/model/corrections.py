@@ -149,6 +149,11 @@ def station_width_ratios(g: Geometry) -> tuple:
 NEAR_CLAMP_BOUND = "clamp_ratio_1"
 
 
+# The domain bound of the first station's (gauge grid centre's) distance from the clamp face in
+# section sizes (``station_ratios``), which the near-clamp fits' decays are fitted over.
+NEAR_STATION = "station_ratio"
+
+
 def station_bound_name(i: int) -> str:
     """The domain bound of station ``i``'s (0-based) distance from the clamp over the width."""
     return f"station_width_ratio_{i + 1}"
@@ -575,7 +580,7 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
     first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``)."""
     # a fit's clamp_ratio bounds the first station's (the others are further out)
-    values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0]}
+    values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0], NEAR_STATION: station_ratios(g)[0]}
     box = domain_box(family(g), table)
     out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
     clamp = clamp_fit(table)

@@ -139,6 +139,10 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
             out.append(Limit(f"domain_{name}_min", stations[name], lo * g.breadth, upper=False, scale=1e-3,
                              unit="m"))
             continue
+        if name == corrections.NEAR_STATION:
+            # d_1 >= lo h (or D), linear in the sizes
+            out.append(Limit(f"domain_{name}_min", g.stations[0], lo * g.size, upper=False, scale=1e-3, unit="m"))
+            continue
         if name == corrections.NEAR_CLAMP_BOUND:
             # d_1 - l_f/2 >= lo h (or D), linear in the sizes
             start = g.stations[0] - g.feature_length / 2

@@ -109,6 +109,61 @@ def test_where_fits_share_a_parameter_the_design_stays_inside_every_range():
     assert bounds["hole_ratio"] == (0.4, 0.8)
 
 
+ROUND_SPEC = """\
+name: lug
+load: {force: [50 N, 2 kN], position: [300 mm, 700 mm]}
+electronics: {excitation: 5 V, gain: 128, noise: 1.3 mV}
+gauge: BF350-3AA
+bridge: half
+limits: {fatigue: false, safety_factor: 1.5}
+design:
+  material: 2024-T3
+  section: {kind: round, diameter: 90 mm}
+  stations: [STATION, 300 mm]
+  feature: {kind: none}
+  length: 800 mm
+"""
+
+
+def test_a_near_clamp_fit_holds_no_nearer_than_its_grid_centres_were_measured():
+    """A near-clamp DecayFit is a decay in the first gauge grid's distance from the clamp face:
+    besides the first feature's clamp ratio, its domain bounds that distance (``station_ratio``,
+    in section sizes), as a limit linear in the sizes: d_1 >= low D. On a Ø90 mm bar under
+    BF350-3AA's 6.9 mm backing, a gauge whose backing starts 0.06 D from the clamp face (inside the
+    made-up clamp-ratio bound 0.05) has its centre at (5.4 + 3.45)/90 = 0.098 D, nearer than the
+    bound 0.1075 (the study's Ø60 mm series: 0.05 D + 3.45 mm); 1 mm further out it is inside."""
+    decay = corrections.DecayFit(5.0, Fit((), ((),), (-0.2,), {}),
+                                 {"clamp_ratio": (0.05, math.inf), corrections.NEAR_STATION: (0.1075, math.inf)})
+    table = Corrections({"round-none": {"near_clamp": decay}})
+
+    def station_limit(station_mm):
+        spec, design, a = _analysis(ROUND_SPEC.replace("STATION", f"{station_mm} mm"), table)
+        names = {lim.name: lim for lim in model.limits(design.geometry, a, design.material_params(spec), spec,
+                                                       table=table)}
+        return names["domain_station_ratio_min"], names["domain_clamp_ratio_1_min"]
+
+    near, clamp = station_limit(5.4 + 3.45)
+    assert float(near.value) == pytest.approx(8.85e-3) and float(near.limit) == pytest.approx(0.1075 * 0.09)
+    assert float(near.normalised) > 0 and float(clamp.normalised) <= 0     # only the grid centre's bound breaks
+    further, _ = station_limit(5.4 + 3.45 + 1.0)
+    assert float(further.normalised) < 0
+
+
+def test_the_shipped_near_clamp_fits_hold_from_the_studys_nearest_grid_centre():
+    """materials/corrections_study.csv: each family's nearest near-station grid centre (clamp
+    ratio + half the feature's length, in sizes) is where its shipped near-clamp fit starts."""
+    from pathlib import Path
+
+    from designer.checks import clamp_study, study
+
+    rows = study.read_csv(Path(corrections.__file__).resolve().parents[2] / "materials" / "corrections_study.csv")
+    table = corrections.load()
+    for fam in ("round-none", "tube-none", "round-pocket", "tube-pocket"):
+        fit = table.fit(fam, "near_clamp")
+        nearest = min(clamp_study.near_station(r) for r in rows if r["family"] == fam and "clamp_ratio" in r)
+        assert fit.domain[corrections.NEAR_STATION] == pytest.approx((nearest, math.inf), rel=1e-9), fam
+
+
 def test_shipped_table_gives_exact_derivatives_to_the_optimiser():
     # OpenMDAO-style check: the casadi gradient of the NLP (with the shipped hole correction)
     # against central finite differences of the same function.

@@ -24,9 +24,9 @@ def _on_grid(value: float) -> bool:
 
 def test_the_weigh_bars_flat_is_as_long_as_the_corrections_need_and_no_longer():
     """The weigh-bar's Ø29 mm round bar: the rule's 8.9 mm flat (BF350-3AA's 6.9 mm backing and
-    1 mm margins) leaves the gauge grid too near the flat's ends for the round flats' strain fit
-    (its grid-gap decays' domain), so the reported flat is longer; 0.01 mm shorter it would leave
-    the domain."""
+    1 mm margins) is shorter than the round flats' strain fit holds for (0.4 D and up, where the
+    grid's ends are also far enough from the flat's for its grid-gap decays), so the reported flat
+    is longer; 0.01 mm shorter it would leave the domain."""
     spec = load_spec(EXAMPLES / "weigh-bar.yaml")
     found = optimize(spec)
     ev = found.best

@@ -139,11 +139,12 @@ def test_the_numeric_grid_search_finds_the_best_design_of_a_wider_grid(material)
 
 
 def test_a_rounding_that_costs_more_than_the_tie_band_searches_the_grid_around_the_answer():
-    """The gripper finger's Ti-6Al-4V round bar: rounding IPOPT's answer down or up meets every
-    limit but costs more than the 0.1 % tie band against the continuous answer, so the grid around
-    it is searched. Reference: brute force over the 0.01 mm grid from 3 steps below the rounded-down
-    to 3 above the rounded-up diameter and flat depth, the stations rounded down or up, each judged
-    on its own by the evaluator; the reported design is that box's best within the tie band."""
+    """Prototype B's round bars: where rounding IPOPT's answer down or up meets every limit but
+    costs more than the 0.1 % tie band against the continuous answer, the grid around it is
+    searched. Reference: brute force over the 0.01 mm grid from 3 steps below the rounded-down to
+    3 above the rounded-up diameter and flat depth, the stations rounded down or up, each judged
+    on its own by the evaluator; the reported design is that box's best within the tie band, and
+    on at least one material better than the plain rounding by more than the tie band."""
     from dataclasses import replace
 
     from designer.model import TIE_TOLERANCE
@@ -156,26 +157,32 @@ def test_a_rounding_that_costs_more_than_the_tie_band_searches_the_grid_around_t
     from designer.spec.reader import load_spec
     from pathlib import Path
 
-    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / "gripper-finger.yaml")
+    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / "prototype-b-optimized.yaml")
     problem = FamilyProblem(spec, Family("round", spec.search.feature))
-    mat = catalogue.material("Ti-6Al-4V")
-    candidate = solve_candidate(problem, mat, "ipopt")
-    first = candidate.solves[0]
-    design = problem.design(first.x, mat)
-    rounded = round_and_check(design, spec)
-    continuous = float(problem.functions(first.x, problem.params(mat))[0])
-    assert rounded.feasible and in_nlp_units(rounded.objective, spec.objective) > continuous * (1 + TIE_TOLERANCE)
-    g0 = design.geometry
-    best = np.inf
-    for d, h, *st in itertools.product(floor_ceil(g0.diameter, 3), floor_ceil(g0.depth, 3),
-                                       *[floor_ceil(s) for s in g0.stations]):
-        ev = evaluate(replace(design, geometry=replace(g0, diameter=d, depth=h, stations=tuple(st))).rounded(spec.cad),
-                      spec)
-        if ev.feasible:
-            best = min(best, ev.objective)
-    found = candidate.evaluation
-    assert found.feasible and found.objective <= best * (1 + TIE_TOLERANCE)
-    assert found.objective < rounded.objective * (1 - TIE_TOLERANCE)
+    costly, gains = 0, []
+    for name in ("2024-T3", "Ti-6Al-4V", "7075-T6", "6061-T6"):
+        mat = catalogue.material(name)
+        candidate = solve_candidate(problem, mat, "ipopt")
+        first = candidate.solves[0]
+        design = problem.design(first.x, mat)
+        rounded = round_and_check(design, spec)
+        continuous = float(problem.functions(first.x, problem.params(mat))[0])
+        if not (rounded.feasible and in_nlp_units(rounded.objective, spec.objective) > continuous * (1 + TIE_TOLERANCE)):
+            continue
+        costly += 1
+        g0 = design.geometry
+        best = np.inf
+        for d, h, *st in itertools.product(floor_ceil(g0.diameter, 3), floor_ceil(g0.depth, 3),
+                                           *[floor_ceil(s) for s in g0.stations]):
+            ev = evaluate(replace(design, geometry=replace(g0, diameter=d, depth=h, stations=tuple(st))).rounded(spec.cad),
+                          spec)
+            if ev.feasible:
+                best = min(best, ev.objective)
+        found = candidate.evaluation
+        assert found.feasible and found.objective <= best * (1 + TIE_TOLERANCE), name
+        gains.append(rounded.objective / found.objective - 1)
+    assert costly >= 2
+    assert max(gains) > TIE_TOLERANCE
 
 
 @pytest.mark.slow

@@ -21,6 +21,8 @@ def _rows():
 
 
 def _inside(fit, row) -> bool:
+    if "clamp_ratio" in row and "length_ratio" in row:     # the near station's distance (a near-clamp fit's)
+        row = {corrections.NEAR_STATION: clamp_study.near_station(row), **row}
     return all(name in row and lo <= row[name] <= hi for name, (lo, hi) in fit.domain.items())
 
 
