@@ -80,6 +80,7 @@ class BeamCad:
     clamp: Clamp
     channels: Channels | None
     grooves: Grooves | None
+    tool: str = ""             # the end mill that cuts the pockets or flats ("end mill Ø3 R0.2 mm"); "" if none
     stock: str = ""            # the stock item the section is cut from ("round bar Ø10 mm (EN 754-3)"); "" if none
     tolerances: str = ""       # the tolerances the design was checked at ("ISO 2768-m"); "" if none
 

@@ -71,6 +71,8 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
     ]
     if p.get("front_end"):
         rows += front_end_rows(p["front_end"])
+    if d["feature"].get("tool"):
+        rows.insert(4, ("end mill", tool_text(d["feature"]["tool"], d["section"])))
     if d.get("stock"):
         rows.insert(3, ("stock", d["stock"]["label"]))
     if record.get("stock"):
@@ -84,6 +86,15 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
     if rounds:
         rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def tool_text(tool: dict, section: dict) -> str:
+    """The end mill that cuts the pockets or flats and how: ``Ø3 R0.2 mm (tool catalogue), slot
+    corners its radius`` or ``..., across the bar``."""
+    label = tool["label"].removeprefix("end mill ")
+    listed = "" if tool.get("table") == "spec" else f" ({tool['table']})"
+    how = "slot corners its radius" if section["kind"] == "rectangle" else "moved across the bar"
+    return f"{label}{listed}, {how}; floors meet the walls in its corner radius"
 
 
 def tolerance_text(record: dict) -> str:

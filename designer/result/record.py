@@ -22,6 +22,9 @@ def build_record(status: str, spec, evaluation: Evaluation, candidates=(), solve
         "solver": dict(solver or {"method": "none", "seconds": 0.0, "evaluations": 0}),
         "messages": list(messages),
     }
+    tool = pocket_tool_record(spec, evaluation)
+    if tool is not None:
+        record["design"]["feature"]["tool"] = tool
     front_end = front_end_record(spec, evaluation)
     if front_end is not None:
         record["predicted"]["front_end"] = front_end
@@ -141,6 +144,20 @@ def search_record(spec, found) -> dict:
     if spec.search.stock != "none":
         record["stock"] = stock_summary(spec, found.best, found.get("continuous"))
     return record
+
+
+def pocket_tool_record(spec, evaluation: Evaluation) -> dict | None:
+    """design.json's ``design.feature.tool``: the end mill of the tool catalogue (docs/spec.md
+    2.9) that cuts the pockets or flats, as the CAD picks it; None without pockets, or where no
+    catalogue end mill cuts the slot (the CAD then says why)."""
+    from designer.errors import DesignFileError
+    from designer.outputs.cad.mills import pocket_tool
+
+    try:
+        tool = pocket_tool(spec, evaluation.design.geometry)
+    except DesignFileError:
+        return None
+    return None if tool is None else tool.as_dict()
 
 
 def stock_summary(spec, best: Evaluation, continuous: Evaluation | None) -> dict:

@@ -250,11 +250,11 @@ def _continuous_key(cand: Candidate):
 def _unmachinable(spec, fam: Family) -> str:
     """Why no design of ``fam`` can be machined under ``spec`` ('' when one can): a slot needs an
     end mill that cuts it with the spec's corner radius and leaves the gauge a flat floor, and
-    that depends on the spec alone (``outputs.cad.beam.slot_end_mill``)."""
+    that depends on the spec alone (``outputs.cad.mills.slot_end_mill``)."""
     if fam.section != "rectangle" or fam.feature != "pocket":
         return ""
     from designer.errors import DesignFileError
-    from designer.outputs.cad.beam import slot_end_mill
+    from designer.outputs.cad.mills import slot_end_mill
 
     try:
         slot_end_mill(spec)

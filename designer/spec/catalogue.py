@@ -121,7 +121,7 @@ def data_folder() -> Path:
         return Path(__file__).resolve().parents[2] / "materials"
 
 
-USER_KEYS = ("file", "materials", "gauges", "stock")
+USER_KEYS = ("file", "materials", "gauges", "stock", "end_mills")
 MATERIAL_KEYS = ("name", "description", "source", *_MATERIAL_FIELDS)
 # 0: fully notch sensitive (K_f = K_t); the thermal figures: None, not known (only the error budget needs them)
 OPTIONAL_MATERIAL_FIELDS = {"notch_length": 0.0, "modulus_tc": None, "expansion": None, "creep": None}
@@ -153,10 +153,10 @@ def use(catalogues) -> None:
     if catalogues == _user:
         return
     previous, _user = _user, catalogues
-    for table in (materials, gauges, stock):
+    for table in (materials, gauges, stock, end_mills):
         table.cache_clear()
     try:
-        materials(), gauges()
+        materials(), gauges(), end_mills()
         if any(c.get("stock") is not None for _, c in catalogues):
             stock()
     except BaseException:
@@ -308,6 +308,25 @@ def stock():
     for file, content in _user:
         if content.get("stock") is not None:
             table = stock_file.extend(table, content["stock"], tuple(materials()), f"{file} stock")
+    return table
+
+
+@functools.lru_cache(maxsize=1)
+def end_mills():
+    """The tool catalogue (``materials/tools.yaml``) with the user catalogues' ``end_mills``
+    tables, read and checked once."""
+    from designer.spec import strict_yaml
+    from designer.spec import tools
+
+    path = data_folder() / tools.FILE
+    try:
+        raw = strict_yaml.load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
+        raise CatalogueError(f"{tools.FILE}: cannot be read ({path}): {exc}") from exc
+    table = tools.parse(raw)
+    for file, content in _user:
+        if content.get("end_mills") is not None:
+            table = tools.extend(table, content["end_mills"], f"{file} end_mills")
     return table
 
 

@@ -28,17 +28,14 @@ FEATURE_KINDS = ("pocket", "hole", "none")
 BRIDGES = BRIDGE_FACTORS
 OBJECTIVES = ("error", "deflection", "mass")
 DEFAULT_GAUGE = "BF120-3AA"
-# The corner radius of the end mill that cuts pockets and flats (cad.corner_radius), m. Stock
-# carbide corner-radius ("bull-nose") end mills of 1-6 mm diameter are commonly ground with
-# R0.1-R0.5; R0.2 is the radius offered across that whole range (R0.5 and larger mostly from
-# 3-4 mm up), so a shop has one for any pocket this tool designs. It is also below half the
-# smallest standard end mill the CAD picks (1 mm) and the default limits.min_pocket_depth (0.5 mm).
+# The corner radius of the end mill that cuts pockets and flats (cad.corner_radius), m, by
+# default: R0.2 is the radius the tool catalogue (materials/tools.yaml) lists on every metric
+# end mill of 1-12 mm, so a shop has one for any pocket this tool designs. It is also below half
+# the smallest end mill there (1 mm) and the default limits.min_pocket_depth (0.5 mm).
 DEFAULT_CORNER_RADIUS = 0.0002
 # ... and at most this share of the shallowest pocket the spec allows, so that a pocket keeps a
 # straight wall above its floor radius (and a wire channel half the pocket deep stays above it).
 CORNER_RADIUS_SHARE = 0.4
-# Default corner radii are rounded down to 0.01 mm, as designs are reported (MODEL.md 5).
-CORNER_RADIUS_STEP = 1e-5
 
 
 @dataclass(frozen=True)
@@ -331,7 +328,7 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
     search = _parse_search(raw.get("search"))
     objective = _choice(raw.get("objective", "error"), OBJECTIVES, "objective")
     design = _parse_design(raw["design"], limits, gauge) if raw.get("design") is not None else None
-    cad = _parse_cad(raw.get("cad"), load, limits, design)
+    cad = _parse_cad(raw.get("cad"), load, limits, design, search.stock)
 
     if axes == 2:
         if search.feature == "hole":
@@ -485,14 +482,24 @@ def _parse_search(raw) -> Search:
                   feature=feature, stock=stock)
 
 
-def default_corner_radius(shallowest: float) -> float:
-    """The default cad.corner_radius for pockets at least ``shallowest`` deep (m): R0.2, or
-    CORNER_RADIUS_SHARE of the depth for shallower pockets, rounded down to 0.01 mm."""
-    radius = min(DEFAULT_CORNER_RADIUS, CORNER_RADIUS_SHARE * shallowest)
-    return max(math.floor(radius / CORNER_RADIUS_STEP + 1e-9) * CORNER_RADIUS_STEP, CORNER_RADIUS_STEP)
+def default_corner_radius(shallowest: float, system: str | None = None, mill: float | None = None) -> float:
+    """The default cad.corner_radius for pockets at least ``shallowest`` deep (m): the largest
+    corner radius of the tool catalogue's end mills (``system``'s, metric unless the spec's stock
+    is imperial; of the end mill ``mill`` when one is given and listed) up to R0.2 and
+    CORNER_RADIUS_SHARE of the depth (and of ``mill``); another system's where ``system`` has none
+    that small, the smallest listed where none has."""
+    from designer.spec.tools import SAME
+
+    cap = min(DEFAULT_CORNER_RADIUS, CORNER_RADIUS_SHARE * shallowest)
+    if mill is not None:
+        cap = min(cap, CORNER_RADIUS_SHARE * mill)
+    tools = catalogue.end_mills()
+    radii = tools.radii(system if system in ("metric", "imperial") else "metric", mill)
+    fitting = [r for r in radii if r <= cap + SAME] or [r for r in tools.radii(None, mill) if r <= cap + SAME]
+    return fitting[-1] if fitting else radii[0]
 
 
-def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None) -> CadOptions:
+def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None, system: str = "none") -> CadOptions:
     lengths = ("clamp_length", "bolt_diameter", "end_mill_diameter", "corner_radius", "channel_width",
                "channel_depth", "groove_depth")
     raw = _mapping(raw, "cad", lengths + ("wire_channels", "load_grooves", "groove_positions"))
@@ -510,10 +517,7 @@ def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None) -> C
     if "corner_radius" not in values:
         # recorded in design.json's spec.cad, so that the file describes the part on its own
         shallowest = min(limits.min_pocket_depth, pocket.depth) if pocket else limits.min_pocket_depth
-        values["corner_radius"] = default_corner_radius(shallowest)
-        if values.get("end_mill_diameter") is not None:
-            values["corner_radius"] = min(values["corner_radius"],
-                                          default_corner_radius(values["end_mill_diameter"]))
+        values["corner_radius"] = default_corner_radius(shallowest, system, values.get("end_mill_diameter"))
     radius = values["corner_radius"]
     mill = values.get("end_mill_diameter")
     if mill is not None and not radius < mill / 2:

@@ -247,12 +247,23 @@ def _rows(raw, shape: str, key: str) -> list[tuple]:
         raise CatalogueError(f"{key}: must be a mapping of each {first} to a list of {second}s, numbers in the "
                              "table's unit")
     for outer, inner in raw.items():
-        a = _size(outer, f"{key} ({first} {outer!r})")
+        a = _key_size(outer, f"{key} ({first} {outer!r})")
         if not isinstance(inner, list) or not inner:
             raise CatalogueError(f"{key}.{outer}: {inner!r} must be a list of {second}s")
         for j, v in enumerate(inner):
             out.append((f"sizes.{outer}[{j}]", (a, _size(v, f"{key}.{outer}[{j}]"))))
     return out
+
+
+def _key_size(value, key: str) -> float:
+    """A size that is a mapping's key: a number, or its text (JSON's keys are text: a user
+    catalogue comes back from design.json so)."""
+    if isinstance(value, str):
+        try:
+            value = float(value)
+        except ValueError:
+            pass
+    return _size(value, key)
 
 
 def _size(value, key: str) -> float:

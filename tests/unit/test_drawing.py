@@ -104,9 +104,12 @@ def test_drawing_and_picture_call_out_the_floor_radius():
     texts = drawing_texts("rect_pockets")
     assert "FLOOR EDGES R0.2 (BULL-NOSE)" in texts       # the slot callout names the tool's corner radius
     assert "R0.2 TYP" in texts.splitlines()               # on the floor radius in section A-A
-    assert "in R0.2, the end mill's corner radius" in texts
+    # the tool, from the catalogue (materials/tools.yaml): the largest metric end mill with R0.2
+    # that is at most 60 % of the slot and leaves the gauge backing on the flat floor
+    beam = cad.resolve(record("rect_pockets"))
+    assert f"in R0.2, the corner radius of the end mill Ø{beam.end_mill * 1e3:g} R0.2 mm" in texts
     flats = drawing_texts("round_flats")
-    assert "ENDS R0.2 (BULL-NOSE)" in flats and "R0.2 TYP" in flats.splitlines()
+    assert "ENDS R0.2 (BULL-NOSE, END MILL Ø" in flats and "R0.2 TYP" in flats.splitlines()
     beam = cad.resolve(record("round_flats"))
     meshes = cad.model_meshes(beam, cad.build_solid(beam))
     fig = drawing.plot_model(meshes, beam)

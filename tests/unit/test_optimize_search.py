@@ -281,10 +281,11 @@ def test_a_rounded_design_is_judged_with_the_wire_channels_its_rounded_pocket_ge
 
 
 def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
-    # A 1.5 x 1.2 mm gauge with 0.2 mm margins needs a 1.6 mm wide slot; the CAD's standard end
-    # mills start at 1 mm and take at most 0.6 of the slot's width (outputs/cad/beam.py), so no
-    # standard tool cuts it: a rectangle-only pocket search is bad input, and a 0.8 mm micro end
-    # mill (cad.end_mill_diameter) makes it a design again
+    # A 1.5 x 1.2 mm gauge with 0.2 mm margins needs a 1.6 mm wide slot, and an end mill takes at
+    # most 0.6 of it (outputs/cad/mills.py): the tool catalogue (materials/tools.yaml) has R0.3 mm
+    # only on end mills of 1.5 mm and up, so with cad.corner_radius 0.3 mm no tool cuts it and a
+    # rectangle-only pocket search is bad input; the default radius (R0.02 under the 0.05 mm
+    # shallowest pocket) is on the catalogue's Ø0.8 mm micro end mill, which makes it a design
     from designer.errors import SpecError
 
     text = _spec_text(search="  materials: [7075-T6]\n  sections: [rectangle]\n  feature: pocket",
@@ -295,12 +296,17 @@ def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
                               targets="  force_error: 20 %\n  position_error: 20 %")
     text += "gauge: {name: miniature, factor: 2.0, length: 1.5 mm, width: 1.2 mm, max_strain: 1500 ue}\n"
     with pytest.raises(SpecError) as err:
-        search.optimize(parse_spec_text(text))
+        search.optimize(parse_spec_text(text + "cad: {corner_radius: 0.3 mm}\n"))
     message = str(err.value)
     assert message.startswith("search.sections: rectangle: no slot can be machined: a slot 1.6 mm wide")
     assert "cad.end_mill_diameter" in message
-    found = search.optimize(parse_spec_text(text + "cad: {end_mill_diameter: 0.8 mm}\n"))
+    spec = parse_spec_text(text)
+    found = search.optimize(spec)
     assert found.best is not None and found.x.geometry.section == "rectangle"
+    assert spec.cad.corner_radius == pytest.approx(0.02e-3)
+    from designer.outputs.cad.mills import slot_end_mill
+
+    assert slot_end_mill(spec) == pytest.approx(0.8e-3)
 
 
 def test_a_contender_is_solved_from_every_start():

@@ -115,13 +115,19 @@ def test_yaml_error_message_names_where_the_unclosed_bracket_opens():
 
 
 def test_the_corner_radius_default_is_recorded_in_the_normalised_spec():
-    """cad.corner_radius: R0.2 (stock bull-nose end mills), at most 0.4 of the shallowest pocket
-    allowed and of a given end mill, rounded down to 0.01 mm; design.json's spec.cad carries it."""
+    """cad.corner_radius: R0.2 (stock bull-nose end mills), else the largest corner radius of the
+    tool catalogue (materials/tools.yaml) at most 0.4 of the shallowest pocket allowed and of a
+    given end mill, among that end mill's radii where the catalogue lists it; design.json's
+    spec.cad carries it. The catalogue's metric radii: 0.01, 0.02, 0.03, 0.05, 0.1, 0.2, ... mm;
+    its Ø0.4 mm end mill has R0.01-R0.05."""
     assert parse_spec(copy.deepcopy(MINIMAL)).to_dict()["cad"]["corner_radius"] == pytest.approx(0.2e-3)
     shallow = copy.deepcopy(MINIMAL) | {"limits": {"min_pocket_depth": "0.3 mm"}}
-    assert parse_spec(shallow).cad.corner_radius == pytest.approx(0.12e-3)
+    assert parse_spec(shallow).cad.corner_radius == pytest.approx(0.1e-3)        # 0.12 mm: R0.1
     tiny_mill = copy.deepcopy(MINIMAL) | {"cad": {"end_mill_diameter": "0.4 mm"}}
-    assert parse_spec(tiny_mill).cad.corner_radius == pytest.approx(0.16e-3)
+    assert parse_spec(tiny_mill).cad.corner_radius == pytest.approx(0.05e-3)     # 0.16 mm, Ø0.4's: R0.05
+    # with imperial stock, the imperial end mills' (R0.005-0.090 in): R0.005 in under 0.2 mm
+    imperial = copy.deepcopy(MINIMAL) | {"search": {"stock": "imperial"}}
+    assert parse_spec(imperial).cad.corner_radius == pytest.approx(0.005 * 25.4e-3)
     given = copy.deepcopy(MINIMAL) | {"cad": {"corner_radius": "0.5 mm"}}
     assert parse_spec(given).to_dict()["cad"]["corner_radius"] == pytest.approx(0.5e-3)
     # a fixed design shallower than min_pocket_depth (evaluate judges it) gets a radius that fits it

@@ -1,6 +1,6 @@
 """Users' own catalogues beside the shipped one (designer.spec.catalogue.use, spec key
 ``catalogue``, ``--catalogue FILE``): tests/data/user-catalogue.yaml adds a material (6082-T6), a
-gauge (KFGS-2-120) and a stock table of 6082-T6 round bar."""
+gauge (KFGS-2-120), a stock table of 6082-T6 round bar and an end mill (Ø8.5 mm, R0.2 and R0.5)."""
 
 import json
 import shutil
@@ -136,6 +136,14 @@ BAD = {
     "shipped table name": (lambda t: t.replace("name: shop-6082-round", "name: al-round-metric"), ["shop.yaml", "al-round-metric", "used twice"]),
     "unknown family": (lambda t: t.replace("family: shop-aluminium", "family: nope"), ["shop.yaml", "family", "nope"]),
     "not a mapping": (lambda t: "- 1\n- 2\n", ["shop.yaml", "mapping"]),
+    "end mill radius too large": (lambda t: t.replace("8.5: [0.2, 0.5]", "8.5: [0.2, 4.5]"),
+                                  ["shop.yaml", "shop-mills", "tools.8.5[1]", "4.5 mm", "not less than"]),
+    "end mill unit": (lambda t: t.replace("    unit: mm\n    source: \"our tool crib", "    unit: cm\n    source: \"our tool crib"),
+                      ["shop.yaml", "shop-mills", ".unit", "'cm'", "mm"]),
+    "end mill table twice": (lambda t: t.replace("name: shop-mills", "name: carbide-corner-radius-metric"),
+                             ["shop.yaml", "carbide-corner-radius-metric", "used twice"]),
+    "end mill missing source": (lambda t: t.replace('    source: "our tool crib, 2026"\n', ""),
+                                ["shop.yaml", "shop-mills", "source", "missing"]),
 }
 
 
@@ -196,3 +204,28 @@ def test_a_user_material_without_a_stock_family_has_no_stock_and_says_so(tmp_pat
     assert main(["optimize", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"]) == 2
     err = capsys.readouterr().err
     assert "6082-T6 is in no stock family" in err and "stock.families" in err
+
+
+def test_a_user_end_mill_cuts_the_flats_it_fits(tmp_path):
+    """A flat is cut across the bar by the largest end mill with the spec's corner radius (R0.2)
+    no wider than the flat is long: BF350-3AA's 6.9 mm backing and 1 mm margins make the flats
+    8.9 mm long, so the shop's Ø8.5 R0.2 mm beats the shipped Ø8 R0.2 mm (materials/tools.yaml),
+    and design.json, the summary and the drawing name it."""
+    from designer.outputs import report
+    from designer.outputs.cad import resolve
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import load_spec
+
+    rest = DESIGN.format(material="6082-T6").replace("feature: {kind: none}", "feature: {kind: pocket, depth: 1 mm}")
+    record = evaluate_fixed(load_spec(_spec(tmp_path, gauge="BF350-3AA", rest=rest))).record
+    assert record["design"]["feature"]["length"] == pytest.approx(8.9e-3)
+    tool = record["design"]["feature"]["tool"]
+    assert (tool["label"], tool["table"]) == ("end mill Ø8.5 R0.2 mm", "shop-mills")
+    assert tool["diameter"] == pytest.approx(8.5e-3) and tool["corner_radius"] == pytest.approx(0.2e-3)
+    rows = dict(report.summary_rows(record))
+    assert rows["end mill"].startswith("Ø8.5 R0.2 mm (shop-mills), moved across the bar")
+    # the CAD takes the recorded tool, without the user's file
+    assert resolve(json.loads(json.dumps(record))).tool == "end mill Ø8.5 R0.2 mm"
+    shipped = evaluate_fixed(load_spec(_spec(tmp_path, material="6061-T6", gauge="BF350-3AA", catalogue="",
+                                             rest=rest.replace("6082-T6", "6061-T6")))).record
+    assert shipped["design"]["feature"]["tool"]["label"] == "end mill Ø8 R0.2 mm"

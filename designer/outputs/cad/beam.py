@@ -5,7 +5,8 @@ open from the spec's ``cad`` keys or the documented defaults:
 
 - the clamp block ``-clamp_length <= X < 0``: the section's bounding box (widened when the
   bolts need it) with two bolt clearance holes along ``Z`` on the axis;
-- the end mill of slot pockets on a rectangle (corner radii equal to its radius);
+- the end mill of slot pockets on a rectangle (corner radii equal to its radius) and of flats,
+  from the tool catalogue (``materials/tools.yaml``) unless the record names it;
 - the corner radius of the end mill that cuts pockets and flats (``spec.cad.corner_radius``,
   recorded by the spec reader; older files get the reader's default): a slot's floor meets its
   walls all round in it, a flat's floor meets its two end walls in it;
@@ -26,6 +27,7 @@ from designer.errors import DesignFileError
 from designer.model.sections import CHANNEL_DEPTH, CHANNEL_WIDTH
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
+from designer.outputs.cad import mills
 from designer.spec.reader import default_corner_radius
 
 # ISO 273 medium-series clearance holes for ISO metric coarse bolts: nominal -> hole, m.
@@ -41,10 +43,6 @@ BOLT_EDGE = 1.5
 # Default clamp length: 1.5 times the section's larger side, rounded up to 5 mm.
 CLAMP_LENGTH_PER_SIZE = 1.5
 CLAMP_LENGTH_STEP = 0.005
-# Standard metric end mill diameters, m.
-END_MILLS = (0.001, 0.0015, 0.002, 0.0025, 0.003, 0.004, 0.005, 0.006, 0.008, 0.010, 0.012)
-# Default end mill: at most 60 % of the slot width, so that the slot keeps straight side walls.
-END_MILL_FRACTION = 0.6
 # Load grooves: 0.5 mm wide holds the "very thin string" the paper hung its masses from
 # (Noh et al. 2025, section 4.2.1); 0.3 mm deep, at most 5 % of the section's smaller side.
 GROOVE_WIDTH = 0.0005
@@ -156,10 +154,18 @@ def resolve(record: dict) -> BeamCad:
 
     end_mill = None
     corner = 0.0
+    tool = ""
+    system = _system(spec)
     if fkind == "pocket":
-        corner = _corner_radius(cad, limits, depth, p_len, gauge_length, kind)
-    if fkind == "pocket" and kind == "rectangle":
-        end_mill = _end_mill(cad, p_len, p_wid, gauge_length, gauge_width, corner)
+        corner = _corner_radius(cad, limits, depth, p_len, gauge_length, kind, system)
+        recorded = _recorded_tool(feature)
+        if kind == "rectangle":
+            given = _length(cad, "end_mill_diameter", "spec.cad", required=False)
+            end_mill = mills.end_mill(recorded if given is None else given, p_len, p_wid, gauge_length, gauge_width,
+                                      corner, system)
+            tool = mills.tool_label(end_mill, corner, system)
+        else:
+            tool = mills.tool_label(recorded or mills.flat_end_mill(p_len, corner, system), corner, system)
     clamp = _clamp(cad, width, height)
     channels = None
     if fkind == "pocket" and _flag(cad, "wire_channels", "spec.cad", True):
@@ -172,7 +178,7 @@ def resolve(record: dict) -> BeamCad:
     return BeamCad(name=name.strip(), material=material.strip(), status=str(status), section=kind,
                    width=width, height=height, wall=wall, length=length, stations=stations, axes=axes,
                    feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
-                   hole_diameter=hole, end_mill=end_mill, floor_radius=corner, gauge_name=gauge_name,
+                   hole_diameter=hole, end_mill=end_mill, floor_radius=corner, tool=tool, gauge_name=gauge_name,
                    gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves,
                    stock=_stock_label(d.get("stock")), tolerances=_tolerance_label(record.get("tolerances")))
 
@@ -260,16 +266,36 @@ def _clamp(cad: dict, width: float, height: float) -> Clamp:
                  bolt_positions=(-length / 4, -3 * length / 4))
 
 
-def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: float, kind: str) -> float:
+def _system(spec: dict) -> str:
+    """The system of units the spec's stock is in (``search.stock``): its end mills' first."""
+    search = spec.get("search")
+    stock = search.get("stock") if isinstance(search, dict) else None
+    return stock if stock in ("metric", "imperial") else "metric"
+
+
+def _recorded_tool(feature: dict) -> float | None:
+    """The end mill's diameter design.json's ``design.feature.tool`` names (optimize and evaluate
+    write it from the catalogue they read, which may hold a user's tools), or None."""
+    tool = feature.get("tool")
+    if tool is None:
+        return None
+    d = tool.get("diameter") if isinstance(tool, dict) else None
+    if isinstance(d, bool) or not isinstance(d, (int, float)) or not 0 < d < 1:
+        raise DesignFileError(f"design.feature.tool: {tool!r} must be the end mill optimize writes, with its "
+                              "diameter in m")
+    return float(d)
+
+
+def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: float, kind: str,
+                   system: str = "metric") -> float:
     """The end mill's corner radius, where a pocket's or flat's floor meets its walls."""
     given = _length(cad, "corner_radius", "spec.cad", required=False)
     if given is None:  # a design.json written before the key existed: the spec reader's default
         shallowest = limits.get("min_pocket_depth")
         if isinstance(shallowest, bool) or not isinstance(shallowest, (int, float)) or not shallowest > 0:
             shallowest = depth
-        radius = default_corner_radius(min(float(shallowest), depth))
         mill = _length(cad, "end_mill_diameter", "spec.cad", required=False)
-        return radius if mill is None else min(radius, default_corner_radius(mill))
+        return default_corner_radius(min(float(shallowest), depth), system, mill)
     if not given < depth - LENGTH_EPS:
         raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} must be less than the pocket depth "
                               f"({fmt_mm(depth)} mm), so that the pocket keeps a wall above its floor radius")
@@ -278,61 +304,6 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
         raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} leaves a flat floor {fmt_mm(floor)} mm long, "
                               f"shorter than the {fmt_mm(g_len)} mm gauge backing; it must be at most "
                               f"{fmt_mm((p_len - g_len) / 2)} mm")
-    return given
-
-
-def slot_end_mill(spec) -> float:
-    """The end mill that cuts a spec's slots (rectangle pockets), which depends on the spec alone:
-    the pocket's size from the gauge and its margin, the corner radius and any given end mill.
-    Raises DesignFileError when no tool can."""
-    lp, wp = spec.pocket_size()
-    if spec.cad.end_mill_diameter is not None:
-        return _end_mill({"end_mill_diameter": spec.cad.end_mill_diameter}, lp, wp, spec.gauge.length,
-                         spec.gauge.width, spec.cad.corner_radius)
-    try:
-        return _end_mill({}, lp, wp, spec.gauge.length, spec.gauge.width, spec.cad.corner_radius)
-    except DesignFileError:
-        raise DesignFileError(
-            f"a slot {fmt_mm(wp)} mm wide (the gauge's {fmt_mm(spec.gauge.width)} mm and twice "
-            f"limits.pocket_margin) leaves no standard end mill (from {fmt_mm(END_MILLS[0])} mm) that cuts it with "
-            f"the {fmt_mm(spec.cad.corner_radius)} mm cad.corner_radius and keeps the gauge on its flat floor; "
-            "give cad.end_mill_diameter, a smaller cad.corner_radius or a larger limits.pocket_margin") from None
-
-
-def _end_mill(cad: dict, p_len: float, p_wid: float, g_len: float, g_wid: float, corner: float) -> float:
-    """The end mill of a slot: its radius is the slot's plan corner radius; ``corner`` (its own
-    corner radius) rounds the floor's edge, and the gauge backing must sit on the flat floor."""
-    given = _length(cad, "end_mill_diameter", "spec.cad", required=False)
-
-    def gauge_fits(tool: float) -> bool:
-        r = tool / 2
-        cx, cy = p_len / 2 - r, p_wid / 2 - r  # centre of the corner arc
-        gx, gy = g_len / 2, g_wid / 2          # corner of the gauge backing
-        # the flat floor: the slot's outline less the floor radius all round
-        if gx > p_len / 2 - corner + LENGTH_EPS or gy > p_wid / 2 - corner + LENGTH_EPS:
-            return False
-        return gx <= cx or gy <= cy or math.hypot(gx - cx, gy - cy) <= r - corner + LENGTH_EPS
-
-    if given is None:
-        fitting = [t for t in END_MILLS if t <= END_MILL_FRACTION * p_wid + LENGTH_EPS and t / 2 > corner + LENGTH_EPS
-                   and gauge_fits(t)]
-        if not fitting:
-            raise DesignFileError(f"design.feature.width: {_mm(p_wid)} leaves no standard end mill (from 1 mm) "
-                                  f"that cuts the slot with a {fmt_mm(corner)} mm corner radius and keeps the "
-                                  f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge on its flat floor; give "
-                                  f"spec.cad.end_mill_diameter or a smaller spec.cad.corner_radius")
-        return fitting[-1]
-    if given > p_wid + LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} is wider than the {fmt_mm(p_wid)} mm pocket; "
-                              f"it must be at most the pocket width")
-    if not corner < given / 2 - LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.corner_radius: {_mm(corner)} must be less than half the end mill "
-                              f"(Ø{fmt_mm(given)} mm: {fmt_mm(given / 2)} mm)")
-    if not gauge_fits(given):
-        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} leaves corner radii that cut into the "
-                              f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge backing in its "
-                              f"{fmt_mm(p_len)} x {fmt_mm(p_wid)} mm pocket (its floor radius "
-                              f"{fmt_mm(corner)} mm included); use a smaller end mill")
     return given
 
 

@@ -181,7 +181,8 @@ def _callouts(pen, beam: BeamCad, X, YS, YT, y) -> None:
         items.append(((X(d0 + beam.pocket_length / 4), YT(beam.flat_half_chord)),
                       f"FLAT {fmt_mm(beam.pocket_length)} LONG x {fmt_mm(beam.pocket_depth)} DEEP "
                       f"({fmt_mm(beam.width - 2 * beam.pocket_depth)} ACROSS FLATS), ENDS R{fmt_mm(rf)} "
-                      f"(BULL-NOSE), {faces}, EACH STATION"))
+                      f"(BULL-NOSE{', ' + beam.tool.upper() + ' ACROSS' if beam.tool else ''}), {faces}, "
+                      "EACH STATION"))
 
     elif beam.feature == "hole":
         r = beam.hole_diameter / 2
@@ -269,8 +270,9 @@ def _notes(pen, beam: BeamCad, X) -> None:
         what = "slot pockets" if beam.section == "rectangle" else "flats"
         lines.append(f"4. Identical {what} at every station, on {where}, centred on the gauge stations.")
         walls = "its walls all round" if beam.section == "rectangle" else "its two end walls"
-        lines.append(f"{len(lines)}. Each floor meets {walls} in R{fmt_mm(beam.floor_radius)}, the end mill's "
-                     "corner radius: no sharp inside corner (it would raise the stress there).")
+        mill = f"the {beam.tool}" if beam.tool else "the end mill"
+        lines.append(f"{len(lines)}. Each floor meets {walls} in R{fmt_mm(beam.floor_radius)}, the corner radius "
+                     f"of {mill}: no sharp inside corner (it would raise the stress there).")
     elif beam.feature == "hole":
         lines.append("4. Through-holes on the beam's axis at every station, square to the gauge faces.")
     else:
