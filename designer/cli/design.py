@@ -337,11 +337,13 @@ def run_materials(args) -> int:
 
     catalogue.use(_user_catalogues(args))
     mats, gauges, stock = catalogue.materials(), catalogue.gauges(), catalogue.stock()
+    mills = catalogue.end_mills().end_mills
     fronts = frontends.catalogue()
     if args.json:
         print(json.dumps({"materials": [asdict(m) for m in mats.values()],
                           "gauges": [asdict(g) for g in gauges.values()],
                           "stock": [_stock_entry(t, stock) for t in stock.tables],
+                          "end_mills": [asdict(m) for m in mills],
                           "front_ends": [asdict(f) for f in fronts.values()]}, indent=2))
         return 0
     from rich.console import Console
@@ -378,6 +380,16 @@ def run_materials(args) -> int:
         items = [item.designation for item in table.items]
         b.add_row(table.name, ", ".join(stock.families[table.family]), table.shape, table.standard,
                   f"{len(items)}: {items[0]} … {items[-1]}", note(table.source))
+    e = Table(title="end mills (cad.corner_radius, the slots' and flats' tools)", box=None, padding=(0, 1))
+    for col in ("table", "system", "diameters", "corner radii"):
+        e.add_column(col, justify="left", no_wrap=col != "corner radii")
+    for name in dict.fromkeys(m.table for m in mills):
+        mine = [m for m in mills if m.table == name]
+        scale = 1e3 if mine[0].unit == "mm" else 1 / 0.0254
+        diameters = sorted({m.diameter for m in mine})
+        radii = sorted({m.corner_radius for m in mine})
+        e.add_row(name, mine[0].system, f"{len(diameters)}: Ø{diameters[0] * scale:g} … Ø{diameters[-1] * scale:g} "
+                  f"{mine[0].unit}", f"R{radii[0] * scale:.3g} … R{radii[-1] * scale:.3g} {mine[0].unit}")
     f = Table(title="front-ends (electronics: {adc: NAME, rate: ..., gain: ...})", box=None, padding=(0, 1))
     for col in ("name", "kind", "gains", "rates\nHz", "noise\nnV RMS", "range\n±V_ref/gain", "source"):
         f.add_column(col, justify="left" if col in ("name", "kind") else "right", no_wrap=True)
@@ -395,6 +407,8 @@ def run_materials(args) -> int:
     console.print(g)
     console.print()
     console.print(b)
+    console.print()
+    console.print(e)
     console.print()
     console.print(f)
     console.print()
