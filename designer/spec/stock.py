@@ -190,22 +190,32 @@ def _families(raw, materials, where: str, taken: dict | None = None) -> dict:
     return out
 
 
-def _table(entry, i: int, families: dict, where: str) -> StockTable:
+def table_fields(entry, at: str, keys, text, allowed: dict, key_of) -> tuple[str, str, dict]:
+    """A catalogue table's name, the prefix its messages name it by (``key_of(name)``) and its
+    values: every one of ``keys`` required, ``text`` keys text, ``allowed`` keys among their
+    choices. ``at``: where the table is (``stock.yaml tables[3]``), for a table without a name."""
     if not isinstance(entry, dict):
-        raise CatalogueError(f"{where} tables[{i}]: must be a mapping with keys {describe_allowed(TABLE_KEYS)}")
+        raise CatalogueError(f"{at}: must be a mapping with keys {describe_allowed(keys)}")
     name = entry.get("name")
     if not isinstance(name, str) or not name.strip():
-        raise CatalogueError(f"{where} tables[{i}].name: {name!r} must be a name (text)")
-    key = f"{where} {name}"
-    known_keys(entry, TABLE_KEYS, key)
-    values = {k: required(entry, k, key) for k in TABLE_KEYS}
-    for k in ("family", "shape", "system", "unit", "standard", "source"):
+        raise CatalogueError(f"{at}.name: {name!r} must be a name (text)")
+    key = key_of(name)
+    known_keys(entry, keys, key)
+    values = {k: required(entry, k, key) for k in keys}
+    for k in text:
         if not isinstance(values[k], str) or not values[k].strip():
             raise CatalogueError(f"{key}.{k}: {values[k]!r} must be text")
-    allowed = {"family": tuple(families), "shape": tuple(SHAPES), "system": SYSTEMS, "unit": tuple(UNITS)}
     for k, choices in allowed.items():
         if values[k] not in choices:
             raise CatalogueError(f"{key}.{k}: {values[k]!r} is not allowed; must be {describe_allowed(choices)}")
+    return name, key, values
+
+
+def _table(entry, i: int, families: dict, where: str) -> StockTable:
+    allowed = {"family": tuple(families), "shape": tuple(SHAPES), "system": SYSTEMS, "unit": tuple(UNITS)}
+    name, key, values = table_fields(entry, f"{where} tables[{i}]", TABLE_KEYS,
+                                     ("family", "shape", "system", "unit", "standard", "source"), allowed,
+                                     lambda n: f"{where} {n}")
     shape, unit = values["shape"], values["unit"]
     rows = _rows(values["sizes"], shape, f"{key}.sizes")
     seen, items = set(), []

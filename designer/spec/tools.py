@@ -11,8 +11,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from designer.errors import CatalogueError, describe_allowed
-from designer.spec.stock import SYSTEMS, UNITS, _key_size, _number, _si, _size, known_keys, required
+from designer.errors import CatalogueError
+from designer.spec.stock import SYSTEMS, UNITS, _key_size, _number, _si, _size, table_fields
 
 FILE = "tools.yaml"
 TABLE_KEYS = ("name", "system", "unit", "source", "tools")
@@ -111,20 +111,8 @@ def extend(base: ToolCatalogue, raw, where: str) -> ToolCatalogue:
 
 
 def _table(entry, i: int, where: str) -> list[EndMill]:
-    if not isinstance(entry, dict):
-        raise CatalogueError(f"{where}[{i}]: must be a mapping with keys {describe_allowed(TABLE_KEYS)}")
-    name = entry.get("name")
-    if not isinstance(name, str) or not name.strip():
-        raise CatalogueError(f"{where}[{i}].name: {name!r} must be a name (text)")
-    key = f"{where}.{name}"
-    known_keys(entry, TABLE_KEYS, key)
-    values = {k: required(entry, k, key) for k in TABLE_KEYS}
-    for k in ("system", "unit", "source"):
-        if not isinstance(values[k], str) or not values[k].strip():
-            raise CatalogueError(f"{key}.{k}: {values[k]!r} must be text")
-    for k, choices in (("system", SYSTEMS), ("unit", tuple(UNITS))):
-        if values[k] not in choices:
-            raise CatalogueError(f"{key}.{k}: {values[k]!r} is not allowed; must be {describe_allowed(choices)}")
+    name, key, values = table_fields(entry, f"{where}[{i}]", TABLE_KEYS, ("system", "unit", "source"),
+                                     {"system": SYSTEMS, "unit": tuple(UNITS)}, lambda n: f"{where}.{n}")
     unit, raw = values["unit"], values["tools"]
     if not isinstance(raw, dict) or not raw:
         raise CatalogueError(f"{key}.tools: must be a mapping of each diameter to a list of its corner radii, "
