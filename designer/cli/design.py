@@ -73,14 +73,26 @@ def _optional(module: str):
         raise
 
 
+def cad_child(cad: bool):
+    """A child process that loads the CAD kernel while this one searches (``write_outputs``
+    gives it the design), or None without CAD outputs or without cadquery."""
+    if not cad or importlib.util.find_spec("cadquery") is None:
+        return None
+    from designer.outputs.background import Background
+
+    # what write_cad_outputs imports lazily: the CAD kernel (1-3 s) and matplotlib's figure
+    return Background(modules=("designer.outputs.cad.writer", "cadquery", "matplotlib.figure"))
+
+
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
-                  writers=(), fronts=None, progress=None) -> None:
+                  writers=(), fronts=None, progress=None, child=None) -> None:
     """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
     ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing.
 
-    The CAD model is built in a child process while this one computes ``fronts`` (a callable
-    giving the trade-off fronts, or None) and draws the plots. ``progress(stage, done, total)``
-    hears of the plots and of the wait for the CAD model."""
+    The CAD model is built in a child process (``child``, one ``cad_child`` started earlier, or
+    a new one) while this one computes ``fronts`` (a callable giving the trade-off fronts, or
+    None) and draws the plots. ``progress(stage, done, total)`` hears of the plots and of the
+    wait for the CAD model."""
     from designer.outputs import report
     from designer.errors import InputError
     from designer.outputs.files import atomic_write_json, atomic_write_text, previous_outputs, staged_directory
@@ -94,7 +106,8 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
             from designer.outputs.background import Background
             from designer.outputs.cad.writer import write_cad_outputs
 
-            cad_job = Background(write_cad_outputs, dict(record), scratch)
+            cad_job = (child.submit(write_cad_outputs, dict(record), scratch) if child is not None
+                       else Background(write_cad_outputs, dict(record), scratch))
         try:
             extra = dict(extra_plots or {})
             if fronts is not None:
@@ -163,19 +176,24 @@ def run_optimize(args) -> int:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
     out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec, _user_catalogues(args))
-    with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
-        result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
-                                            verify_rounds=rounds, tradeoff=False, progress=progress))
-        writers = []
-        if result.verification is not None:
-            from designer.checks import fea
+    child = cad_child(not args.no_cad)    # loads the CAD kernel while the search runs
+    try:
+        with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
+            result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
+                                                verify_rounds=rounds, tradeoff=False, progress=progress))
+            writers = []
+            if result.verification is not None:
+                from designer.checks import fea
 
-            writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
-        # the fronts are computed while the CAD model builds in a child process
-        fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
-        write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
-                      extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
-                      progress=progress)
+                writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
+            # the fronts are computed while the CAD model builds in a child process
+            fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
+            write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
+                          extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
+                          progress=progress, child=child)
+    finally:
+        if child is not None:
+            child.stop()
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.status == "optimal" else 1

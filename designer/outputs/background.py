@@ -3,12 +3,15 @@
 The CAD model (the CAD kernel alone takes seconds to load) is built in a child while the main
 process computes the trade-off fronts and draws the plots. The child is started with ``spawn``:
 a fresh interpreter, so that nothing of the parent's solver state or threads is forked into it.
-An error in the child is raised again in the parent by ``result``; ``stop`` ends the child when
-the parent stops first (an error, Ctrl-C, SIGTERM).
+It may be started before its job is known, importing the job's modules (``modules``) while the
+parent searches, and given the job later (``submit``). An error in the child is raised again in
+the parent by ``result``; ``stop`` ends the child when the parent stops first (an error, Ctrl-C,
+SIGTERM).
 """
 
 from __future__ import annotations
 
+import importlib
 import multiprocessing
 import signal
 
@@ -26,15 +29,42 @@ def _run(connection, target, args):
         connection.close()
 
 
-class Background:
-    """``target(*args)`` in a child process; ``target`` must be importable by name."""
+def _serve(jobs, connection, modules):
+    """Import ``modules``, then run the job the parent sends (none: it stopped first)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        for name in modules:
+            importlib.import_module(name)
+    except Exception:  # noqa: BLE001 - the job's own import says what is wrong, in the parent
+        pass
+    try:
+        target, args = jobs.recv()
+    except EOFError:
+        connection.close()
+        return
+    _run(connection, target, args)
 
-    def __init__(self, target, *args):
+
+class Background:
+    """``target(*args)`` in a child process; ``target`` must be importable by name. Without a
+    target the child imports ``modules`` at once and waits for ``submit``."""
+
+    def __init__(self, target=None, *args, modules=()):
         context = multiprocessing.get_context("spawn")
         self._parent, child = context.Pipe(duplex=False)
-        self._process = context.Process(target=_run, args=(child, target, args), daemon=True)
+        waiting, self._jobs = context.Pipe(duplex=False)
+        self._process = context.Process(target=_serve, args=(waiting, child, tuple(modules)), daemon=True)
         self._process.start()
         child.close()
+        waiting.close()
+        if target is not None:
+            self.submit(target, *args)
+
+    def submit(self, target, *args) -> "Background":
+        """Give the child its job, ``target(*args)`` (once)."""
+        self._jobs.send((target, args))
+        self._jobs.close()
+        return self
 
     def result(self):
         """The child's return value, or its exception raised here."""
@@ -53,4 +83,5 @@ class Background:
         if self._process.is_alive():
             self._process.terminate()
             self._process.join(5)
+        self._jobs.close()
         self._parent.close()
