@@ -229,3 +229,17 @@ def test_a_user_end_mill_cuts_the_flats_it_fits(tmp_path):
     shipped = evaluate_fixed(load_spec(_spec(tmp_path, material="6061-T6", gauge="BF350-3AA", catalogue="",
                                              rest=rest.replace("6082-T6", "6061-T6")))).record
     assert shipped["design"]["feature"]["tool"]["label"] == "end mill Ø8 R0.2 mm"
+
+
+def test_a_given_end_mill_cuts_the_flats(tmp_path):
+    """cad.end_mill_diameter names the end mill of flats as of slots: a Ø6 mm R0.2 mm (a catalogue
+    tool, materials/tools.yaml) instead of the largest no longer than the 8.9 mm flat."""
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import load_spec
+
+    rest = (DESIGN.format(material="6061-T6").replace("feature: {kind: none}", "feature: {kind: pocket, depth: 1 mm}")
+            + "cad: {end_mill_diameter: 6 mm}\n")
+    record = evaluate_fixed(load_spec(_spec(tmp_path, material="6061-T6", gauge="BF350-3AA", catalogue="",
+                                            rest=rest))).record
+    tool = record["design"]["feature"]["tool"]
+    assert (tool["label"], tool["table"]) == ("end mill Ø6 R0.2 mm", "carbide-corner-radius-metric")

@@ -159,13 +159,13 @@ def resolve(record: dict) -> BeamCad:
     if fkind == "pocket":
         corner = _corner_radius(cad, limits, depth, p_len, gauge_length, kind, system)
         recorded = _recorded_tool(feature)
+        given = _length(cad, "end_mill_diameter", "spec.cad", required=False)
         if kind == "rectangle":
-            given = _length(cad, "end_mill_diameter", "spec.cad", required=False)
             end_mill = mills.end_mill(recorded if given is None else given, p_len, p_wid, gauge_length, gauge_width,
                                       corner, system)
             tool = mills.tool_label(end_mill, corner, system)
         else:
-            tool = mills.tool_label(recorded or mills.flat_end_mill(p_len, corner, system), corner, system)
+            tool = mills.tool_label(given or recorded or mills.flat_end_mill(p_len, corner, system), corner, system)
     clamp = _clamp(cad, width, height)
     channels = None
     if fkind == "pocket" and _flag(cad, "wire_channels", "spec.cad", True):

@@ -4,8 +4,9 @@
 A slot on a rectangle is cut with the largest end mill whose radius (the slot's corner radius
 in plan) leaves the gauge backing on the flat floor and which is at most END_MILL_FRACTION of the
 slot's width; a flat on a round bar or tube across the bar with the largest no wider than the
-flat is long. Both carry the spec's corner radius (``cad.corner_radius``), where the floor
-meets the walls. design.json records the end mill (``design.feature.tool``).
+flat is long; either with the spec's cad.end_mill_diameter where it gives one. Both carry the
+spec's corner radius (``cad.corner_radius``), where the floor meets the walls. design.json
+records the end mill (``design.feature.tool``).
 """
 
 from __future__ import annotations
@@ -62,7 +63,7 @@ def pocket_tool(spec, geometry) -> EndMill | None:
         d = end_mill(given, geometry.pocket_length,
                       geometry.pocket_width, spec.gauge.length, spec.gauge.width, corner, system)
     else:
-        d = flat_end_mill(geometry.pocket_length, corner, system)
+        d = spec.cad.end_mill_diameter or flat_end_mill(geometry.pocket_length, corner, system)
     listed = catalogue.end_mills().tool(d, corner, system)
     return listed if listed is not None else EndMill(d, corner, "spec", system, "mm")
 
