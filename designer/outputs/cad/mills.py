@@ -40,7 +40,6 @@ def tool_label(diameter: float, corner: float, system: str = "metric") -> str:
     return listed.label if listed is not None else f"end mill Ø{fmt_mm(diameter)} R{fmt_mm(corner)} mm"
 
 
-
 def flat_end_mill(p_len: float, corner: float, system: str = "metric") -> float:
     """The end mill that cuts a flat on a round bar or tube: moved across the bar, it is no wider
     than the flat is long, so the largest catalogue end mill with the corner radius that is (the
@@ -48,7 +47,6 @@ def flat_end_mill(p_len: float, corner: float, system: str = "metric") -> float:
     diameters = catalogue.end_mills().diameters(corner, system)
     fitting = [d for d in diameters if d <= p_len + LENGTH_EPS]
     return fitting[-1] if fitting else diameters[0]
-
 
 
 def pocket_tool(spec, geometry) -> EndMill | None:
@@ -59,14 +57,12 @@ def pocket_tool(spec, geometry) -> EndMill | None:
     system = spec_system(spec)
     corner = spec.cad.corner_radius
     if geometry.section == "rectangle":
-        given = spec.cad.end_mill_diameter
-        d = end_mill(given, geometry.pocket_length,
-                      geometry.pocket_width, spec.gauge.length, spec.gauge.width, corner, system)
+        d = end_mill(spec.cad.end_mill_diameter, geometry.pocket_length, geometry.pocket_width, spec.gauge.length,
+                     spec.gauge.width, corner, system)
     else:
         d = spec.cad.end_mill_diameter or flat_end_mill(geometry.pocket_length, corner, system)
     listed = catalogue.end_mills().tool(d, corner, system)
     return listed if listed is not None else EndMill(d, corner, "spec", system, "mm")
-
 
 
 def slot_end_mill(spec) -> float:
@@ -76,8 +72,8 @@ def slot_end_mill(spec) -> float:
     lp, wp = spec.pocket_size()
     system = spec_system(spec)
     if spec.cad.end_mill_diameter is not None:
-        return end_mill(spec.cad.end_mill_diameter, lp, wp, spec.gauge.length,
-                         spec.gauge.width, spec.cad.corner_radius, system)
+        return end_mill(spec.cad.end_mill_diameter, lp, wp, spec.gauge.length, spec.gauge.width,
+                        spec.cad.corner_radius, system)
     try:
         return end_mill(None, lp, wp, spec.gauge.length, spec.gauge.width, spec.cad.corner_radius, system)
     except DesignFileError:
@@ -87,7 +83,6 @@ def slot_end_mill(spec) -> float:
             f"limits.pocket_margin) leaves no catalogue end mill (from {fmt_mm(smallest)} mm) that cuts it with "
             f"the {fmt_mm(spec.cad.corner_radius)} mm cad.corner_radius and keeps the gauge on its flat floor; "
             "give cad.end_mill_diameter, a smaller cad.corner_radius or a larger limits.pocket_margin") from None
-
 
 
 def end_mill(given: float | None, p_len: float, p_wid: float, g_len: float, g_wid: float, corner: float,
