@@ -71,6 +71,9 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
     ]
     if p.get("front_end"):
         rows += front_end_rows(p["front_end"])
+    longer = longer_pocket_text(record)
+    if longer:
+        rows[3] = ("feature", f"{rows[3][1]}; {longer}")
     if d["feature"].get("tool"):
         rows.insert(4, ("end mill", tool_text(d["feature"]["tool"], d["section"])))
     if d.get("stock"):
@@ -86,6 +89,23 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
     if rounds:
         rows.append(("3-D check", verify_verdict(record)))
     return rows
+
+
+def longer_pocket_text(record: dict) -> str:
+    """Why a pocket or flat is longer than the gauge's backing and margins (the spec's rule): a
+    searched one because the 3-D corrections hold only for one that long on this section
+    (docs/model.md §1), a fixed design's because it says so; "" where it is the rule's length."""
+    d = record["design"]
+    margin = record["spec"].get("limits", {}).get("pocket_margin")
+    if d["feature"]["kind"] != "pocket" or not isinstance(margin, (int, float)):
+        return ""
+    rule = d["gauge"]["length"] + 2 * margin
+    if d["feature"]["length"] <= rule + 5e-6:     # within the 0.01 mm rounding
+        return ""
+    if record.get("solver", {}).get("method", "none") == "none":     # a fixed design's, as given
+        return f"longer than the gauge's {rule * 1e3:.2f} mm pocket, as the design gives it"
+    return (f"longer than the gauge's {rule * 1e3:.2f} mm pocket, as the 3-D corrections need on this section "
+            "(docs/model.md §1)")
 
 
 def tool_text(tool: dict, section: dict) -> str:

@@ -36,6 +36,13 @@ def test_the_weigh_bars_flat_is_as_long_as_the_corrections_need_and_no_longer():
     assert _on_grid(g.pocket_length)
     shorter = evaluate(replace(ev.design, geometry=replace(g, pocket_length=g.pocket_length - ROUNDING)), spec)
     assert any(v.name.startswith("domain_") for v in shorter.violations)
+    # the summary says why the flat is longer than the gauge's 6.9 mm backing and 1 mm margins
+    from designer.outputs import report
+    from designer.result.record import search_record
+
+    feature = dict(report.summary_rows(search_record(spec, found)))["feature"]
+    assert feature.endswith("longer than the gauge's 8.90 mm pocket, as the 3-D corrections need on this section "
+                            "(docs/model.md §1)")
 
 
 def test_a_tube_flat_is_at_least_as_long_as_the_tube_is_thick():
@@ -78,3 +85,24 @@ def test_ipopt_is_not_held_at_the_kink_between_the_rule_and_the_needed_length():
     ipopt, cobyla = optimize(spec), optimize(spec, method="cobyla")
     assert ipopt.success and cobyla.success
     assert ipopt.best.objective <= cobyla.best.objective * (1 + TIE_TOLERANCE)
+
+
+def test_a_pocket_of_the_rule_s_length_is_not_called_longer_and_a_given_one_is_the_design_s():
+    """The gripper finger's Ø9.4 mm bar: its 8.9 mm flats are the rule's (0.95 D, inside the round
+    flats' fits), and the summary says nothing of their length; a fixed design with 12 mm flats
+    is longer because the design says so."""
+    from designer.outputs import report
+    from designer.result.pipeline import evaluate_fixed
+    from designer.result.record import search_record
+    from designer.spec.reader import parse_spec
+    import yaml
+
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    feature = dict(report.summary_rows(search_record(spec, optimize(spec))))["feature"]
+    assert "longer" not in feature
+    raw = yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw["design"] = {"material": "Ti-6Al-4V", "section": {"kind": "round", "diameter": "9.39 mm"},
+                     "stations": ["10 mm", "31 mm"], "feature": {"kind": "pocket", "depth": "2 mm", "length": "12 mm"}}
+    record = evaluate_fixed(parse_spec(raw)).record
+    assert dict(report.summary_rows(record))["feature"].endswith(
+        "longer than the gauge's 8.90 mm pocket, as the design gives it")
