@@ -22,6 +22,10 @@ from designer.model.sections import Geometry, wire_channel
 # The limits of docs/model.md §4 a built part must meet whatever its sizes within tolerance.
 CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_snr", "adc_range", "fatigue_feature",
                  "deflection", "natural_frequency")
+# Of those, the limits worst where the part is strongest: every section size at its largest and
+# the feature at its smallest (the least strain, so the least signal); the others are worst where
+# it is weakest (``searched_corners``).
+STRONG_CORNER_LIMITS = ("min_signal_snr",)
 # Which deviation each toleranced size of a Geometry takes, and the least it is at a corner (m): a
 # pocket or hole smaller than its deviation is, at its least, not cut at all; a section size at
 # least 1 µm (a deviation as large as the size leaves no beam).
@@ -39,6 +43,24 @@ def toleranced(g: Geometry) -> list[tuple[str, str]]:
     names = {"rectangle": ["width", "height"], "round": ["diameter"], "tube": ["diameter", "wall"]}[g.section]
     names += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
     return [(name, PART[name]) for name in names]
+
+
+def searched_corners(parts) -> list[tuple[bool, tuple[float, ...]]]:
+    """``(weak, signs)`` of the corners the search's NLP holds the limits at, for toleranced sizes
+    of ``parts`` ("section" or "feature" each): the section's sizes at their least for the
+    limits worst where the part is weakest (``weak``) and at their greatest for the others
+    (STRONG_CORNER_LIMITS), the feature's depth or hole at both ends for either: a thicker or
+    wider section is stiffer, but a deeper pocket may bring its floor, where the gauge is, nearer
+    the neutral axis. Every corner is checked again on the rounded design."""
+    feature = [k for k, part in enumerate(parts) if part == "feature"]
+    out = []
+    for weak in (True, False):
+        for ends in itertools.product((-1.0, 1.0), repeat=len(feature)):
+            signs = [-1.0 if weak else 1.0] * len(parts)
+            for k, e in zip(feature, ends):
+                signs[k] = e
+            out.append((weak, tuple(signs)))
+    return out
 
 
 def signs(g: Geometry) -> np.ndarray:

@@ -272,15 +272,18 @@ class FamilyProblem:
             if spec.tolerances.active else []
         dev = ca.SX.sym("t", len(self.moved))
         checked = [j for j, lim in enumerate(lims) if lim.name in tolerance.CORNER_LIMITS] if self.moved else []
-        self.limit_names = [lim.name for lim in lims] + [lims[j].name for j in checked] * 2 ** len(self.moved)
+        self.limit_names = [lim.name for lim in lims]
         if checked:
             rows = ca.Function("rows", [x, par], [ca.vertcat(*[g[j] for j in checked])])
-            for signs in itertools.product((-1.0, 1.0), repeat=len(self.moved)):
+            parts = [TOLERANCED[variables.names[i]] for i in self.moved]
+            for weak, signs in tolerance.searched_corners(parts):
                 xc = [x[i] for i in range(variables.size)]
                 for k, (i, sign) in enumerate(zip(self.moved, signs)):
                     xc[i] = ca.fmax(x[i] + sign * dev[k], tolerance.LEAST[TOLERANCED[variables.names[i]]] / MM)
                 at = rows(ca.vertcat(*xc), par)
-                g += [at[r] for r in range(len(checked))]
+                here = [r for r, j in enumerate(checked) if (lims[j].name in tolerance.STRONG_CORNER_LIMITS) != weak]
+                g += [at[r] for r in here]
+                self.limit_names += [lims[checked[r]].name for r in here]
         in_units = {"deflection": in_nlp_units(a.deflection, "deflection"), "mass": in_nlp_units(a.mass, "mass")}
         if epigraph:  # minimise e subject to each error term <= e
             e = x[n]

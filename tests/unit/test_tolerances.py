@@ -186,3 +186,44 @@ def test_the_reference_search_of_a_family_without_stock_rows_under_tolerances_is
     spec = replace(spec, tolerances=Tolerances("m"))
     tube = next(f for f in families(spec) if f.section == "tube")
     assert reference.reference_search(spec, tube, catalogue.material("Ti-6Al-4V"), levels=3) is None
+
+
+def _corner_values(ev, spec) -> tuple[list, dict]:
+    """Each corner's signs (one per toleranced size) and each CORNER_LIMITS limit's normalised value
+    at every corner, each corner built and judged on its own (as ``_each_corner``)."""
+    g = ev.design.geometry
+    fields = tolerance.toleranced(g)
+    params = ev.design.material_params(spec)
+    corners, values = [], {}
+    for signs in itertools.product((-1.0, 1.0), repeat=len(fields)):
+        sizes = {name: max(float(getattr(g, name)) + s * float(spec.tolerances.deviation(getattr(g, name), part)),
+                           tolerance.LEAST[part]) for (name, part), s in zip(fields, signs)}
+        built = channelled(replace(g, **sizes), spec.cad)
+        a = model.analyse(built, params, spec, adjust=ev.design.adjustment)
+        corners.append(signs)
+        for lim in model.limits(built, a, params, spec):
+            if lim.name in tolerance.CORNER_LIMITS:
+                values.setdefault(lim.name, []).append(float(lim.normalised))
+    return corners, values
+
+
+@pytest.mark.parametrize("name, grade", [("gripper-finger", "m"), ("probe", "f"), ("prototype-b-optimized", "m"),
+                                         ("weigh-bar", "c"), ("prototype-b", "m"), ("prototype-c", "m")])
+def test_the_corners_the_search_holds_its_limits_at_are_each_limits_worst(name, grade):
+    """The search's NLP holds each corner-checked limit at the corners ``searched_corners`` gives
+    (the section's sizes at their least, or at their greatest for the signal's lower limit; the
+    feature's depth or hole at both ends) rather than at all of them. Reference: every corner of
+    the example's design (its optimum, or the fixed design) built and judged on its own; each
+    limit's worst over them is its worst over the searched corners. The depth is why the feature
+    takes both ends: on prototype-b's narrow pocket the gauge strain is largest at the shallowest
+    pocket (a deeper floor lies nearer the neutral axis), on the gripper's flat at the deepest."""
+    spec = replace(load_spec(EXAMPLES / f"{name}.yaml"), tolerances=Tolerances(grade))
+    ev = evaluate(fixed_design(spec), spec) if spec.design is not None else optimize(spec).best
+    corners, values = _corner_values(ev, spec)
+    parts = [part for _, part in tolerance.toleranced(ev.design.geometry)]
+    searched = tolerance.searched_corners(parts)
+    assert len(searched) == 2 * 2 ** parts.count("feature")   # each limit at 1 or 2 corners, of 2 to 8
+    for limit, at in values.items():
+        weak = limit not in tolerance.STRONG_CORNER_LIMITS
+        held = [at[corners.index(signs)] for w, signs in searched if w == weak]
+        assert max(held) == pytest.approx(max(at), rel=1e-12, abs=1e-12), limit
