@@ -267,6 +267,9 @@ def _raw(d: _Draft) -> dict:
         "search": {"materials": list(d.materials), "sections": list(d.sections), "feature": d.feature},
         "objective": d.objective,
         **({"cad": {"end_mill_diameter": length(d.end_mill)}} if d.end_mill is not None else {}),
+        # the suite measures the search at nominal sizes: a general class (ISO 2768-m's ±0.1 mm)
+        # leaves its millimetre beams no design, and their drawings would give their own deviations
+        "tolerances": {"class": "none"},
     }
 
 

@@ -309,11 +309,11 @@ def general_tolerance_markdown(tol: dict) -> list[str]:
     broken = [c for c in tol["constraints"] if not c["satisfied"]]
     low, high = tol["sensitivity_spread"]
     lines = ["## Tolerances", "",
-             f"Not checked (the spec names no `tolerances:`): the limits above are judged at the nominal "
+             f"Not checked (the spec's `tolerances: {{class: none}}`): the limits above are judged at the nominal "
              f"sizes. The drawing asks for the general tolerances of {tol['label']}; at their {tol['corners']} "
              "corners (every toleranced size at its nominal ± deviation) "
              + (f"{len(broken)} {'limits break' if len(broken) > 1 else 'limit breaks'}, each at its worst corner below. "
-                f"Give `tolerances: {{class: {tol['class']}}}` in the spec to have the search keep every limit "
+                f"Without `class: none` (the default is {tol['class']}) the search keeps every limit "
                 "at every corner." if broken else "every limit holds.")
              + f" Across the corners the sensitivities k move by {low:+.1%} to {high:+.1%}.", ""]
     return lines + (corner_table(broken) if broken else [])
@@ -328,7 +328,10 @@ def limit_row(c: dict, *before) -> str:
 
 
 def binding_limits(record: dict) -> list[dict]:
-    return [c for c in record["constraints"] if c["active"] or not c["satisfied"]]
+    """The limits that bind or break: at the nominal sizes, then at their worst tolerance corner
+    (each with ``corner``, e.g. ``D min, p max``)."""
+    corners = (record.get("tolerances") or {}).get("constraints", [])
+    return [c for c in record["constraints"] + corners if c["active"] or not c["satisfied"]]
 
 
 def markdown(record: dict) -> str:
@@ -444,7 +447,8 @@ def print_summary(record: dict, console=None) -> None:
         for col in ("limit", "value", "bound", "margin"):
             lim.add_column(col)
         for c in binding:
-            lim.add_row(c["name"], display(c["value"], c["unit"], c["name"]),
+            lim.add_row(c["name"] + (f" at {c['corner']}" if "corner" in c else ""),
+                        display(c["value"], c["unit"], c["name"]),
                         f"{c['sense']} {display(c['limit'], c['unit'], c['name'])}",
                         f"[{'red' if not c['satisfied'] else 'yellow'}]{percent(c['margin'])}[/]")
         console.print(lim)

@@ -54,12 +54,12 @@ def corner_record(label: str, check) -> dict:
             "constraints": check.records(), "sensitivity_spread": list(check.sensitivity)}
 
 
-# The general tolerances the drawing asks for when the spec names none (outputs.drawing.sheet).
+# The general tolerances the drawing asks for when the spec's class is none (outputs.drawing.sheet).
 DRAWING_CLASS = "m"
 
 
 def general_tolerance_record(spec, evaluation: Evaluation) -> dict | None:
-    """Without ``tolerances:`` in the spec the search judges nominal sizes only, while the drawing
+    """With ``tolerances: {class: none}`` the search judges nominal sizes only, while the drawing
     asks for the general tolerances of ISO 2768-m: the design at their corners (docs/model.md §14),
     as ``tolerance_record`` gives it, with ``checked: false``. None when the model cannot judge the
     corners (a design that is not a beam)."""

@@ -25,7 +25,7 @@ ISO_2768_CLASSES = {
     "v": (0.5, 0.5, 1.0, 1.5, 2.5, 4.0, 6.0),      # very coarse
 }
 CLASSES = ("none", *ISO_2768_CLASSES)
-DEFAULT_CLASS = "none"
+DEFAULT_CLASS = "m"
 PARTS = ("section", "feature")
 
 

@@ -123,6 +123,15 @@ def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
     failed = [c["name"] for c in verification["limits"] if not c["satisfied"]]
     assert "deflection" in failed
     assert all(c["model_satisfied"] for c in verification["limits"])  # the beam model passed it
+    # under the default ISO 2768-m the deflection is judged at its worst corner (b min, h min):
+    # the model's value there (design.json's tolerances) times the nominal design's 3-D/model ratio
+    check = next(c for c in verification["limits"] if c["name"] == "deflection")
+    corner = next(c for c in record["tolerances"]["constraints"] if c["name"] == "deflection")
+    assert corner["corner"] == "b min, h min" and corner["corner"] in check["source"]
+    assert check["model"] == pytest.approx(corner["value"], rel=1e-12)
+    ratio = verification["deflection"]["fea"] / verification["deflection"]["model"]
+    assert check["fea"] == pytest.approx(corner["value"] * ratio, rel=1e-12)
+    assert check["model"] > record["predicted"]["deflection"]  # the thin corner deflects more
     assert code == 1 and record["status"] == "infeasible"
     assert [r["round"] for r in record["verify_rounds"]] == [0] and "adjustment" not in record["design"]
     assert "3-D check" in " ".join(record["messages"]) and "FAILS" in text

@@ -79,8 +79,9 @@ def _each_corner(ev, spec):
 
 
 def test_a_design_that_passes_nominally_fails_at_a_corner_and_the_search_avoids_it():
-    plain = load_spec(EXAMPLES / "gripper-finger.yaml")
-    toleranced = replace(plain, tolerances=Tolerances("m"))
+    toleranced = load_spec(EXAMPLES / "gripper-finger.yaml")
+    assert toleranced.tolerances == Tolerances("m")  # the default: the drawing's general tolerances
+    plain = replace(toleranced, tolerances=Tolerances("none"))
     nominal = optimize(plain).best
     assert nominal.feasible
     # the nominal optimum, built to ISO 2768-m: every limit holds at its nominal sizes, and a
@@ -96,14 +97,15 @@ def test_a_design_that_passes_nominally_fails_at_a_corner_and_the_search_avoids_
     assert held.best.objective > nominal.objective  # the room for the tolerances costs accuracy
 
 
-def test_without_tolerances_the_record_says_which_limits_break_at_the_drawings_general_tolerances():
-    # The gripper's untoleranced optimum: the search judged nominal sizes only, while its drawing
-    # asks for ISO 2768-m. design.json's general_tolerances and report.md say so, with each broken
-    # limit at its worst corner. Reference: every corner built and judged on its own (_each_corner).
+def test_with_class_none_the_record_says_which_limits_break_at_the_drawings_general_tolerances():
+    # The gripper's optimum with `tolerances: {class: none}`: the search judged nominal sizes only,
+    # while its drawing asks for ISO 2768-m. design.json's general_tolerances and report.md say so,
+    # with each broken limit at its worst corner. Reference: every corner built and judged on its
+    # own (_each_corner).
     from designer.outputs.report import markdown, summary_rows
 
-    plain = load_spec(EXAMPLES / "gripper-finger.yaml")
-    drawn = replace(plain, tolerances=Tolerances("m"))
+    drawn = load_spec(EXAMPLES / "gripper-finger.yaml")
+    plain = replace(drawn, tolerances=Tolerances("none"))
     nominal = optimize(plain).best
     record = json.loads(json.dumps(build_record("optimal", plain, nominal)))
     assert "tolerances" not in record
@@ -116,7 +118,7 @@ def test_without_tolerances_the_record_says_which_limits_break_at_the_drawings_g
     limits = {lim.name: lim for lim in evaluate(nominal.design, drawn).tolerance.limits}
     assert max(float(limits[c["name"]].normalised) for c in broken) == pytest.approx(reference, rel=1e-9)
     text = markdown(record)
-    assert "Not checked (the spec names no `tolerances:`)" in text and "ISO 2768-m" in text
+    assert "Not checked (the spec's `tolerances: {class: none}`)" in text and "ISO 2768-m" in text
     assert all(f"| {c['name']} | {c['corner']} |" in text for c in broken)
     rows = dict(summary_rows(record))  # the terminal's summary names them too
     assert rows["tolerances"].startswith("not checked") and all(c["name"] in rows["tolerances"] for c in broken)
@@ -155,7 +157,7 @@ def test_a_search_that_the_tolerances_make_infeasible_says_so_and_at_which_corne
     # a bench-suite beam 0.7 mm high: ISO 2768-m's ±0.1 mm on its height and pocket leaves no
     # design that meets the fatigue limit at the thin, deep corner
     spec = next(m.spec for m in generate_suite(50, 0) if m.name == "049-short-beam")
-    assert optimize(spec).success
+    assert optimize(replace(spec, tolerances=Tolerances("none"))).success
     result = optimize(replace(spec, tolerances=Tolerances("m")))
     assert not result.success
     said = [m for m in result.messages if m.startswith("at the corners of its tolerances (ISO 2768-m")]
@@ -227,3 +229,31 @@ def test_the_corners_the_search_holds_its_limits_at_are_each_limits_worst(name, 
         weak = limit not in tolerance.STRONG_CORNER_LIMITS
         held = [at[corners.index(signs)] for w, signs in searched if w == weak]
         assert max(held) == pytest.approx(max(at), rel=1e-12, abs=1e-12), limit
+
+
+def test_the_summary_lists_the_limits_that_bind_at_a_tolerance_corner():
+    """The gripper finger under the default ISO 2768-m: its fatigue limit at the flat and its
+    deflection limit bind at the thin bar with the deep flats, not at the nominal sizes; the
+    terminal's table of binding limits names them with that corner. Reference: every corner built
+    and judged on its own (``_corner_values``): the named corner's value is the limit's worst."""
+    import io
+
+    from rich.console import Console
+
+    from designer.outputs.report import binding_limits, print_summary
+
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    best = optimize(spec).best
+    record = json.loads(json.dumps(build_record("optimal", spec, best)))
+    at_corner = {c["name"]: c for c in binding_limits(record) if "corner" in c}
+    assert {"fatigue_feature", "deflection"} <= set(at_corner)
+    nominal = {c["name"]: c for c in record["constraints"]}
+    corners, values = _corner_values(best, spec)
+    for name, c in at_corner.items():
+        assert not nominal[name]["active"] and c["active"]
+        assert c["corner"] == "D min, p max" and c["satisfied"]
+        assert max(values[name]) == values[name][corners.index((-1.0, 1.0))]  # the thin, deep corner
+        assert values[name][corners.index((-1.0, 1.0))] > -model.ACTIVE_TOLERANCE
+    out = io.StringIO()
+    print_summary(record, Console(file=out, width=120))
+    assert "fatigue_feature at D min, p max" in out.getvalue()
