@@ -379,25 +379,28 @@ class FamilyProblem:
         return out
 
     def solve_ipopt(self, params, x0, stage: str = "primary", margin=0.0, fixed=None, box=None,
-                    warm: Solve | None = None) -> Solve:
+                    warm: Solve | None = None, least: bool = False) -> Solve:
         """One IPOPT run; ``margin`` (a number, or one per constraint row as ``margins`` gives)
         tightens the constraints to ``g <= -margin``; ``fixed`` maps
         variable indices to values (NLP units) they are held at, ``box`` to ``(low, high)`` bounds
         that replace the variable's own. ``warm``: a primary solve near ``x0`` whose multipliers
-        start this one (IPOPT's warm start; solved again cold if that does not succeed)."""
+        start this one (IPOPT's warm start; solved again cold if that does not succeed).
+        ``least``: the tolerance corners taken with each size's least deviation over its bounds
+        (the box's), not the answer's: a relaxation whose objective bounds every design in the
+        box, solved once (a stock search's sets of rows, ``search.stock``)."""
         if stage == "primary" and warm is not None and self._fits(warm):
             s = self._solve(params, x0, "warm", margin, fixed, box, warm.multipliers)
             if s.success:
                 return s
             cold = self._solve(params, x0, stage, margin, fixed, box)
             return replace(cold, evaluations=cold.evaluations + s.evaluations)
-        return self._solve(params, x0, stage, margin, fixed, box)
+        return self._solve(params, x0, stage, margin, fixed, box, least=least)
 
     def _fits(self, warm: Solve) -> bool:
         return (warm.multipliers is not None and len(warm.multipliers[0]) == self.size
                 and len(warm.multipliers[1]) == self.n_constraints)
 
-    def _solve(self, params, x0, stage, margin, fixed, box, multipliers=None) -> Solve:
+    def _solve(self, params, x0, stage, margin, fixed, box, multipliers=None, least: bool = False) -> Solve:
         lo, hi = self.bounds()
         x0 = np.array(x0, dtype=float)
         for i, (a, b) in (box or {}).items():
@@ -406,8 +409,11 @@ class FamilyProblem:
         for i, v in (fixed or {}).items():
             lo[i] = hi[i] = x0[i] = v
         start = {} if multipliers is None else {"lam_x0": multipliers[0], "lam_g0": multipliers[1]}
-        s = _run_ipopt(self.ipopt(stage), x0=x0, p=self.with_deviations(params, x0), lbx=lo, ubx=hi, lbg=-np.inf,
-                       ubg=-margin, **start)
+        # the class's deviation grows with the size: at the lower bounds it is the least
+        p = list(params) + self.deviations(lo) if least else self.with_deviations(params, x0)
+        s = _run_ipopt(self.ipopt(stage), x0=x0, p=p, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin, **start)
+        if least:
+            return s
         runs = s.evaluations
         for _ in range(DEVIATION_ROUNDS):  # the answer's sizes crossed into another range of the class
             if not s.success or self.deviations(s.x) == self.deviations(x0):

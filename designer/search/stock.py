@@ -128,7 +128,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
 
     def relax(members, start):
         box = {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
-        s = problem.solve_ipopt(params, start, box=box, margin=margin)
+        s = problem.solve_ipopt(params, start, box=box, margin=margin, least=True)
         solves.append(s)
         return s
 
