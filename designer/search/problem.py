@@ -10,7 +10,6 @@ from __future__ import annotations
 import contextlib
 import copy
 import io
-import itertools
 import sys
 from dataclasses import dataclass, replace
 
