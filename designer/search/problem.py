@@ -278,7 +278,7 @@ class FamilyProblem:
             for weak, signs in tolerance.searched_corners(parts):
                 xc = [x[i] for i in range(variables.size)]
                 for k, (i, sign) in enumerate(zip(self.moved, signs)):
-                    xc[i] = ca.fmax(x[i] + sign * dev[k], tolerance.LEAST[TOLERANCED[variables.names[i]]] / MM)
+                    xc[i] = ca.fmax(x[i] + sign * dev[k], tolerance.LEAST[parts[k]] / MM)
                 at = rows(ca.vertcat(*xc), par)
                 here = [r for r, j in enumerate(checked) if (lims[j].name in tolerance.STRONG_CORNER_LIMITS) != weak]
                 g += [at[r] for r in here]
@@ -388,10 +388,10 @@ class FamilyProblem:
         (the box's), not the answer's: a relaxation whose objective bounds every design in the
         box, solved once (a stock search's sets of rows, ``search.stock``)."""
         if stage == "primary" and warm is not None and self._fits(warm):
-            s = self._solve(params, x0, "warm", margin, fixed, box, warm.multipliers)
+            s = self._solve(params, x0, "warm", margin, fixed, box, warm.multipliers, least)
             if s.success:
                 return s
-            cold = self._solve(params, x0, stage, margin, fixed, box)
+            cold = self._solve(params, x0, stage, margin, fixed, box, least=least)
             return replace(cold, evaluations=cold.evaluations + s.evaluations)
         return self._solve(params, x0, stage, margin, fixed, box, least=least)
 
@@ -409,8 +409,8 @@ class FamilyProblem:
             lo[i] = hi[i] = x0[i] = v
         start = {} if multipliers is None else {"lam_x0": multipliers[0], "lam_g0": multipliers[1]}
         # the class's deviation grows with the size: at the lower bounds it is the least
-        p = list(params) + self.deviations(lo) if least else self.with_deviations(params, x0)
-        s = _run_ipopt(self.ipopt(stage), x0=x0, p=p, lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin, **start)
+        s = _run_ipopt(self.ipopt(stage), x0=x0, p=self.with_deviations(params, lo if least else x0), lbx=lo, ubx=hi,
+                       lbg=-np.inf, ubg=-margin, **start)
         if least:
             return s
         runs = s.evaluations

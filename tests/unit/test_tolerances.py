@@ -61,21 +61,31 @@ def test_a_round_bars_root_stress_at_its_thin_corner_follows_32_m_over_pi_d_cube
     assert ev.tolerance.count == 2 and ev.tolerance.deviations == (("diameter", pytest.approx(0.0003)),)
 
 
+def _corner_values(ev, spec) -> tuple[list, dict]:
+    """Each corner's signs (one per toleranced size) and each CORNER_LIMITS limit's normalised value
+    at every corner, each corner built on its own (a Geometry per corner, not the vectorised
+    corners of ``tolerance.check``; the wire channel follows the built depth) and judged."""
+    g = ev.design.geometry
+    fields = tolerance.toleranced(g)
+    params = ev.design.material_params(spec)
+    corners, values = [], {}
+    for signs in itertools.product((-1.0, 1.0), repeat=len(fields)):
+        sizes = {name: max(float(getattr(g, name)) + s * float(spec.tolerances.deviation(getattr(g, name), part)),
+                           tolerance.LEAST[part]) for (name, part), s in zip(fields, signs)}
+        built = channelled(replace(g, **sizes), spec.cad)
+        a = model.analyse(built, params, spec, adjust=ev.design.adjustment)
+        corners.append(signs)
+        for lim in model.limits(built, a, params, spec):
+            if lim.name in tolerance.CORNER_LIMITS:
+                values.setdefault(lim.name, []).append(float(lim.normalised))
+    return corners, values
+
+
 def _each_corner(ev, spec):
     """Every corner of ``ev``'s design evaluated on its own (a Geometry per corner, not the
     vectorised corners of ``tolerance.check``): the largest normalised CORNER_LIMITS value."""
-    g = ev.design.geometry
-    fields = tolerance.toleranced(g)
-    worst = -math.inf
-    for signs in itertools.product((-1, 1), repeat=len(fields)):
-        sizes = {name: float(getattr(g, name)) + s * float(spec.tolerances.deviation(getattr(g, name), part))
-                 for (name, part), s in zip(fields, signs)}
-        built = channelled(replace(g, **sizes), spec.cad)  # the wire channel follows the built depth
-        params = ev.design.material_params(spec)
-        a = model.analyse(built, params, spec, adjust=ev.design.adjustment)
-        worst = max([worst] + [float(lim.normalised) for lim in model.limits(built, a, params, spec)
-                               if lim.name in tolerance.CORNER_LIMITS])
-    return worst
+    _, values = _corner_values(ev, spec)
+    return max(max(at) for at in values.values())
 
 
 def test_a_design_that_passes_nominally_fails_at_a_corner_and_the_search_avoids_it():
@@ -188,25 +198,6 @@ def test_the_reference_search_of_a_family_without_stock_rows_under_tolerances_is
     spec = replace(spec, tolerances=Tolerances("m"))
     tube = next(f for f in families(spec) if f.section == "tube")
     assert reference.reference_search(spec, tube, catalogue.material("Ti-6Al-4V"), levels=3) is None
-
-
-def _corner_values(ev, spec) -> tuple[list, dict]:
-    """Each corner's signs (one per toleranced size) and each CORNER_LIMITS limit's normalised value
-    at every corner, each corner built and judged on its own (as ``_each_corner``)."""
-    g = ev.design.geometry
-    fields = tolerance.toleranced(g)
-    params = ev.design.material_params(spec)
-    corners, values = [], {}
-    for signs in itertools.product((-1.0, 1.0), repeat=len(fields)):
-        sizes = {name: max(float(getattr(g, name)) + s * float(spec.tolerances.deviation(getattr(g, name), part)),
-                           tolerance.LEAST[part]) for (name, part), s in zip(fields, signs)}
-        built = channelled(replace(g, **sizes), spec.cad)
-        a = model.analyse(built, params, spec, adjust=ev.design.adjustment)
-        corners.append(signs)
-        for lim in model.limits(built, a, params, spec):
-            if lim.name in tolerance.CORNER_LIMITS:
-                values.setdefault(lim.name, []).append(float(lim.normalised))
-    return corners, values
 
 
 @pytest.mark.parametrize("name, grade", [("gripper-finger", "m"), ("probe", "f"), ("prototype-b-optimized", "m"),
