@@ -28,7 +28,8 @@ from designer.model import TIE_TOLERANCE  # noqa: E402
 from designer.outputs.files import atomic_write_text  # noqa: E402
 from designer.search import optimize  # noqa: E402
 from designer.search.problem import FamilyProblem, families  # noqa: E402
-from designer.search.run import _start_from, solve_candidate  # noqa: E402
+from designer.search.problem import start_from
+from designer.search.run import solve_candidate  # noqa: E402
 from designer.search.stock import brute_force  # noqa: E402
 from designer.spec import catalogue, strict_yaml  # noqa: E402
 from designer.spec.reader import parse_spec  # noqa: E402
@@ -52,7 +53,7 @@ def reference(spec) -> tuple[float | None, str, int]:
         for name in spec.search.materials:
             material = catalogue.material(name)
             continuous = solve_candidate(problem, material, "ipopt").evaluation
-            x0 = _start_from(problem, continuous) if continuous is not None else problem.starts()[0]
+            x0 = start_from(problem, continuous) if continuous is not None else problem.starts()[0]
             for item, ev in brute_force(problem, material, x0):
                 solved += 1
                 if ev is not None and ev.feasible and (best is None or ev.objective < best):

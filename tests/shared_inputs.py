@@ -207,10 +207,13 @@ NOMINAL = "tolerances: {class: none}\n"
 
 STABILITY_SCALES = {
     # a 14 mm finger read at millinewtons
-    # (its 1 mm slot is cut by a 0.5 mm micro end mill: the CAD's standard ones start at 1 mm)
+    # (its 1 mm slot is cut by a 0.5 mm micro end mill: the CAD's standard ones start at 1 mm;
+    # and its slot's depth, a few tenths of a millimetre, is set to 0.01 mm as micro-machining
+    # does: on the default 0.05 mm grid one step is a fifth of the slot)
     "millinewtons on a millimetre beam": _text("[2 mN, 100 mN]", "[8 mm, 14 mm]", "760 nV", SMALL_CLEARANCES
                                                + "\n  width: [0.3 mm, 4 mm]\n  height: [0.3 mm, 4 mm]",
-                                               extra="cad: {end_mill_diameter: 0.5 mm}\n" + NOMINAL),
+                                               extra="cad: {end_mill_diameter: 0.5 mm, depth_step: 0.01 mm}\n"
+                                               + NOMINAL),
     # a metre-long whisker read at millinewtons, gauges on its surface (a miniature gauge's
     # pocket is short for its section: outside the slots' fitted domain, docs/model.md §7), which
     # reaches 2.1 % in force, not 2 %

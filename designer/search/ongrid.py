@@ -24,26 +24,42 @@ def back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
              where: str, front: bool = False):
     """Rounding broke a limit. First the grid around the answer is searched with the numeric
     model alone (``_nearby_on_the_grid``); its best is taken if it costs at most NEARBY_GAP over
-    the continuous answer. Otherwise the section sizes are also held at each of their neighbouring
-    0.01 mm values in turn and the rest (stations, depth) solved again, each answer rounded and
-    checked (``_on_the_grid``), and the better of the two is the answer on the grid. Only if neither
-    checks out are the limits that rounding broke (and no other) tightened, by each of ROUNDING_MARGINS
-    in turn from the first as large as the violation rounding caused; the first answer whose
-    rounded design breaks no limit of the NLP replaces it (under the error objective it may still
-    miss the targets: a verdict). For a trade-off ``front``'s point the numeric grid's best is taken
-    whatever it costs, and the section is not held on the grid (a front is a plotted trend; those
-    re-solves took a third of the gripper finger's fronts)."""
+    the continuous answer. Then the depth is held at its neighbouring grid values and the rest
+    solved again (``_depth_held``), taken under the same rule. Otherwise the section sizes are
+    also held at each of their neighbouring 0.01 mm values in turn and the rest (stations, depth)
+    solved again, each answer rounded and checked (``_on_the_grid``), and the best of the three is
+    the answer on the grid. Only if none checks out are the limits that rounding broke (and no
+    other) tightened, by each of ROUNDING_MARGINS in turn from the first as large as the violation
+    rounding caused; the first answer whose rounded design breaks no limit of the NLP replaces it
+    (under the error objective it may still miss the targets: a verdict). For a trade-off
+    ``front``'s point the numeric grid's best is taken whatever it costs, and nothing is held on
+    the grid (a front is a plotted trend; those re-solves took a third of the gripper finger's
+    fronts)."""
+    continuous = float(problem.functions(s.x, params)[0])
+
+    def close(e: Evaluation) -> bool:
+        return in_nlp_units(e.objective, problem.spec.objective) <= continuous * (1 + NEARBY_GAP)
+
     near = _nearby_on_the_grid(problem, material, s)
-    if near is not None and (front or in_nlp_units(near.objective, problem.spec.objective)
-                             <= float(problem.functions(s.x, params)[0]) * (1 + NEARBY_GAP)):
-        fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
+    if near is not None and (front or close(near)):
+        fallbacks.append(f"{where}: rounding broke a limit; the best design on the grid around the answer "
                          "taken instead")
         return s, near
+    held = None if front else _depth_held(problem, params, material, s, solves, close)
+    if held is not None and close(held[1]):
+        fallbacks.append(f"{where}: rounding broke a limit; the depth held at its neighbouring grid values and "
+                         "the rest solved again")
+        return held
     on_grid = None if front else _on_the_grid(problem, params, material, s, solves)
-    if near is not None and (on_grid is None or not on_grid[1].feasible or model.ranks_before(near, on_grid[1])):
-        fallbacks.append(f"{where}: rounding broke a limit; the best design on the 0.01 mm grid around the answer "
-                         "taken instead (it beats the section held on the grid and the rest solved again)")
-        return s, near
+    found = [(s, near)] if near is not None else []
+    found += [f for f in (held, on_grid) if f is not None and f[1].feasible]
+    if found:
+        best = pick([e for _, e in found])
+        fallbacks.append(f"{where}: rounding broke a limit; " + (
+            "the best design on the grid around the answer taken instead" if best is near else
+            "the depth held at its neighbouring grid values and the rest solved again" if held and best is held[1]
+            else "the section held at its neighbouring 0.01 mm sizes and the rest solved again"))
+        return next(f for f in found if f[1] is best)
     if on_grid is not None:
         fallbacks.append(f"{where}: rounding broke a limit; the section held at its neighbouring 0.01 mm sizes "
                          "and the rest solved again")
@@ -77,6 +93,11 @@ GRID_STEPS = 10
 # Grid steps past the rounded values that the numeric search around an answer tries in each
 # section size and in the feature's depth or hole (``_nearby_on_the_grid``).
 GRID_REACH = 2
+# ... when no IPOPT re-solve follows it (``onto_the_grid``): a depth step of 0.05 mm (the
+# default ``cad.depth_step``) takes a
+# section size step of about as much to make up (the gripper's 7075 round bar: its flat's chord
+# and its fatigue limit both active, depth 1.07 -> 1.10 mm needs the diameter 8.13 -> 8.20 mm)
+WIDE_REACH = 8
 # The numeric search's best is taken without the IPOPT re-solves when its objective is within this
 # of the continuous answer's (a bound on every design near it). On the bench suite's 54 specs
 # rounding broke 93 answers; the numeric search found a design for about 30, the re-solves for 5;
@@ -106,7 +127,15 @@ def closer_on_the_grid(problem: FamilyProblem, params, material, s: Solve, ev: E
     return near if near is not None and model.ranks_before(near, ev) else ev
 
 
-def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve) -> Evaluation | None:
+def onto_the_grid(problem: FamilyProblem, material, s: Solve, ev: Evaluation) -> Evaluation:
+    """For a method other than IPOPT whose answer rounding broke a limit: the best design on the
+    grid around the answer (``_nearby_on_the_grid``, the numeric model alone; the re-solves of
+    ``back_off`` are IPOPT's), or ``ev`` when none there meets every limit."""
+    near = _nearby_on_the_grid(problem, material, s, WIDE_REACH)
+    return near if near is not None else ev
+
+
+def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve, reach: int = GRID_REACH) -> Evaluation | None:
     """The best design on the 0.01 mm grid around the answer ``s``, by the numeric model alone:
     every section size and the depth (or hole) from GRID_REACH steps below its rounded-down to as
     many above its rounded-up value, the stations rounded down or up, all checked at once
@@ -116,7 +145,7 @@ def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve) -> Evaluatio
     the bench suite's 022-loose-limits stayed 0.13 % above the grid's best.) None when no design
     there meets every limit."""
     spec = problem.spec
-    ev = round_and_check(problem.design(s.x, material), spec, reach=GRID_REACH, lowest=True)
+    ev = round_and_check(problem.design(s.x, material), spec, reach=reach, lowest=True)
     if ev is None or not ev.feasible:
         return None
     for _ in range(GRID_STEPS):
@@ -126,6 +155,37 @@ def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve) -> Evaluatio
             return None if box is None else box.choose()
         ev = moved
     return round_and_check(ev.design, spec, reach=GRID_REACH)
+
+
+def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list, close):
+    """``(Solve, Evaluation)``: the checked design of the pocket's depth held at a neighbouring
+    value of its grid (``cad.depth_step``) and the rest solved again (the sizes then rounded, and the numeric grid around
+    that answer searched if rounding them breaks a limit): the nearer value first, and the other
+    only when that gives no design ``close`` (a predicate) to the continuous answer; the better
+    of the two then. None for a family without a pocket or when neither meets every limit. A
+    depth step of 0.05 mm takes a section step of about as much to make up, which the 0.01 mm
+    grid around the answer does not reach."""
+    if "depth" not in problem.names:
+        return None
+    i = problem.names.index("depth")
+    found = []
+    step = problem.spec.cad.depth_step
+    for depth in sorted(floor_ceil(float(s.x[i]) * MM, step=step), key=lambda d: abs(d / MM - s.x[i])):
+        s2 = problem.solve_ipopt(params, s.x, fixed={i: depth / MM})
+        solves.append(s2)
+        if not s2.success:
+            continue
+        ev2 = round_and_check(problem.design(s2.x, material), problem.spec)
+        if ev2 is not None and not ev2.feasible:
+            ev2 = _nearby_on_the_grid(problem, material, s2)
+        if ev2 is not None and ev2.feasible:
+            found.append((s2, ev2))
+            if close(ev2):
+                break
+    if not found:
+        return None
+    best = pick([ev for _, ev in found])
+    return next(f for f in found if f[1] is best)
 
 
 def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list):

@@ -21,7 +21,7 @@ from designer.model import Geometry, MaterialParams
 from designer.model import corrections, tolerance
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
-from designer.result.evaluation import Design
+from designer.result.evaluation import Design, Evaluation
 
 MM = 1e-3
 METHODS = ("ipopt", "slsqp", "mma", "ccsaq", "cobyla", "isres", "direct", "grid")
@@ -463,3 +463,13 @@ def _run_ipopt(solver, **args) -> Solve:
     evals = int(stats.get("iter_count", 0))
     return Solve(np.asarray(sol["x"]).ravel(), bool(stats.get("success")), str(stats.get("return_status")),
                  evals, "ipopt", (np.asarray(sol["lam_x"]).ravel(), np.asarray(sol["lam_g"]).ravel()))
+
+
+def start_from(problem: FamilyProblem, ev: Evaluation):
+    """The NLP's variables (mm) at a checked design."""
+    g = ev.design.geometry
+    values = {"width": g.width, "height": g.height, "side": g.width, "diameter": g.diameter, "wall": g.wall,
+              "depth": g.depth, "hole": g.hole}
+    values.update({f"station_{i + 1}": s for i, s in enumerate(g.stations)})
+    x = np.clip([float(values[n]) / MM for n in problem.names], problem.lower, problem.upper)
+    return np.append(x, ev.objective) if problem.epigraph else x

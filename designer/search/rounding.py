@@ -1,4 +1,4 @@
-"""Rounding an answer to 0.01 mm and checking it, and picking the best of checked designs.
+"""Rounding an answer to 0.01 mm (a pocket's depth to its step, 0.05 mm unless the spec says) and checking it, and picking the best of checked designs.
 
 No solver's success flag is trusted: every answer is rounded to the reported 0.01 mm grid and
 judged again with the numeric model (``result.evaluation.evaluate``); what is reported is what
@@ -27,8 +27,9 @@ def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
 
 
 def round_and_check(design: Design, spec, reach: int = 0, lowest: bool = False) -> Evaluation | None:
-    """Round to 0.01 mm; if rounding broke a limit, try the neighbouring grid points. A stock
-    section (``design.stock``) is not rounded: only its feature and stations are.
+    """Round to 0.01 mm (a pocket's or flat's depth to ``spec.cad.depth_step``); if rounding broke
+    a limit, try the neighbouring grid points. A stock section (``design.stock``) is not rounded:
+    only its feature and stations are.
 
     Every length is rounded down or up (inner stations to the nearest); all combinations are
     checked at once with the numeric model over numpy arrays, the best is chosen as ``pick``
@@ -60,7 +61,8 @@ class GridBox:
             fields_ = []  # a stock section is what the table says it is
         fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
         stations = [float(s) for s in g.stations]
-        choices = [floor_ceil(float(getattr(g, f)), reach) for f in fields_]
+        choices = [floor_ceil(float(getattr(g, f)), reach, spec.cad.depth_step if f == "depth" else ROUNDING)
+                   for f in fields_]
         station_choices = [floor_ceil(s) for s in stations]
         for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
             station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)
@@ -127,12 +129,13 @@ def buildable(ev: Evaluation) -> bool:
     return model.unbuildable(ev.design.geometry) is None
 
 
-def floor_ceil(v: float, reach: int = 0) -> tuple:
-    """The 0.01 mm grid values just below and above ``v`` (m); one when ``v`` is on the grid;
-    with ``reach``, that many more grid steps each side (none at or below zero)."""
-    lo = math.floor(v / ROUNDING + 1e-9)
-    hi = math.ceil(v / ROUNDING - 1e-9)
-    return tuple(round(k * ROUNDING, 8) for k in range(max(lo - reach, 1) if reach else lo, hi + reach + 1))
+def floor_ceil(v: float, reach: int = 0, step: float = ROUNDING) -> tuple:
+    """The values of the grid of ``step`` (0.01 mm unless given) just below and above ``v`` (m);
+    one when ``v`` is on the grid; with ``reach``, that many more grid steps each side (none at or
+    below zero)."""
+    lo = math.floor(v / step + 1e-9)
+    hi = math.ceil(v / step - 1e-9)
+    return tuple(round(k * step, 8) for k in range(max(lo - reach, 1) if reach else lo, hi + reach + 1))
 
 
 def outranked_before_rounding(problem, material, s, cap: float | None) -> Evaluation | None:

@@ -14,12 +14,13 @@ from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import Evaluation
 from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
-from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid
+from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid, onto_the_grid
 from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
-                                     families, in_nlp_units)
+                                     families, in_nlp_units, start_from)
 from designer.search.rounding import (buildable, only_targets_missed, outranked_before_rounding, pick,
                                       round_and_check)
-from designer.search.stock import same_section, search_stock, stock_rows, stock_system
+from designer.search.stock import same_section, search_stock, stock_system
+from designer.search.stocked import candidates_on_stock, continuous_optimum
 from designer.spec import catalogue
 
 
@@ -87,8 +88,8 @@ class SearchResult(OptimizeResult):
     ``message``, ``x`` (the chosen Design), ``best`` (its Evaluation), ``candidates`` (every
     material x family, ranked), ``solver`` (method, time, evaluations, solves, fallbacks),
     ``messages`` (the diagnosis of an infeasible spec), ``seconds``, ``nfev``; ``continuous``:
-    with ``search.stock``, the best design of continuous sizes the stock search began from (None
-    without stock, or when none met every limit).
+    with ``search.stock``, the best design of continuous sizes the stock search began from, on the
+    0.01 mm grid (None without stock, or when none met every limit).
     """
 
     @property
@@ -98,7 +99,7 @@ class SearchResult(OptimizeResult):
 
 def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: bool = False, starts=None,
                     margin: float = 0.0, proves=None, neighbour: Evaluation | None = None,
-                    warm: Solve | None = None, cap: float | None = None) -> Candidate:
+                    warm: Solve | None = None, cap: float | None = None, repair: bool = True) -> Candidate:
     """Solve one material x family from several starts (``problem.starts()`` unless given); fall
     back to another method when no start gives a verified design. Every answer is rounded and
     checked. IPOPT keeps every constraint ``margin`` inside its limit. ``proves``, if given, is
@@ -109,7 +110,10 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     the first start; ``warm``: the solve that gave it, whose multipliers start IPOPT there.
     ``cap``: when IPOPT's first answer, before rounding, is already above it and rounding breaks a
     limit, the candidate is ``outranked`` (its continuous optimum kept as the bound) instead of
-    repaired: ``optimize`` gives the best design found so far, CONTENDER_BAND over."""
+    repaired: ``optimize`` gives the best design found so far, CONTENDER_BAND over. Without ``repair``
+    (a family whose sections come from stock rows, searched later from this answer), an answer
+    that rounding breaks is kept before rounding when it meets every limit there: it is only the
+    rows' start and bound, and its sizes are not reported (``optimize`` rounds the best family's)."""
     spec = problem.spec
     params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
@@ -133,7 +137,11 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             if ev is None:
                 fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
                 continue
-            if not s.success:
+            # on stock (not ``repair``) a converged answer that meets every limit is kept as it is
+            kept = None if repair or m != "ipopt" else outranked_before_rounding(problem, material, s, -math.inf)
+            if kept is not None and ev.feasible:
+                ev = kept
+            elif not s.success:
                 fallbacks.append(f"{m} start {i + 1}: {s.message}")
             elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
                 fallbacks.append(f"{m} start {i + 1}: reported success but violates "
@@ -144,10 +152,16 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                                      f"{CONTENDER_BAND:.0%} above the best design found before it; not repaired")
                     return Candidate(material.name, problem.family, None, tuple(solves), tuple(fallbacks),
                                      continuous=bound, outranked=True, unrounded=True, tried=tuple(tried))
-                if m == "ipopt":
+                if kept is not None:
+                    fallbacks.append(f"{m} start {i + 1}: on stock: rounding broke a limit; its answer before "
+                                     "rounding kept as the rows' start and bound")
+                    ev = kept
+                elif m == "ipopt":
                     s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
                                       f"{m} start {i + 1}", front=neighbour is not None)
-            if m == "ipopt" and s.success and ev.feasible:
+                else:
+                    ev = onto_the_grid(problem, material, s, ev)
+            if m == "ipopt" and s.success and ev.feasible and repair:
                 ev = closer_on_the_grid(problem, params, material, s, ev, neighbour)
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
@@ -179,72 +193,6 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             break
     return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks), tried=tuple(tried),
                      winner=winner, solution=answers.get(id(evaluation)))
-
-
-def on_stock(spec, problems: dict, candidates: list) -> list:
-    """Every candidate whose family's sections come from stock (``search.stock``, and tubes
-    always: ``stock.stock_system``) with its section a row of the stock catalogue, searched from
-    its continuous answer (``search.stock.search_stock``). The candidates go best continuous
-    answer first, and the best design so far (on stock, or of continuous sizes in a family that
-    is not on stock) caps the others' search: a family whose rows are all bounded above it is
-    ``outranked`` without a row solved. Sets of rows that a relaxation shows infeasible are
-    dropped; when that leaves no design that meets every limit (and no bar of continuous sizes
-    has one to report), every row is solved again, so that the least-infeasible stock design is
-    reported."""
-    stocked = [stock_system(spec, c.family) != "none" for c in candidates]
-    if not any(stocked):
-        return candidates
-    found = _on_stock(spec, problems, candidates, stocked, prune_infeasible=True)
-    if any(c.evaluation is not None and c.evaluation.feasible for c in found):
-        return found
-    if any(c.evaluation is not None and not s for c, s in zip(found, stocked)):
-        return found  # a bar of continuous sizes is the least infeasible design; tubes add no better one
-    return _on_stock(spec, problems, candidates, stocked, prune_infeasible=False)
-
-
-def _on_stock(spec, problems: dict, candidates: list, stocked: list, prune_infeasible: bool) -> list:
-    order = sorted((i for i in range(len(candidates)) if stocked[i]), key=lambda i: _continuous_key(candidates[i]))
-    out = list(candidates)
-    cap = min((c.evaluation.objective for c, s in zip(candidates, stocked)
-               if not s and c.evaluation is not None and c.evaluation.feasible), default=math.inf)
-    # under stock: none (tubes alone on stock) a tube with no feasible continuous design is not
-    # searched row by row unless nothing else has a design (``on_stock``)
-    bars_continuous = prune_infeasible and spec.search.stock == "none"
-    for i in order:
-        cand = candidates[i]
-        if cand.outranked:  # by its continuous answer already (``solve_candidate``'s cap): a bound on every row
-            continue
-        if (math.isfinite(cap) or bars_continuous) and (cand.evaluation is None or not cand.evaluation.feasible):
-            # no design of continuous sizes met every limit, so no stock size (a subset) can
-            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation,
-                             stock_note=f"{cand.material} {cand.family.label}: no design of continuous sizes meets "
-                                        "every limit, so no stock size was tried")
-            continue
-        problem = problems[cand.family]
-        material = catalogue.material(cand.material, "search.materials")
-        rows, note = stock_rows(problem, material)
-        if not rows:
-            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation, stock_note=note)
-            continue
-        if cand.evaluation is not None and cand.evaluation.objective > cap * (1 + model.TIE_TOLERANCE):
-            out[i] = replace(cand, evaluation=None, continuous=cand.evaluation, outranked=True)
-            continue  # its continuous optimum bounds every row: none can rank before the cap
-        x0 = _start_from(problem, cand.evaluation) if cand.evaluation is not None else problem.starts()[0]
-        found = search_stock(problem, material, x0, rows=rows, cap=cap, prune_infeasible=prune_infeasible,
-                             every_row=not prune_infeasible)
-        ev = found.evaluation
-        out[i] = replace(cand, evaluation=ev, solves=cand.solves + found.solves, continuous=cand.evaluation,
-                         stock_note=found.note if ev is None or not ev.feasible else "", outranked=found.outranked)
-        if ev is not None and ev.feasible:
-            cap = min(cap, ev.objective)
-    return out
-
-
-def _continuous_key(cand: Candidate):
-    ev = cand.evaluation
-    if ev is None:
-        return (2, math.inf)
-    return (0, ev.objective) if ev.feasible else (1, ev.worst_violation)
 
 
 def _unmachinable(spec, fam: Family) -> str:
@@ -319,8 +267,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                       else _relaxing(problem, mat, rest, usual, relaxed, done, proved))
             cand = (Candidate(mat.name, fam, None, (), (why,)) if why
                     else solve_candidate(problem, mat, method, proves=proves, neighbour=start, cap=cap,
+                                         repair=stock_system(spec, fam) == "none",
                                          warm=None if prior is None else prior.solution,
-                                         starts=usual if start is None else [_start_from(problem, start)] + usual))
+                                         starts=usual if start is None else [start_from(problem, start)] + usual))
             if any(x is cand.winner for x in usual):  # the next material is near it: that start first
                 usual = [cand.winner] + [x for x in usual if x is not cand.winner]
             candidates.append(cand)
@@ -330,7 +279,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         candidates = _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
-    candidates = on_stock(spec, problems, candidates)
+    candidates = candidates_on_stock(spec, problems, candidates)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
     seconds = time.perf_counter() - t0
@@ -372,11 +321,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     if best.design.stock is not None:
         message = f"{best.design.label()} ({best.design.stock.label}) " + ("meets every limit" if best.feasible
                                                                          else "is the least infeasible stock design")
-    continuous = [c.continuous for c in candidates if spec.search.stock != "none" and c.continuous is not None
-                  and c.continuous.feasible]
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
                         candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations,
-                        continuous=model.rank(continuous)[0] if continuous else None)
+                        continuous=continuous_optimum(spec, problems, candidates))
 
 
 # Materials whose Young's moduli are within this of each other are relaxed together when a
@@ -473,9 +420,9 @@ def resolve(spec, family: Family, previous: Evaluation, adjustment, method: str 
     problem = FamilyProblem(spec, family, adjustment)
     material = previous.design.material
     if stock_system(spec, family) != "none":  # the section stays a stock row: the rows are searched again
-        found = search_stock(problem, material, _start_from(problem, previous), margin=margin)
+        found = search_stock(problem, material, start_from(problem, previous), margin=margin)
         return Candidate(material.name, family, found.evaluation, found.solves, stock_note=found.note)
-    starts = [_start_from(problem, previous)] + problem.starts()
+    starts = [start_from(problem, previous)] + problem.starts()
     return solve_candidate(problem, material, method, starts=starts, margin=margin)
 
 
@@ -505,10 +452,11 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
             out.append(c)
             continue
         material = catalogue.material(c.material)
+        stocked = stock_system(problem.spec, c.family) != "none"  # its rows are searched later from this answer
         fractions = CONTENDER_STARTS if ev.objective <= lead * (1 + LEADER_BAND) else CONTENDER_STARTS[:2]
         untried = [x for x in problem.starts(fractions) if not any(np.array_equal(x, t) for t in c.tried)]
         if untried:
-            again = solve_candidate(problem, material, "ipopt", all_starts=True, starts=untried)
+            again = solve_candidate(problem, material, "ipopt", all_starts=True, starts=untried, repair=not stocked)
             better = (again.evaluation is not None and again.evaluation.feasible
                       and again.evaluation.objective < ev.objective)
             c = (replace(again, solves=c.solves + again.solves, fallbacks=c.fallbacks + again.fallbacks)
@@ -528,7 +476,7 @@ def _in_smaller_ranges(problem: FamilyProblem, material, ev: Evaluation) -> tupl
     again from ``ev``: the solves, and the best of their checked designs that meets every limit (None
     if none does). The deviations step up with the size, so an optimum may sit at a range's end,
     which a solve with the deviations of one range does not see."""
-    x = _start_from(problem, ev)
+    x = start_from(problem, ev)
     lo, _ = problem.bounds()
     solves, found = [], []
     for i in problem.moved:
@@ -541,16 +489,6 @@ def _in_smaller_ranges(problem: FamilyProblem, material, ev: Evaluation) -> tupl
         if checked is not None and checked.feasible:
             found.append(checked)
     return solves, pick(found)
-
-
-def _start_from(problem: FamilyProblem, ev: Evaluation):
-    """The NLP's variables (mm) at a checked design."""
-    g = ev.design.geometry
-    values = {"width": g.width, "height": g.height, "side": g.width, "diameter": g.diameter, "wall": g.wall,
-              "depth": g.depth, "hole": g.hole}
-    values.update({f"station_{i + 1}": s for i, s in enumerate(g.stations)})
-    x = np.clip([float(values[n]) / MM for n in problem.names], problem.lower, problem.upper)
-    return np.append(x, ev.objective) if problem.epigraph else x
 
 
 def break_ties(candidates: list, problems: dict) -> list:
@@ -575,7 +513,7 @@ def break_ties(candidates: list, problems: dict) -> list:
             continue
         problem = problems[cand.family]
         material = cand.evaluation.design.material
-        x0 = _start_from(problem, cand.evaluation)
+        x0 = start_from(problem, cand.evaluation)
         if problem.epigraph:
             x0[-1] = min(x0[-1], cap)
         # the NLP's primary objective is in mm (deflection) or g (mass), Evaluation.objective in SI

@@ -21,7 +21,7 @@ import numpy as np
 
 from designer import model
 from designer.search.problem import IPOPT_INFEASIBLE, MM, FamilyProblem, in_nlp_units
-from designer.search.rounding import only_targets_missed, pick, round_and_check
+from designer.search.rounding import floor_ceil, only_targets_missed, pick, round_and_check
 from designer.spec import catalogue
 
 # A row whose rounded design breaks a limit its solve met is solved again with the broken limits,
@@ -108,9 +108,9 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     infeasible holds no row that meets every limit. It is dropped when a design that meets every
     limit is known (the cap, or a row checked here), or always with ``prune_infeasible``: then the
     outcome has no least-infeasible design for such rows (the search runs again without it when
-    no stock design meets every limit, ``run.on_stock``). IPOPT keeps every constraint ``margin``
+    no stock design meets every limit, ``stocked.candidates_on_stock``). IPOPT keeps every constraint ``margin``
     inside its limit (``run.resolve``). ``every_row``: the least infeasible row is sought (no design
-    met every limit, ``run.on_stock``): no bound can prune, so every row is solved once from
+    met every limit, ``stocked.candidates_on_stock``): no bound can prune, so every row is solved once from
     ``x0``, without relaxations, and a start that ends in IPOPT's infeasibility verdict ends the row's
     solves."""
     rows, note = stock_rows(problem, material) if rows is None else (rows, "")
@@ -153,6 +153,10 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
                         break
             if ev is not None:
                 found.append(ev)
+            if s.success and "depth" in problem.names and not (
+                    ev is not None and ev.feasible
+                    and in_nlp_units(ev.objective, spec.objective) <= objective(s) * (1 + model.TIE_TOLERANCE)):
+                found += depth_held(s, fixed, item, exact)
             if s.success or (every_row and s.message in IPOPT_INFEASIBLE):
                 # a converged answer, checked: other starts are for a solve that failed; looking for
                 # the least infeasible row (nothing meets every limit), a verdict is answer enough
@@ -162,6 +166,20 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             checked.append(ev)
             if ev.feasible:
                 best_nlp = min(best_nlp, in_nlp_units(ev.objective, spec.objective))
+
+    def depth_held(s, fixed, item, exact) -> list:
+        """The row's designs with the pocket's depth also held, at each of its grid values (0.05 mm)
+        beside the answer's, and the stations solved again: rounding the depth after the
+        stations moves it up to 0.05 mm, which the stations' rounding box cannot make up."""
+        i = problem.names.index("depth")
+        found = []
+        for depth in floor_ceil(float(s.x[i]) * MM, step=spec.cad.depth_step):
+            s2 = problem.solve_ipopt(params, s.x, fixed={**fixed, i: depth / MM}, margin=margin)
+            solves.append(s2)
+            ev2 = round_and_check(on_stock(problem.design(s2.x, material), item, exact), spec) if s2.success else None
+            if ev2 is not None:
+                found.append(ev2)
+        return found
 
     def dropped(s) -> bool:
         """No row of the set meets every limit, and that may drop it: none can rank before a design that does."""

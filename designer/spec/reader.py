@@ -33,6 +33,9 @@ DEFAULT_GAUGE = "BF120-3AA"
 # end mill of 1-12 mm, so a shop has one for any pocket this tool designs. It is also below half
 # the smallest end mill there (1 mm) and the default limits.min_pocket_depth (0.5 mm).
 DEFAULT_CORNER_RADIUS = 0.0002
+# The grid of a searched pocket's depth (cad.depth_step), m: what a shop sets on a depth stop
+DEFAULT_DEPTH_STEP = 5e-5
+DEPTH_STEPS = (1e-5, 1e-3)  # m: the least and the greatest step allowed, in steps of 0.01 mm
 # ... and at most this share of the shallowest pocket the spec allows, so that a pocket keeps a
 # straight wall above its floor radius (and a wire channel half the pocket deep stays above it).
 CORNER_RADIUS_SHARE = 0.4
@@ -87,6 +90,7 @@ class CadOptions:
     bolt_diameter: float | None = None
     end_mill_diameter: float | None = None
     corner_radius: float = DEFAULT_CORNER_RADIUS    # the end mill's: pocket and flat floors meet walls in it
+    depth_step: float = DEFAULT_DEPTH_STEP          # the grid of the searched pocket or flat depth
     wire_channels: bool = True
     channel_width: float | None = None
     channel_depth: float | None = None
@@ -501,7 +505,7 @@ def default_corner_radius(shallowest: float, system: str | None = None, mill: fl
 
 def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None, system: str = "none") -> CadOptions:
     lengths = ("clamp_length", "bolt_diameter", "end_mill_diameter", "corner_radius", "channel_width",
-               "channel_depth", "groove_depth")
+               "channel_depth", "groove_depth", "depth_step")
     raw = _mapping(raw, "cad", lengths + ("wire_channels", "load_grooves", "groove_positions"))
     values = {k: units.parse_positive(raw[k], "length", f"cad.{k}") for k in lengths if raw.get(k) is not None}
     for k in ("wire_channels", "load_grooves"):
@@ -513,6 +517,11 @@ def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None, syst
             raise SpecError(f"cad.groove_positions: {positions!r} must be a list of positions")
         values["groove_positions"] = tuple(
             units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
+    if (step := values.get("depth_step")) is not None:
+        if not (DEPTH_STEPS[0] - 1e-12 <= step <= DEPTH_STEPS[1] + 1e-12 and abs(step / 1e-5 - round(step / 1e-5)) < 1e-6):
+            raise SpecError(f"cad.depth_step: {step * 1e3:g} mm is not allowed; must be a multiple of 0.01 mm from "
+                            f"{DEPTH_STEPS[0] * 1e3:g} mm to {DEPTH_STEPS[1] * 1e3:g} mm")
+        values["depth_step"] = round(step / 1e-5) * 1e-5
     pocket = design.feature if design is not None and design.feature.kind == "pocket" else None
     if "corner_radius" not in values:
         # recorded in design.json's spec.cad, so that the file describes the part on its own

@@ -170,6 +170,8 @@ SPEC_VALUES = [
     ("cad.bolt_diameter", "M5", ()), ("cad.end_mill_diameter", "3 N", ("wrong units",)),
     ("cad.corner_radius", "2 mm", ("pocket depth",)), ("cad.corner_radius", 0, ()),
     ("cad.channel_width", [1], ()), ("cad.channel_depth", "-0.5 mm", ()), ("cad.groove_depth", "1e9 mm", ()),
+    ("cad.depth_step", "0.025 mm", ("multiple of 0.01 mm",)), ("cad.depth_step", "2 mm", ("0.01 mm to 1 mm",)),
+    ("cad.depth_step", "0 mm", ()), ("cad.depth_step", "1 N", ("wrong units",)),
     ("cad.wire_channels", "yes", ()), ("cad.load_grooves", 1, ()), ("cad.groove_positions", "60 mm", ()),
     ("cad.groove_positions", [], ()), ("cad.groove_positions", ["abc"], ()), ("cad.colour", "red", ("unknown key",)),
     ("design", "fixed", ()), ("design.material", "unobtainium", ()), ("design.material", 7075, ("quote",)),

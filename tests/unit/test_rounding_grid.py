@@ -95,20 +95,22 @@ def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
 
 
 @pytest.mark.parametrize("material", ["17-4PH-H900", "2024-T3"])
-def test_the_numeric_grid_search_finds_the_best_design_of_a_wider_grid(material):
+def test_rounding_finds_the_best_design_of_a_wider_grid(material):
     """The gripper finger's tube, whose IPOPT answer rounding breaks (the flat's chord, and for
-    2024-T3 also the least flat depth the corrections were fitted for).
-    Reference: brute force over a wider box of the 0.01 mm grid than the method searches, every
-    combination of the diameter, wall and flat depth from 3 steps below its rounded-down to 3 above
-    its rounded-up value (the method's reach is 2) and the stations rounded down or up, each judged on its own by the evaluator; the method's design
-    must meet every limit, lie on the grid and be the box's best within the 0.1 % tie band."""
+    2024-T3 also its fatigue limit and the wall ratio the corrections were fitted for); the flat's
+    depth moves to its 0.05 mm grid, which the numeric box of 0.02 mm around the sizes cannot make
+    up, so the depth is held at its grid values and the rest solved again (``ongrid._depth_held``).
+    Reference: brute force over a wider box of the grid than the method searches, every
+    combination of the diameter and wall from 5 steps of 0.01 mm below their rounded-down to 5
+    above their rounded-up value, the flat depth 3 steps of 0.05 mm either way, and the stations
+    rounded down or up, each judged on its own by the evaluator; the method's design must meet
+    every limit, lie on the grid and be the box's best within the 0.1 % tie band."""
     from dataclasses import replace
 
     from designer.model import TIE_TOLERANCE
     from designer.result.evaluation import evaluate
     from designer.search.problem import Family, FamilyProblem
     from designer.search.rounding import floor_ceil, round_and_check
-    from designer.search.ongrid import _nearby_on_the_grid
     from designer.search.run import solve_candidate
     from designer.spec import catalogue
     from designer.spec.reader import load_spec
@@ -120,18 +122,19 @@ def test_the_numeric_grid_search_finds_the_best_design_of_a_wider_grid(material)
                    tolerances=Tolerances("none"))  # the answer's rounding, at nominal sizes
     problem = FamilyProblem(spec, Family("tube", spec.search.feature))
     mat = catalogue.material(material)
-    first = solve_candidate(problem, mat, "ipopt").solves[0]
-    design = problem.design(first.x, mat)
+    candidate = solve_candidate(problem, mat, "ipopt")
+    design = problem.design(candidate.solves[0].x, mat)
     assert not round_and_check(design, spec).feasible, "rounding breaks a limit"
-    found = _nearby_on_the_grid(problem, mat, first)
+    found = candidate.evaluation
     assert found is not None and found.feasible
     g = found.design.geometry
-    for size in (g.diameter, g.wall, g.depth, *g.stations):
+    for size in (g.diameter, g.wall, *g.stations):
         assert size / 1e-5 == pytest.approx(round(size / 1e-5), abs=1e-6)
+    assert g.depth / 5e-5 == pytest.approx(round(g.depth / 5e-5), abs=1e-6)   # depths to 0.05 mm
 
     g0 = design.geometry
     best = np.inf
-    for d, t, h, *st in itertools.product(floor_ceil(g0.diameter, 3), floor_ceil(g0.wall, 3), floor_ceil(g0.depth, 3),
+    for d, t, h, *st in itertools.product(floor_ceil(g0.diameter, 5), floor_ceil(g0.wall, 5), floor_ceil(g0.depth, 3, 5e-5),
                                           *[floor_ceil(s) for s in g0.stations]):
         trial = replace(design, geometry=replace(g0, diameter=d, wall=t, depth=h, stations=tuple(st)))
         ev = evaluate(trial.rounded(spec.cad), spec)
@@ -144,8 +147,8 @@ def test_the_numeric_grid_search_finds_the_best_design_of_a_wider_grid(material)
 def test_a_rounding_that_costs_more_than_the_tie_band_searches_the_grid_around_the_answer():
     """Prototype B's round bars: where rounding IPOPT's answer down or up meets every limit but
     costs more than the 0.1 % tie band against the continuous answer, the grid around it is
-    searched. Reference: brute force over the 0.01 mm grid from 3 steps below the rounded-down to
-    3 above the rounded-up diameter and flat depth, the stations rounded down or up, each judged
+    searched. Reference: brute force over the grid from 3 steps below the rounded-down to 3 above
+    the rounded-up diameter (0.01 mm) and flat depth (0.05 mm), the stations rounded down or up, each judged
     on its own by the evaluator; the reported design is that box's best within the tie band, and
     on at least one material better than the plain rounding by more than the tie band."""
     from dataclasses import replace
@@ -178,7 +181,7 @@ def test_a_rounding_that_costs_more_than_the_tie_band_searches_the_grid_around_t
         costly += 1
         g0 = design.geometry
         best = np.inf
-        for d, h, *st in itertools.product(floor_ceil(g0.diameter, 3), floor_ceil(g0.depth, 3),
+        for d, h, *st in itertools.product(floor_ceil(g0.diameter, 3), floor_ceil(g0.depth, 3, 5e-5),
                                            *[floor_ceil(s) for s in g0.stations]):
             ev = evaluate(replace(design, geometry=replace(g0, diameter=d, depth=h, stations=tuple(st))).rounded(spec.cad),
                           spec)
@@ -224,3 +227,30 @@ def test_the_grid_search_walks_past_steps_that_gain_less_than_the_tie_band():
         if ev.feasible:
             best = min(best, ev.objective)
     assert found is not None and found.feasible and found.objective <= best * (1 + TIE_TOLERANCE)
+
+
+@pytest.mark.parametrize("name, step", [("gripper-finger", None), ("probe", None), ("weigh-bar", 2e-4)])
+def test_the_search_reports_pocket_depths_a_shop_can_set(name, step):
+    """The machining rule (docs/model.md §5): pocket and flat depths to 0.05 mm (or the spec's
+    ``cad.depth_step``), the other lengths to 0.01 mm. The reported design lies on those grids
+    and meets every limit when judged afresh from its numbers by the evaluator (not the search's
+    own record)."""
+    from dataclasses import replace
+    from pathlib import Path
+
+    from designer.result.evaluation import evaluate
+    from designer.search import optimize
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / f"{name}.yaml")
+    if step is not None:
+        spec = replace(spec, cad=replace(spec.cad, depth_step=step))
+    found = optimize(spec)
+    g = found.best.design.geometry
+    assert g.feature == "pocket"
+    grid = 5e-5 if step is None else step
+    assert g.depth / grid == pytest.approx(round(g.depth / grid), abs=1e-6)
+    for size in (g.width, g.height, g.diameter, *g.stations):
+        if size is not None:
+            assert size / 1e-5 == pytest.approx(round(size / 1e-5), abs=1e-6)
+    assert evaluate(found.best.design, spec).feasible

@@ -24,8 +24,9 @@ from designer.cli import main
 from designer.outputs import report
 from designer.outputs.plots.candidates import plot_candidates
 from designer.result.record import search_record
-from designer.search.problem import Family, FamilyProblem
-from designer.search.run import _start_from, optimize, solve_candidate
+from designer.result.evaluation import evaluate
+from designer.search.problem import Family, FamilyProblem, start_from
+from designer.search.run import optimize, solve_candidate
 from designer.search.stock import brute_force, search_stock, stock_rows
 from designer.spec import catalogue
 from designer.spec import stock as stock_file
@@ -198,7 +199,7 @@ def test_stock_search_equals_brute_force_on_reduced_tables(section, monkeypatch)
     problem = FamilyProblem(spec, Family(section, spec.search.feature))
     material = catalogue.material("7075-T6")
     continuous = solve_candidate(problem, material, "ipopt").evaluation
-    x0 = _start_from(problem, continuous)
+    x0 = start_from(problem, continuous)
     found = search_stock(problem, material, x0)
     every = [ev for _, ev in brute_force(problem, material, x0) if ev is not None and ev.feasible]
     assert every and found.evaluation is not None and found.evaluation.feasible
@@ -265,7 +266,7 @@ def test_with_stock_none_a_tube_is_still_a_row_of_the_tube_tables(monkeypatch):
     found = optimize(spec)
     problem = FamilyProblem(spec, Family("tube", "none"))
     material = catalogue.material("7075-T6")
-    every = [ev for _, ev in brute_force(problem, material, _start_from(problem, found.candidates[0].continuous))
+    every = [ev for _, ev in brute_force(problem, material, start_from(problem, found.candidates[0].continuous))
              if ev is not None and ev.feasible]
     assert found.success and found.x.stock is not None and found.x.stock.shape == "round tube"
     assert (found.x.geometry.diameter, found.x.geometry.wall) == found.x.stock.sizes
@@ -350,7 +351,7 @@ def test_rows_a_relaxation_finds_infeasible_are_infeasible_one_by_one():
     assert cand.status == "infeasible" and "IPOPT finds no design" in cand.stock_note
     problem = FamilyProblem(spec, Family("tube", spec.search.feature))
     material = catalogue.material("2024-T3")
-    x0 = _start_from(problem, cand.continuous)
+    x0 = start_from(problem, cand.continuous)
     every = brute_force(problem, material, x0)
     assert len(every) > 10
     assert not any(ev is not None and ev.feasible for _, ev in every)
@@ -412,3 +413,25 @@ def test_a_tube_s_continuous_design_outranks_nothing_as_its_rows_may_all_fail():
     assert not any(c.unrounded for c in found.candidates)
     full = optimize(spec, outrank=False)
     assert found.x.stock == full.x.stock and found.best.objective == full.best.objective
+
+
+def test_the_continuous_optimum_beside_a_stock_design_is_the_continuous_search_s():
+    """On stock the families' continuous answers are only the rows' starts and bounds, kept
+    before rounding where rounding breaks a limit or costs more than the tie band; the one
+    reported beside the stock design ("stock costs x %") is rounded and repaired afterwards.
+    Reference: the gripper finger searched with continuous sizes (``stock: none``; its best, a
+    titanium round bar, has no tube to compete with on either search), whose design is rounded and
+    repaired as every answer is: the reported continuous optimum is a design on the 0.01 mm grid
+    (its depth on the 0.05 mm one), meets every limit, and ranks with it within the tie band."""
+    spec = _spec("gripper-finger", stock="metric")
+    found = optimize(spec)
+    plain = optimize(_spec("gripper-finger", stock="none")).best
+    c = found.get("continuous")
+    assert c is not None and c.feasible and c.design.stock is None
+    g = c.design.geometry
+    for size in (g.width, g.height, g.diameter, g.wall, *g.stations):
+        if size is not None:
+            assert size / 1e-5 == pytest.approx(round(size / 1e-5), abs=1e-6)
+    assert g.depth / 5e-5 == pytest.approx(round(g.depth / 5e-5), abs=1e-6)
+    assert evaluate(c.design, spec).feasible
+    assert c.objective == pytest.approx(plain.objective, rel=model.TIE_TOLERANCE)

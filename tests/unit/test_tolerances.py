@@ -223,9 +223,9 @@ def test_the_corners_the_search_holds_its_limits_at_are_each_limits_worst(name, 
 
 
 def test_the_summary_lists_the_limits_that_bind_at_a_tolerance_corner():
-    """The gripper finger under the default ISO 2768-m: its fatigue limit at the flat and its
-    deflection limit bind at the thin bar with the deep flats, not at the nominal sizes; the
-    terminal's table of binding limits names them with that corner. Reference: every corner built
+    """The gripper finger under the default ISO 2768-m: its fatigue limit at the flat binds at the
+    thin bar with the deep flats, not at the nominal sizes; the terminal's table of binding limits
+    names it with that corner. Reference: every corner built
     and judged on its own (``_corner_values``): the named corner's value is the limit's worst."""
     import io
 
@@ -237,7 +237,7 @@ def test_the_summary_lists_the_limits_that_bind_at_a_tolerance_corner():
     best = optimize(spec).best
     record = json.loads(json.dumps(build_record("optimal", spec, best)))
     at_corner = {c["name"]: c for c in binding_limits(record) if "corner" in c}
-    assert {"fatigue_feature", "deflection"} <= set(at_corner)
+    assert "fatigue_feature" in at_corner
     nominal = {c["name"]: c for c in record["constraints"]}
     corners, values = _corner_values(best, spec)
     for name, c in at_corner.items():
