@@ -28,8 +28,9 @@ def back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
     solved again (``_depth_held``), taken under the same rule. Otherwise the section sizes are
     also held at each of their neighbouring 0.01 mm values in turn and the rest (stations, depth)
     solved again, each answer rounded and checked (``_on_the_grid``), and the best of the three is
-    the answer on the grid. Only if none checks out are the limits that rounding broke (and no
-    other) tightened, by each of ROUNDING_MARGINS in turn from the first as large as the violation
+    the answer on the grid. If none checks out, the numeric box is searched again WIDE_REACH steps
+    wide. Only if that finds nothing either are the limits that rounding broke (and no other)
+    tightened, by each of ROUNDING_MARGINS in turn from the first as large as the violation
     rounding caused; the first answer whose rounded design breaks no limit of the NLP replaces it
     (under the error objective it may still miss the targets: a verdict). For a trade-off
     ``front``'s point the numeric grid's best is taken whatever it costs, and nothing is held on
@@ -53,6 +54,11 @@ def back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
     on_grid = None if front else _on_the_grid(problem, params, material, s, solves)
     found = [(s, near)] if near is not None else []
     found += [f for f in (held, on_grid) if f is not None and f[1].feasible]
+    wide = None if found or front else _nearby_on_the_grid(problem, material, s, WIDE_REACH)
+    if wide is not None:
+        fallbacks.append(f"{where}: rounding broke a limit; the best design on a wider grid around the answer "
+                         f"({WIDE_REACH} steps) taken instead")
+        return s, wide
     if found:
         best = pick([e for _, e in found])
         fallbacks.append(f"{where}: rounding broke a limit; " + (

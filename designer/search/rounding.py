@@ -20,6 +20,11 @@ from designer.result.evaluation import ROUNDING, Design, Evaluation, channelled,
 from designer.search.problem import pocket_as_needed
 
 
+# Steps of its own grid (cad.depth_step, 0.05 mm by default) that a wider box reaches in the depth
+# at most: a step of it is about five of the 0.01 mm grid.
+DEPTH_REACH = 2
+
+
 def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
     """Under the error objective (``epigraph``), whether the accuracy targets are all that ``ev``
     misses: a verdict on the spec (the least error it reaches), not a failure of the solve."""
@@ -61,8 +66,8 @@ class GridBox:
             fields_ = []  # a stock section is what the table says it is
         fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
         stations = [float(s) for s in g.stations]
-        choices = [floor_ceil(float(getattr(g, f)), reach, spec.cad.depth_step if f == "depth" else ROUNDING)
-                   for f in fields_]
+        choices = [floor_ceil(float(getattr(g, f)), min(reach, DEPTH_REACH), spec.cad.depth_step) if f == "depth"
+                   else floor_ceil(float(getattr(g, f)), reach) for f in fields_]
         station_choices = [floor_ceil(s) for s in stations]
         for i in range(1, len(stations) - 1):  # linear limits with slack: nearest is enough
             station_choices[i] = (round(stations[i] / ROUNDING) * ROUNDING,)

@@ -112,8 +112,9 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     limit, the candidate is ``outranked`` (its continuous optimum kept as the bound) instead of
     repaired: ``optimize`` gives the best design found so far, CONTENDER_BAND over. Without ``repair``
     (a family whose sections come from stock rows, searched later from this answer), an answer
-    that rounding breaks is kept before rounding when it meets every limit there: it is only the
-    rows' start and bound, and its sizes are not reported (``optimize`` rounds the best family's)."""
+    is only the rows' start and bound: it is kept before rounding when it meets every limit there,
+    and otherwise repaired as a front's point is (the numeric box alone); its sizes are not
+    reported (``stocked.continuous_optimum`` rounds and repairs the best families')."""
     spec = problem.spec
     params = problem.params(material)
     evaluation, solves, fallbacks = None, [], []
@@ -158,7 +159,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                     ev = kept
                 elif m == "ipopt":
                     s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
-                                      f"{m} start {i + 1}", front=neighbour is not None)
+                                      f"{m} start {i + 1}", front=neighbour is not None or not repair)
                 else:
                     ev = onto_the_grid(problem, material, s, ev)
             if m == "ipopt" and s.success and ev.feasible and repair:

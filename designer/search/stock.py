@@ -126,9 +126,9 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     def objective(s) -> float:
         return float(problem.functions(s.x, params)[0])
 
-    def relax(members, start):
+    def relax(members, start, parent=None):
         box = {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
-        s = problem.solve_ipopt(params, start, box=box, margin=margin, least=True)
+        s = problem.solve_ipopt(params, start, box=box, margin=margin, least=True, warm=parent)
         solves.append(s)
         return s
 
@@ -195,10 +195,11 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     if dropped(root):
         pruned = len(rows)
     else:
-        heap.append((objective(root) if root.success else -math.inf, 0, everything, root.x))
+        heap.append((objective(root) if root.success else -math.inf, 0, everything, root))
     counter, leaves = 1, 0
     while heap:
-        bound, _, members, start = heapq.heappop(heap)
+        bound, _, members, parent = heapq.heappop(heap)
+        start = parent.x
         if bound > best_nlp * (1 + model.TIE_TOLERANCE):
             break   # best bound first: every set left is bounded above the incumbent's tie band
         if len(members) == 1:
@@ -206,12 +207,12 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
             leaves += 1
             continue
         for part in _split(points, members, start, index):
-            s = relax(part, start)
+            s = relax(part, start, parent if parent.success else None)
             if dropped(s):
                 pruned += len(part)
                 continue
             child_bound = objective(s) if s.success else bound  # a failed relaxation bounds nothing new
-            heapq.heappush(heap, (max(child_bound, bound), counter, part, s.x if s.success else start))
+            heapq.heappush(heap, (max(child_bound, bound), counter, part, s if s.success else parent))
             counter += 1
     return _outcome(problem, material, rows, checked, solves, leaves, pruned)
 
