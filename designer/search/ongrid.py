@@ -99,10 +99,11 @@ GRID_STEPS = 10
 # Grid steps past the rounded values that the numeric search around an answer tries in each
 # section size and in the feature's depth or hole (``_nearby_on_the_grid``).
 GRID_REACH = 2
-# ... when no IPOPT re-solve follows it (``onto_the_grid``): a depth step of 0.05 mm (the
-# default ``cad.depth_step``) takes a
-# section size step of about as much to make up (the gripper's 7075 round bar: its flat's chord
-# and its fatigue limit both active, depth 1.07 -> 1.10 mm needs the diameter 8.13 -> 8.20 mm)
+# ... in the section sizes when no IPOPT re-solve follows it (``onto_the_grid``), or when neither
+# the near box nor the re-solves found a design (``back_off``): a depth step of 0.05 mm (the
+# default ``cad.depth_step``) takes a section size step of about as much to make up (the
+# gripper's 7075 round bar: its flat's chord and its fatigue limit both active, depth 1.07 ->
+# 1.10 mm needs the diameter 8.13 -> 8.20 mm); the depth itself reaches rounding.DEPTH_REACH.
 WIDE_REACH = 8
 # The numeric search's best is taken without the IPOPT re-solves when its objective is within this
 # of the continuous answer's (a bound on every design near it). On the bench suite's 54 specs
@@ -165,10 +166,10 @@ def _nearby_on_the_grid(problem: FamilyProblem, material, s: Solve, reach: int =
 
 def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list, close):
     """``(Solve, Evaluation)``: the checked design of the pocket's depth held at a neighbouring
-    value of its grid (``cad.depth_step``) and the rest solved again (the sizes then rounded, and the numeric grid around
-    that answer searched if rounding them breaks a limit): the nearer value first, and the other
-    only when that gives no design ``close`` (a predicate) to the continuous answer; the better
-    of the two then. None for a family without a pocket or when neither meets every limit. A
+    value of its grid (``cad.depth_step``) and the rest solved again (the sizes then rounded, and
+    the numeric grid around that answer searched if rounding them breaks a limit): the nearer
+    value first, and the other only when that gives no design ``close`` (a predicate) to the
+    continuous answer; the better of the two then. None for a family without a pocket or when neither meets every limit. A
     depth step of 0.05 mm takes a section step of about as much to make up, which the 0.01 mm
     grid around the answer does not reach."""
     if "depth" not in problem.names:

@@ -1,4 +1,5 @@
-"""Rounding an answer to 0.01 mm (a pocket's depth to its step, 0.05 mm unless the spec says) and checking it, and picking the best of checked designs.
+"""Rounding an answer to 0.01 mm (a pocket's depth to ``cad.depth_step``, 0.05 mm by default) and
+checking it, and picking the best of checked designs.
 
 No solver's success flag is trusted: every answer is rounded to the reported 0.01 mm grid and
 judged again with the numeric model (``result.evaluation.evaluate``); what is reported is what

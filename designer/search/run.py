@@ -457,7 +457,8 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
         fractions = CONTENDER_STARTS if ev.objective <= lead * (1 + LEADER_BAND) else CONTENDER_STARTS[:2]
         # (a family on stock: its answer is the rows' start and bound, and its rows are searched from
         # several starts anyway; only the smaller ranges, which the reported continuous optimum needs)
-        untried = [] if stocked else [x for x in problem.starts(fractions) if not any(np.array_equal(x, t) for t in c.tried)]
+        untried = [] if stocked else [x for x in problem.starts(fractions)
+                                      if not any(np.array_equal(x, t) for t in c.tried)]
         if untried:
             again = solve_candidate(problem, material, "ipopt", all_starts=True, starts=untried)
             better = (again.evaluation is not None and again.evaluation.feasible

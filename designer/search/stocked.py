@@ -86,11 +86,11 @@ def _continuous_key(cand) -> tuple:
 
 def continuous_optimum(spec, problems: dict, candidates: list) -> Evaluation | None:
     """With ``search.stock``, the best design of continuous sizes the stock search began from, on
-    the 0.01 mm grid and checked. The families' answers were not repaired where rounding broke a
-    limit or cost more than the tie band (they were only the rows' starts and bounds), so they are
-    here, as any answer is (``back_off``, ``closer_on_the_grid``), best continuous answer first,
-    until the next one (a bound on its rounded design) ranks after the best rounded so far. None
-    without stock, or when none meets every limit."""
+    the 0.01 mm grid and checked. The families' answers were kept before rounding or repaired by
+    the numeric box alone (they were only the rows' starts and bounds), so they are rounded and
+    repaired here as any answer is (``back_off``, ``closer_on_the_grid``), best continuous answer
+    first, until the next one (a bound on its rounded design) ranks after the best rounded so far.
+    None without stock, or when none meets every limit."""
     if spec.search.stock == "none":
         return None
     answers = []

@@ -35,7 +35,7 @@ DEFAULT_GAUGE = "BF120-3AA"
 DEFAULT_CORNER_RADIUS = 0.0002
 # The grid of a searched pocket's depth (cad.depth_step), m: what a shop sets on a depth stop
 DEFAULT_DEPTH_STEP = 5e-5
-DEPTH_STEPS = (1e-5, 1e-3)  # m: the least and the greatest step allowed, in steps of 0.01 mm
+DEPTH_STEPS = (1, 100)  # the least and the greatest step allowed, in hundredths of a millimetre
 # ... and at most this share of the shallowest pocket the spec allows, so that a pocket keeps a
 # straight wall above its floor radius (and a wire channel half the pocket deep stays above it).
 CORNER_RADIUS_SHARE = 0.4
@@ -518,10 +518,10 @@ def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None, syst
         values["groove_positions"] = tuple(
             units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
     if (step := values.get("depth_step")) is not None:
-        if not (DEPTH_STEPS[0] - 1e-12 <= step <= DEPTH_STEPS[1] + 1e-12 and abs(step / 1e-5 - round(step / 1e-5)) < 1e-6):
+        if abs(step / 1e-5 - (k := round(step / 1e-5))) > 1e-6 or not DEPTH_STEPS[0] <= k <= DEPTH_STEPS[1]:
             raise SpecError(f"cad.depth_step: {step * 1e3:g} mm is not allowed; must be a multiple of 0.01 mm from "
-                            f"{DEPTH_STEPS[0] * 1e3:g} mm to {DEPTH_STEPS[1] * 1e3:g} mm")
-        values["depth_step"] = round(step / 1e-5) * 1e-5
+                            f"{DEPTH_STEPS[0] / 100:g} mm to {DEPTH_STEPS[1] / 100:g} mm")
+        values["depth_step"] = k * 1e-5
     pocket = design.feature if design is not None and design.feature.kind == "pocket" else None
     if "corner_radius" not in values:
         # recorded in design.json's spec.cad, so that the file describes the part on its own
