@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -80,8 +81,33 @@ def cad_child(cad: bool):
         return None
     from designer.outputs.background import Background
 
-    # what write_cad_outputs imports lazily: the CAD kernel (1-3 s) and matplotlib's figure
-    return Background(modules=("designer.outputs.cad.writer", "cadquery", "matplotlib.figure"))
+    # what write_cad_outputs imports lazily: the CAD kernel (1-3 s) and matplotlib's figure; and
+    # the plots, which it draws while the fronts are computed here
+    return Background(modules=("designer.outputs.cad.writer", "cadquery", "matplotlib.figure",
+                               "designer.outputs.plots"))
+
+
+def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None) -> dict:
+    """The CAD job of ``write_outputs`` (in its child process): the CAD outputs and, with
+    ``plot_options`` (``write_design_plots``' keywords), the design's own plots, the trade-off
+    plots apart. ``{"cad": {kind: path} or a DesignFileError, "plots": [paths]}``."""
+    from designer.outputs.cad.writer import write_cad_outputs
+
+    plots = []
+    if plot_options is not None:
+        from designer.outputs.plots import write_design_plots
+
+        # staged inside the job's scratch folder, which the parent removes if it stops this child
+        staging = scratch / ".plots"
+        for path in write_design_plots(record, staging, tradeoff={}, **plot_options):
+            plots.append(scratch / path.name)
+            os.replace(path, plots[-1])
+        staging.rmdir()
+    try:
+        cad = write_cad_outputs(record, scratch)
+    except DesignFileError as exc:   # the parent decides whether it matters (an infeasible design)
+        cad = exc
+    return {"cad": cad, "plots": plots}
 
 
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
@@ -91,51 +117,60 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
 
     The CAD model is built in a child process (``child``, one ``cad_child`` started earlier, or
     a new one) while this one computes ``fronts`` (a callable giving the trade-off fronts, or
-    None) and draws the plots. ``progress(stage, done, total)`` hears of the plots and of the
-    wait for the CAD model."""
+    None where they do not apply) and draws the plots; with fronts to compute, the child draws
+    the design's own plots too, and this one the trade-off plots. ``progress(stage, done,
+    total)`` hears of the plots and of the wait for the child."""
     from designer.outputs import report
     from designer.errors import InputError
     from designer.outputs.files import atomic_write_json, atomic_write_text, previous_outputs, staged_directory
 
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
+    extra = dict(extra_plots or {})
+    plot_module = _optional("designer.outputs.plots") if plots else None
     with staged_directory(out_dir, stale=previous_outputs(out_dir)) as scratch:
         files = record.setdefault("files", {})
         cad_job = None
+        plotted = []
+        child_plots = None
         if cad and importlib.util.find_spec("cadquery") is not None:
             from designer.outputs.background import Background
-            from designer.outputs.cad.writer import write_cad_outputs
 
-            cad_job = (child.submit(write_cad_outputs, dict(record), scratch) if child is not None
-                       else Background(write_cad_outputs, dict(record), scratch))
+            if plot_module is not None and fronts is not None:  # this process has the fronts to compute
+                child_plots = {k: v for k, v in extra.items() if k != "tradeoff"}
+            job = (dict(record), scratch, child_plots)
+            cad_job = (child.submit(cad_and_design_plots, *job) if child is not None
+                       else Background(cad_and_design_plots, *job))
         try:
-            extra = dict(extra_plots or {})
             if fronts is not None:
                 tradeoff = fronts()
                 if tradeoff is not None:
                     extra["tradeoff"] = tradeoff
-            if plots and (plot_module := _optional("designer.outputs.plots")) is not None:
-                written = plot_module.write_design_plots(
-                    record, scratch, **extra,
+            if plot_module is not None:
+                plotted += plot_module.write_design_plots(
+                    record, scratch, **extra, design_plots=child_plots is None,
                     progress=None if progress is None else (lambda done, total: progress("plots", done, total)))
-                files["plots"] = sorted(Path(p).name for p in written)
+            if plot_module is not None:
+                files["plots"] = []   # (in its place among the files; filled below)
             for write in writers:
                 files.update({k: Path(v).name for k, v in write(scratch).items()})
             if cad_job is not None:
                 if progress is not None:
-                    progress("CAD model, drawing and picture", 0, 1)
-                try:
-                    written = cad_job.result()
-                except DesignFileError as exc:
+                    progress("CAD model, drawing and picture" + (" and plots" if child_plots is not None else ""), 0, 1)
+                done = cad_job.result()
+                plotted += done["plots"]
+                if isinstance(done["cad"], DesignFileError):
                     if record["status"] != "infeasible":
-                        raise
+                        raise done["cad"]
                     # the least-infeasible design may not be buildable (features overlapping)
-                    record["messages"].append(f"no CAD model for this infeasible design: {exc}")
+                    record["messages"].append(f"no CAD model for this infeasible design: {done['cad']}")
                 else:
-                    files.update({k: Path(v).name for k, v in written.items()})
+                    files.update({k: Path(v).name for k, v in done["cad"].items()})
         finally:
             if cad_job is not None:
                 cad_job.stop()
+        if plot_module is not None:
+            files["plots"] = sorted(Path(p).name for p in plotted)
         files["report"] = "report.md"
         atomic_write_text(scratch / "report.md", report.markdown(record))
         atomic_write_json(scratch / "design.json", record)
@@ -163,7 +198,7 @@ def run_evaluate(args) -> int:
 
 def run_optimize(args) -> int:
     from designer.outputs import report
-    from designer.result.pipeline import DesignOptions, design, tradeoff_fronts
+    from designer.result.pipeline import DesignOptions, design, fronts_apply, tradeoff_fronts
     from designer.spec.reader import load_spec
 
     from designer.errors import describe_allowed
@@ -187,7 +222,8 @@ def run_optimize(args) -> int:
 
                 writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
             # the fronts are computed while the CAD model builds in a child process
-            fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
+            fronts = ((lambda: tradeoff_fronts(spec, result, progress))
+                      if not args.no_plots and fronts_apply(spec, result) else None)
             write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
                           extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
                           progress=progress, child=child)

@@ -233,3 +233,21 @@ def test_no_design_that_can_be_evaluated_is_an_error_with_a_message_not_a_traceb
     assert "no solver returned a design" in captured.err
     assert "Traceback" not in captured.out + captured.err
     assert not (tmp_path / "out" / "design.json").exists()
+
+
+def test_the_whole_job_writes_every_output_and_draws_the_plots_as_the_plot_command_does(tmp_path):
+    # The job draws the design's own plots in the CAD child process while this one computes the
+    # trade-off fronts: the folder holds exactly the files design.json lists, the six plots among
+    # them, and those four plots are the bytes `fpdesign plot` draws from design.json alone.
+    from designer.outputs.plots import PLOT_NAMES
+
+    out = tmp_path / "out"
+    assert main(["optimize", str(EXAMPLES / "gripper-finger.yaml"), "-o", str(out), "--quiet"]) == 0
+    files = json.loads((out / "design.json").read_text())["files"]
+    assert files["plots"] == sorted(f"{name}.png" for name in PLOT_NAMES)
+    listed = {files[k] for k in ("step", "model_png", "drawing_svg", "drawing_png", "report")}
+    assert sorted(p.name for p in out.iterdir()) == sorted(listed | set(files["plots"]) | {"design.json"})
+    again = tmp_path / "again"
+    assert main(["plot", str(out / "design.json"), "-o", str(again)]) == 0
+    for name in PLOT_NAMES[:4]:
+        assert (again / f"{name}.png").read_bytes() == (out / f"{name}.png").read_bytes(), name

@@ -25,7 +25,8 @@ PNG_DPI = 150
 
 
 def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAULT_FORMATS,
-                       tradeoff: Mapping[str, Sequence[Mapping]] | None = None, progress=None) -> list[Path]:
+                       tradeoff: Mapping[str, Sequence[Mapping]] | None = None, progress=None,
+                       design_plots: bool = True) -> list[Path]:
     """Write the plots of a design into ``out_dir``; all of them or none.
 
     Files: ``operating-region``, ``voltage-isolines``, ``error-maps``, ``candidates``, with an
@@ -33,7 +34,8 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     trade-off points are given (``tradeoff={"max_deflection": [...], "min_frequency": [...]}``, or a
     ``"tradeoff"`` key of the design), ``tradeoff-deflection`` and ``tradeoff-frequency``; each in
     every format of ``formats`` (``"png"``, ``"svg"``). Returns the paths written. ``progress``,
-    if given, is called as ``progress(done, total)`` after each plot.
+    if given, is called as ``progress(done, total)`` after each plot. ``design_plots=False``
+    writes the trade-off plots alone (the job draws the others in its CAD process meanwhile).
     """
     from designer.outputs.files import staged_directory
 
@@ -59,8 +61,8 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     makers = [("operating-region", lambda: plot_operating_region(design)),
               ("voltage-isolines", lambda: plot_voltage_isolines(design)),
               ("error-maps", lambda: plot_error_maps(design)),
-              ("candidates", lambda: plot_candidates(design))]
-    if (design.get("predicted") or {}).get("budget") is not None:
+              ("candidates", lambda: plot_candidates(design))] if design_plots else []
+    if design_plots and (design.get("predicted") or {}).get("budget") is not None:
         makers.append((BUDGET_PLOT, lambda: plot_budget(design)))
     for name, points in fronts.items():
         chosen = _chosen_point(design, name)
