@@ -213,7 +213,8 @@ def _unmachinable(spec, fam: Family) -> str:
 
 
 def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True,
-             problems: dict | None = None, warm: dict | None = None, skip=(), outrank: bool = True) -> SearchResult:
+             problems: dict | None = None, warm: dict | None = None, skip=(), outrank: bool = True,
+             known: dict | None = None) -> SearchResult:
     """Search every allowed material and section family; return the verified best design.
 
     ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
@@ -223,7 +224,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     trade-off front's neighbouring level (the contenders are then not solved again from every
     start: the warm start is their other one).
     ``skip`` holds ``(material name, family)`` pairs not solved (no design; a trade-off front's
-    candidates that a looser level of its limit already left without a feasible design).
+    candidates that a looser level of its limit already left without a feasible design);
+    ``known`` maps such pairs to the Candidate taken as it is (a front's design that the swept
+    limit does not bind, from the neighbouring level).
     ``outrank``: a candidate whose first answer, before rounding, is CONTENDER_BAND above the best
     design found before it is not repaired (``solve_candidate``'s ``cap``); a trade-off front, which
     draws every candidate of its materials, asks for each.
@@ -252,6 +255,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         relaxed, done = [], set()  # relaxations run in this family; materials they proved infeasible
         for k, mat in enumerate(mats):
             if mat.name in done:
+                continue
+            if (mat.name, fam) in (known or {}):
+                candidates.append(known[(mat.name, fam)])
                 continue
             if (mat.name, fam) in skip:
                 candidates.append(Candidate(mat.name, fam, None, (), ("not solved: no feasible design at a looser "

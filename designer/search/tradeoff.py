@@ -12,12 +12,21 @@ from dataclasses import replace
 
 import numpy as np
 
+from designer.errors import InputError
+from designer.result.evaluation import evaluate
 from designer.search.problem import FamilyProblem, families
 from designer.search.run import Candidate, optimize
+from designer.search.stock import stock_system
+from designer.spec import catalogue
 
 LEVELS = 9
 MATERIALS = 4     # the best distinct materials of the search take part in the fronts
 SPAN = 10.0       # levels from value/SPAN**0.5 to value*SPAN**0.5 around the chosen design
+# A candidate whose answer before rounding keeps this much room (normalised, at every corner) in
+# the swept limit at the tighter of two neighbouring levels is not bound by it at either: its
+# design at the neighbouring level is its design at this one, judged again under this level.
+UNBOUND_ROOM = 1e-2
+SWEPT_LIMIT = {"max_deflection": "deflection", "min_frequency": "natural_frequency"}
 
 
 def _levels(centre: float) -> np.ndarray:
@@ -51,7 +60,18 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
         for i in order:
             level = float(levels[i])
             variant = replace(base, limits=replace(base.limits, **{key: level}))
-            near = found.get(i - 1 if i > centre else i + 1, outcome.candidates)
+            j = i - 1 if i > centre else i + 1
+            near = found.get(j, outcome.candidates)
+            # designs the swept limit binds at neither this level nor the search's own (or the
+            # neighbour's) are taken as they are, the search's first
+            same = {}
+            for source, other in ((outcome.candidates, given), (near, float(levels[j]) if j in found else given)):
+                tight = level if other is None else (min if key == "max_deflection" else max)(level, other)
+                for c in source:
+                    if ((c.material, c.family) not in same and c.family in graphs and c.material in leading
+                            and stock_system(base, c.family) == "none"   # (stock rows are not an answer's grid)
+                            and (u := _unbound(graphs[c.family], base, key, tight, c, variant)) is not None):
+                        same[(c.material, c.family)] = u
             warm = {(c.material, c.family): c for c in near
                     if c.evaluation is not None and c.evaluation.feasible and c.family in graphs}
             # the limit tightens as the deflection's level falls or the frequency's rises: a
@@ -61,11 +81,12 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             ranked_out = {(c.material, c.family) for c in near if c.unrounded}
             skip = ({(m, fam) for m in leading for fam in graphs if (m, fam) not in warm and (m, fam) not in ranked_out}
                     if tighter else set())
-            if len(skip) == len(leading) * len(graphs):
-                found[i] = [Candidate(m, fam, None) for m in leading for fam in graphs]
+            skip -= set(same)
+            if len(skip | set(same)) == len(leading) * len(graphs):
+                found[i] = [same.get((m, fam), Candidate(m, fam, None)) for m in leading for fam in graphs]
             else:
-                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm, outrank=False,
-                                  problems={fam: g.at(variant, level) for fam, g in graphs.items()})
+                result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm, known=same,
+                                  outrank=False, problems={fam: g.at(variant, level) for fam, g in graphs.items()})
                 found[i] = result.candidates
             done += 1
             if progress is not None:
@@ -82,3 +103,23 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
                                "feasible": bool(ev is not None and ev.feasible)})
         out[key] = points
     return out
+
+
+def _unbound(graph: FamilyProblem, base, key: str, tight: float, cand: Candidate, variant) -> Candidate | None:
+    """``cand`` (a neighbouring level's, or the search's) judged under ``variant`` when the swept
+    limit does not bind its answer before rounding: UNBOUND_ROOM inside the ``tight`` level at
+    every corner. The answer is then a solution at both levels, and its design on the grid the
+    same. None when it does bind, or ``cand`` has no such answer or its design fails here."""
+    s = cand.solution
+    if cand.evaluation is None or not cand.evaluation.feasible or s is None or not s.success:
+        return None
+    problem = graph.at(replace(base, limits=replace(base.limits, **{key: tight})), tight)
+    g = np.asarray(problem.functions(s.x, problem.params(catalogue.material(cand.material)))[2]).ravel()
+    rows = [k for k, name in enumerate(problem.limit_names) if name == SWEPT_LIMIT[key]]
+    if not rows or g[rows].max() > -UNBOUND_ROOM:
+        return None
+    try:
+        ev = evaluate(cand.evaluation.design, variant)
+    except InputError:
+        return None
+    return replace(cand, evaluation=ev) if ev.feasible else None

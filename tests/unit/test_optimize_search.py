@@ -345,6 +345,64 @@ def test_the_front_passes_through_the_chosen_design():
     assert best["value"] < 0.995 * spec.limits.max_deflection
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["gripper-finger", "prototype-b-optimized"])
+def test_no_front_point_is_worse_than_the_chosen_design_where_that_design_meets_the_level(name):
+    # At a level of the swept limit where the chosen design meets every limit (reference: evaluate()
+    # under that level), the best design there is at least as good: the front cannot pass above
+    # the chosen design's star there. (Before the fronts reused designs the swept limit does not
+    # bind, each level was solved again with a front's cheaper repair of rounding, and drew the
+    # gripper's Ti-6Al-4V 2 % above its chosen design on the frequency sweep, prototype-b's 6061-T6
+    # 3.5 % above it on the deflection sweep.)
+    from designer.search.tradeoff import fronts
+
+    spec = load_spec(EXAMPLES / f"{name}.yaml")
+    out = search.optimize(spec)
+    chosen = float(out.best.error_ratio)
+    checked = 0
+    for key, points in fronts(spec, out).items():
+        for level in sorted({p["x"] for p in points}):
+            at = replace(spec, objective="error", limits=replace(spec.limits, **{key: level}))
+            if not evaluate(out.best.design, at).feasible:
+                continue
+            best = min(p["objective"] for p in points if p["x"] == level and p["feasible"])
+            assert best <= chosen * (1 + 1e-9), (key, level, best, chosen)
+            checked += 1
+    assert checked >= 6
+
+
+def test_a_front_level_whose_limit_does_not_bind_the_answer_reuses_the_design_unsolved(monkeypatch):
+    # A limit that does not bind a local optimum leaves it an optimum at any level it keeps room
+    # at (the KKT conditions do not see an inactive constraint). The gripper has no frequency
+    # limit: its frequency sweep's levels below the chosen Ti-6Al-4V bar's own frequency do not
+    # bind that answer, so their points are the search's design, judged again under each level
+    # (reference: evaluate() at that level), with no IPOPT run there; the levels above it bind.
+    from designer.search.tradeoff import fronts
+
+    spec = _reduced(load_spec(EXAMPLES / "gripper-finger.yaml"), ["Ti-6Al-4V"], ["round"])
+    out = search.optimize(spec)
+    chosen = float(out.best.analysis.natural_frequency)
+    levels = []
+    solve = search.FamilyProblem._solve
+
+    def counted(self, *args, **kwargs):
+        if self.swept == "min_frequency":
+            levels.append(self.extra[0])
+        return solve(self, *args, **kwargs)
+
+    monkeypatch.setattr(search.FamilyProblem, "_solve", counted)
+    points = fronts(spec, out, materials=1)["min_frequency"]
+    below = [p for p in points if p["x"] < 0.99 * chosen]
+    assert len(below) == 4 and levels, "four levels below the chosen frequency, and solves above it"
+    assert all(level > 0.99 * chosen for level in levels)
+    for p in below:
+        at = replace(spec, objective="error", limits=replace(spec.limits, min_frequency=p["x"]))
+        again = evaluate(out.best.design, at)
+        assert p["feasible"] and again.feasible
+        assert p["objective"] == pytest.approx(float(again.error_ratio), rel=1e-12)
+        assert p["value"] == pytest.approx(chosen, rel=1e-12)
+
+
 def test_a_warm_start_from_a_nearby_solve_reaches_the_cold_answer_in_fewer_iterations():
     # The trade-off fronts start each level from the neighbouring level's answer with that solve's
     # multipliers (IPOPT's warm start). Here the gripper's Ti-6Al-4V round bar solved, then the
