@@ -88,26 +88,41 @@ def cad_child(cad: bool):
 
 
 def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None) -> dict:
-    """The CAD job of ``write_outputs`` (in its child process): the CAD outputs and, with
-    ``plot_options`` (``write_design_plots``' keywords), the design's own plots, the trade-off
-    plots apart. ``{"cad": {kind: path} or a DesignFileError, "plots": [paths]}``."""
+    """The CAD job of ``write_outputs`` (in its child process): the CAD outputs, then, with
+    ``plot_options`` (``write_design_plots``' keywords), the design's plots that the parent has
+    not claimed (``_claims``). ``{"cad": {kind: path} or a DesignFileError, "plots": [paths]}``."""
     from designer.outputs.cad.writer import write_cad_outputs
 
+    try:
+        cad = write_cad_outputs(record, scratch)
+    except DesignFileError as exc:   # the parent decides whether it matters (an infeasible design)
+        cad = exc
     plots = []
     if plot_options is not None:
         from designer.outputs.plots import write_design_plots
 
         # staged inside the job's scratch folder, which the parent removes if it stops this child
         staging = scratch / ".plots"
-        for path in write_design_plots(record, staging, tradeoff={}, **plot_options):
+        for path in write_design_plots(record, staging, tradeoff={}, claim=_claims(scratch), **plot_options):
             plots.append(scratch / path.name)
             os.replace(path, plots[-1])
         staging.rmdir()
-    try:
-        cad = write_cad_outputs(record, scratch)
-    except DesignFileError as exc:   # the parent decides whether it matters (an infeasible design)
-        cad = exc
     return {"cad": cad, "plots": plots}
+
+
+def _claims(scratch: Path):
+    """``claim(name)``: True for the first of the job's two processes to ask for a plot (an empty
+    file created exclusively in ``scratch/.claims``, which ``write_outputs`` removes)."""
+    folder = scratch / ".claims"
+
+    def claim(name: str) -> bool:
+        folder.mkdir(exist_ok=True)
+        try:
+            os.close(os.open(folder / name, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+        except FileExistsError:
+            return False
+        return True
+    return claim
 
 
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
@@ -117,9 +132,11 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
 
     The CAD model is built in a child process (``child``, one ``cad_child`` started earlier, or
     a new one) while this one computes ``fronts`` (a callable giving the trade-off fronts, or
-    None where they do not apply) and draws the plots; with fronts to compute, the child draws
-    the design's own plots too, and this one the trade-off plots. ``progress(stage, done,
+    None) and draws the plots; the child then draws the plots this one has not begun (each
+    process claims a plot before drawing it, this one from the last). ``progress(stage, done,
     total)`` hears of the plots and of the wait for the child."""
+    import shutil
+
     from designer.outputs import report
     from designer.errors import InputError
     from designer.outputs.files import atomic_write_json, atomic_write_text, previous_outputs, staged_directory
@@ -130,15 +147,14 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
     plot_module = _optional("designer.outputs.plots") if plots else None
     with staged_directory(out_dir, stale=previous_outputs(out_dir)) as scratch:
         files = record.setdefault("files", {})
-        cad_job = None
+        cad_job = claim = None
         plotted = []
-        child_plots = None
         if cad and importlib.util.find_spec("cadquery") is not None:
             from designer.outputs.background import Background
 
-            if plot_module is not None and fronts is not None:  # this process has the fronts to compute
-                child_plots = {k: v for k, v in extra.items() if k != "tradeoff"}
-            job = (dict(record), scratch, child_plots)
+            shared = None if plot_module is None else {k: v for k, v in extra.items() if k != "tradeoff"}
+            claim = None if shared is None else _claims(scratch)
+            job = (dict(record), scratch, shared)
             cad_job = (child.submit(cad_and_design_plots, *job) if child is not None
                        else Background(cad_and_design_plots, *job))
         try:
@@ -148,15 +164,14 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
                     extra["tradeoff"] = tradeoff
             if plot_module is not None:
                 plotted += plot_module.write_design_plots(
-                    record, scratch, **extra, design_plots=child_plots is None,
+                    record, scratch, **extra, claim=claim, last_first=claim is not None,
                     progress=None if progress is None else (lambda done, total: progress("plots", done, total)))
-            if plot_module is not None:
                 files["plots"] = []   # (in its place among the files; filled below)
             for write in writers:
                 files.update({k: Path(v).name for k, v in write(scratch).items()})
             if cad_job is not None:
                 if progress is not None:
-                    progress("CAD model, drawing and picture" + (" and plots" if child_plots is not None else ""), 0, 1)
+                    progress("CAD model, drawing and picture", 0, 1)
                 done = cad_job.result()
                 plotted += done["plots"]
                 if isinstance(done["cad"], DesignFileError):
@@ -169,6 +184,7 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         finally:
             if cad_job is not None:
                 cad_job.stop()
+        shutil.rmtree(scratch / ".claims", ignore_errors=True)
         if plot_module is not None:
             files["plots"] = sorted(Path(p).name for p in plotted)
         files["report"] = "report.md"
@@ -198,7 +214,7 @@ def run_evaluate(args) -> int:
 
 def run_optimize(args) -> int:
     from designer.outputs import report
-    from designer.result.pipeline import DesignOptions, design, fronts_apply, tradeoff_fronts
+    from designer.result.pipeline import DesignOptions, design, tradeoff_fronts
     from designer.spec.reader import load_spec
 
     from designer.errors import describe_allowed
@@ -210,9 +226,9 @@ def run_optimize(args) -> int:
     if rounds < 0:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
     out_dir = output_folder(args.output, what="design.json and the report")
-    spec = load_spec(args.spec, _user_catalogues(args))
-    child = cad_child(not args.no_cad)    # loads the CAD kernel while the search runs
+    child = cad_child(not args.no_cad)    # loads the CAD kernel while the spec is read and the search runs
     try:
+        spec = load_spec(args.spec, _user_catalogues(args))
         with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
             result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
                                                 verify_rounds=rounds, tradeoff=False, progress=progress))
@@ -222,8 +238,7 @@ def run_optimize(args) -> int:
 
                 writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
             # the fronts are computed while the CAD model builds in a child process
-            fronts = ((lambda: tradeoff_fronts(spec, result, progress))
-                      if not args.no_plots and fronts_apply(spec, result) else None)
+            fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
             write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
                           extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
                           progress=progress, child=child)

@@ -75,24 +75,19 @@ def design(spec, options: DesignOptions = DesignOptions()) -> DesignResult:
     return result
 
 
-def fronts_apply(spec, result: DesignResult) -> bool:
-    """Whether an optimised design has trade-off fronts: not without an optimum, for an objective
-    other than the error, for a design the 3-D check corrected (the fronts are the plain model's,
-    and such a design is not on them) or for a search on stock (the fronts are of continuous
-    sizes, but for tubes, which are always from stock)."""
-    found, correction = result.search, result.correction
-    return (found is not None and found.success and spec.objective == "error"
-            and not (correction and correction.corrected) and spec.search.stock == "none")
-
-
 def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
     """The trade-off fronts around an optimised design (``search.tradeoff``), or None where they do
-    not apply (``fronts_apply``)."""
-    if not fronts_apply(spec, result):
+    not apply: no optimum, an objective other than the error, a design the 3-D check corrected
+    (the fronts are the plain model's, and such a design is not on them) or a search on stock (the
+    fronts are of continuous sizes, but for tubes, which are always from stock)."""
+    found, correction = result.search, result.correction
+    if found is None or not found.success or spec.objective != "error" or (correction and correction.corrected):
         return None
+    if spec.search.stock != "none":
+        return None  # the fronts are of continuous sizes (tubes apart); a stock design is not on them
     from designer.search.tradeoff import fronts
 
-    return fronts(spec, result.search, progress=None if progress is None else
+    return fronts(spec, found, progress=None if progress is None else
                   (lambda done, total: progress("trade-off fronts", done, total)))
 
 

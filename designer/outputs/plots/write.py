@@ -26,7 +26,7 @@ PNG_DPI = 150
 
 def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAULT_FORMATS,
                        tradeoff: Mapping[str, Sequence[Mapping]] | None = None, progress=None,
-                       design_plots: bool = True) -> list[Path]:
+                       claim=None, last_first: bool = False) -> list[Path]:
     """Write the plots of a design into ``out_dir``; all of them or none.
 
     Files: ``operating-region``, ``voltage-isolines``, ``error-maps``, ``candidates``, with an
@@ -34,8 +34,10 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     trade-off points are given (``tradeoff={"max_deflection": [...], "min_frequency": [...]}``, or a
     ``"tradeoff"`` key of the design), ``tradeoff-deflection`` and ``tradeoff-frequency``; each in
     every format of ``formats`` (``"png"``, ``"svg"``). Returns the paths written. ``progress``,
-    if given, is called as ``progress(done, total)`` after each plot. ``design_plots=False``
-    writes the trade-off plots alone (the job draws the others in its CAD process meanwhile).
+    if given, is called as ``progress(done, total)`` after each plot. ``claim``, if given, is
+    called with each plot's name before it is drawn, and the plot is left to another process when
+    it returns False: the job's two processes share the plots, the CAD process from the first,
+    the other one from the last (``last_first``: the trade-off plots, which only it draws).
     """
     from designer.outputs.files import staged_directory
 
@@ -61,18 +63,22 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     makers = [("operating-region", lambda: plot_operating_region(design)),
               ("voltage-isolines", lambda: plot_voltage_isolines(design)),
               ("error-maps", lambda: plot_error_maps(design)),
-              ("candidates", lambda: plot_candidates(design))] if design_plots else []
-    if design_plots and (design.get("predicted") or {}).get("budget") is not None:
+              ("candidates", lambda: plot_candidates(design))]
+    if (design.get("predicted") or {}).get("budget") is not None:
         makers.append((BUDGET_PLOT, lambda: plot_budget(design)))
     for name, points in fronts.items():
         chosen = _chosen_point(design, name)
         makers.append((TRADEOFF_AXES[name][2],
                        lambda p=points, c=chosen, n=name: plot_tradeoff(p, chosen=c, x=n)))
 
+    if last_first:
+        makers.reverse()
     out_dir = Path(out_dir)
     written = []
     with staged_directory(out_dir) as scratch:
         for i, (name, make) in enumerate(makers):
+            if claim is not None and not claim(name):
+                continue
             fig = make()
             for fmt in formats:
                 fig.savefig(scratch / f"{name}.{fmt}", format=fmt, dpi=PNG_DPI, **savefig_options(fmt))
