@@ -132,6 +132,8 @@ def failure_list(result: BenchResult) -> list[dict]:
         elif f["missed"]:
             what = (f"called infeasible ({', '.join(r.violated[:4]) or 'no design'}); best known "
                     f"{t.best:.6g} by {t.best_by}")
+            if t.lead < t.best:   # the tie rule ranks a design within the band by deflection, then mass
+                what += f" (ranked by the tie rule; the lowest objective {t.lead:.6g})"
         elif f["unreadable"]:
             what = f"wrote a design.json (status {r.status}) that its reader refuses: {r.unreadable}"
         else:

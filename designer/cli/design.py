@@ -213,6 +213,15 @@ def run_evaluate(args) -> int:
 
 
 def run_optimize(args) -> int:
+    child = cad_child(not args.no_cad)    # loads the CAD kernel while this process loads its own and searches
+    try:
+        return _optimize(args, child)
+    finally:
+        if child is not None:
+            child.stop()
+
+
+def _optimize(args, child) -> int:
     from designer.outputs import report
     from designer.result.pipeline import DesignOptions, design, tradeoff_fronts
     from designer.spec.reader import load_spec
@@ -226,25 +235,20 @@ def run_optimize(args) -> int:
     if rounds < 0:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
     out_dir = output_folder(args.output, what="design.json and the report")
-    child = cad_child(not args.no_cad)    # loads the CAD kernel while the spec is read and the search runs
-    try:
-        spec = load_spec(args.spec, _user_catalogues(args))
-        with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
-            result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
-                                                verify_rounds=rounds, tradeoff=False, progress=progress))
-            writers = []
-            if result.verification is not None:
-                from designer.checks import fea
+    spec = load_spec(args.spec, _user_catalogues(args))
+    with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
+        result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
+                                            verify_rounds=rounds, tradeoff=False, progress=progress))
+        writers = []
+        if result.verification is not None:
+            from designer.checks import fea
 
-                writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
-            # the fronts are computed while the CAD model builds in a child process
-            fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
-            write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
-                          extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
-                          progress=progress, child=child)
-    finally:
-        if child is not None:
-            child.stop()
+            writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
+        # the fronts are computed while the CAD model builds in a child process
+        fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
+        write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
+                      extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
+                      progress=progress, child=child)
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.status == "optimal" else 1

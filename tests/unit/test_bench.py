@@ -208,3 +208,22 @@ def test_bench_leaves_fixed_designs_out_of_the_examples(examples):
     assert {s.name for s in suite} >= {"gripper-finger", "weigh-bar", "probe", "prototype-b-optimized"}
     assert "prototype-a.yaml" in skipped
     assert all(s.spec.design is None and s.kind == "example" for s in suite)
+
+
+def test_a_missed_design_names_the_lowest_objective_when_the_tie_rule_ranks_another_first():
+    # MODEL.md 5: designs within the 0.1 % tie band rank by deflection, then mass, so the best
+    # known design (cobyla's 0.456222 on the suite's 018-long-beam) need not have the lowest
+    # objective (IPOPT's 0.456013 there); the failure list says both.
+    from designer.bench.summary import failure_list
+
+    run = bench.Run("018-long-beam", "long-beam", "grid", 1.0, status="infeasible", violated=("stress_root",))
+    tied = bench.Truth("018-long-beam", "long-beam", None, True, 0.456013, 0.456222, "cobyla", 0.457, True, 0.0,
+                       "error")
+    result = bench.BenchResult([], ("grid",), [run], {"018-long-beam": tied}, 0, 1, 4)
+    (line,) = failure_list(result)
+    assert line["what"].endswith("best known 0.456222 by cobyla (ranked by the tie rule; the lowest objective "
+                                 "0.456013)")
+    untied = bench.Truth("018-long-beam", "long-beam", None, True, 0.456222, 0.456222, "cobyla", 0.457, True, 0.0,
+                         "error")
+    result = bench.BenchResult([], ("grid",), [run], {"018-long-beam": untied}, 0, 1, 4)
+    assert failure_list(result)[0]["what"].endswith("best known 0.456222 by cobyla")
