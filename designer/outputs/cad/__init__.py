@@ -8,7 +8,11 @@ in ``designer.outputs.part``, shared with the drawing. cadquery is imported only
 functions that need it.
 """
 
-from designer.outputs.cad.beam import bolt_clearance, resolve
+from designer.outputs.cad.kernel import defer_vtk
+
+defer_vtk()   # before anything imports cadquery (kernel.py: a third of its start is VTK, never used)
+
+from designer.outputs.cad.beam import bolt_clearance, resolve  # noqa: E402
 from designer.outputs.cad.mesh import clipped, model_meshes, tessellate
 from designer.outputs.cad.solid import build_solid
 from designer.outputs.cad.step import (cylinders, planar_faces, read_step, step_name, step_product_names, write_step,
