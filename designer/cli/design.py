@@ -89,8 +89,10 @@ def cad_child(cad: bool):
 
 def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None) -> dict:
     """The CAD job of ``write_outputs`` (in its child process): the CAD outputs, then, with
-    ``plot_options`` (``write_design_plots``' keywords), the design's plots that the parent has
-    not claimed (``_claims``). ``{"cad": {kind: path} or a DesignFileError, "plots": [paths]}``."""
+    ``plot_options`` (``write_design_plots``' keywords), the plots that the parent has not
+    claimed (``_claims``): the design's own, then, once the parent has given them
+    (``_FRONTS``), the trade-off plots. ``{"cad": {kind: path} or a DesignFileError, "plots":
+    [paths]}``."""
     from designer.outputs.cad.writer import write_cad_outputs
 
     try:
@@ -103,11 +105,31 @@ def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None)
 
         # staged inside the job's scratch folder, which the parent removes if it stops this child
         staging = scratch / ".plots"
-        for path in write_design_plots(record, staging, tradeoff={}, claim=_claims(scratch), **plot_options):
+        claim = _claims(scratch)
+        written = write_design_plots(record, staging, tradeoff={}, claim=claim, **plot_options)
+        tradeoff = _fronts_given(scratch)
+        if tradeoff:
+            written += write_design_plots(record, staging, tradeoff=tradeoff, claim=claim, **plot_options)
+        for path in written:
             plots.append(scratch / path.name)
             os.replace(path, plots[-1])
         staging.rmdir()
     return {"cad": cad, "plots": plots}
+
+
+# The trade-off fronts, or null where there are none, as the parent gives them to the child.
+_FRONTS = "fronts.json"
+
+
+def _fronts_given(scratch: Path):
+    """The fronts the parent wrote into ``scratch/.claims`` (waiting for them), or None."""
+    import json
+    import time
+
+    path = scratch / ".claims" / _FRONTS
+    while not path.exists():
+        time.sleep(0.02)
+    return json.loads(path.read_text(encoding="utf-8"))
 
 
 def _claims(scratch: Path):
@@ -133,8 +155,10 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
     The CAD model is built in a child process (``child``, one ``cad_child`` started earlier, or
     a new one) while this one computes ``fronts`` (a callable giving the trade-off fronts, or
     None) and draws the plots; the child then draws the plots this one has not begun (each
-    process claims a plot before drawing it, this one from the last). ``progress(stage, done,
-    total)`` hears of the plots and of the wait for the child."""
+    process claims a plot before drawing it: the child from the first, this one the design's
+    own from the last; then either the trade-off plots, which this one hands over when its
+    fronts are done). ``progress(stage, done, total)`` hears of the plots and of the wait for
+    the child."""
     import shutil
 
     from designer.outputs import report
@@ -162,6 +186,9 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
                 tradeoff = fronts()
                 if tradeoff is not None:
                     extra["tradeoff"] = tradeoff
+            if claim is not None:   # the child draws the trade-off plots too, if it is free first
+                (scratch / ".claims").mkdir(exist_ok=True)
+                atomic_write_json(scratch / ".claims" / _FRONTS, extra.get("tradeoff"))
             if plot_module is not None:
                 plotted += plot_module.write_design_plots(
                     record, scratch, **extra, claim=claim, last_first=claim is not None,

@@ -236,9 +236,10 @@ def test_no_design_that_can_be_evaluated_is_an_error_with_a_message_not_a_traceb
 
 
 def test_the_whole_job_writes_every_output_and_draws_the_plots_as_the_plot_command_does(tmp_path):
-    # The job draws the design's own plots in the CAD child process while this one computes the
-    # trade-off fronts: the folder holds exactly the files design.json lists, the six plots among
-    # them, and those four plots are the bytes `fpdesign plot` draws from design.json alone.
+    # The job's two processes share the plots (the CAD process draws them after the CAD outputs
+    # while the other computes the trade-off fronts, each claiming a plot before drawing it): the
+    # folder holds exactly the files design.json lists (no claims or staging left), the six plots
+    # among them, and the design's four are the bytes `fpdesign plot` draws from design.json alone.
     from designer.outputs.plots import PLOT_NAMES
 
     out = tmp_path / "out"

@@ -37,7 +37,7 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     if given, is called as ``progress(done, total)`` after each plot. ``claim``, if given, is
     called with each plot's name before it is drawn, and the plot is left to another process when
     it returns False: the job's two processes share the plots, the CAD process from the first,
-    the other one from the last (``last_first``: the trade-off plots, which only it draws).
+    the other one the design's own from the last (``last_first``), the trade-off plots last.
     """
     from designer.outputs.files import staged_directory
 
@@ -71,8 +71,9 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
         makers.append((TRADEOFF_AXES[name][2],
                        lambda p=points, c=chosen, n=name: plot_tradeoff(p, chosen=c, x=n)))
 
-    if last_first:
-        makers.reverse()
+    if last_first:   # the design's own plots from the last, then the trade-off plots
+        own = len(makers) - len(fronts)
+        makers = makers[:own][::-1] + makers[own:]
     out_dir = Path(out_dir)
     written = []
     with staged_directory(out_dir) as scratch:
