@@ -198,7 +198,7 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
                 files.update({k: Path(v).name for k, v in write(scratch).items()})
             if cad_job is not None:
                 if progress is not None:
-                    progress("CAD model, drawing and picture", 0, 1)
+                    progress("CAD model, drawing and picture" + (", plots" if claim is not None else ""), 0, 1)
                 done = cad_job.result()
                 plotted += done["plots"]
                 if isinstance(done["cad"], DesignFileError):

@@ -58,10 +58,16 @@ _SUBSTITUTIONS = (
 
 @functools.lru_cache(maxsize=1)
 def registry():
-    """The one pint registry, built on first use (pint is slow to start)."""
+    """The one pint registry, built on first use. Reading pint's definitions takes 0.12 s; pint
+    keeps them parsed in the user's cache folder (``cache_folder=":auto:"``: 0.02 s from the
+    second run on). A cache that cannot be written or read (a read-only home, a file half
+    written by another run) falls back to reading the definitions."""
     import pint
 
-    ureg = pint.UnitRegistry()
+    try:
+        ureg = pint.UnitRegistry(cache_folder=":auto:")
+    except Exception:  # noqa: BLE001 - any trouble with the cache: without it
+        ureg = pint.UnitRegistry()
     ureg.define("microstrain = 1e-6")
     return ureg
 

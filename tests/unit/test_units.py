@@ -90,3 +90,31 @@ def test_magnitudes_beyond_what_fpdesign_handles_name_the_range(text, kind, mess
 
 def test_zero_stays_allowed_where_a_key_allows_it():
     assert units.parse_positive("0 mm", "length", "limits.load_clearance", allow_zero=True) == 0.0
+
+
+@pytest.mark.parametrize("trouble", ["unwritable", "half-written"])
+def test_the_units_are_the_same_whatever_becomes_of_pint_s_cache(tmp_path, trouble):
+    # The registry keeps pint's parsed definitions in the user's cache folder (XDG_CACHE_HOME);
+    # a folder that cannot be written, or a cache file cut short by another run, leaves it reading
+    # the definitions itself. Reference: NIST SP 811 factors, as above, in a fresh process each.
+    import os
+    import subprocess
+    import sys
+
+    cache = tmp_path / "cache"
+    if trouble == "unwritable":
+        cache.write_text("a file where the cache folder would be")
+    code = ("from designer.spec import units; print(units.parse('2 lbf', 'force', 'k'), "
+            "units.parse('0.5 in', 'length', 'k'), units.parse('1500 ue', 'strain', 'k'))")
+    env = dict(os.environ, XDG_CACHE_HOME=str(cache))
+    first = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True).stdout
+    if trouble == "half-written":
+        pickles = list((cache / "pint").glob("*.pickle"))
+        assert pickles, "the first run wrote pint's cache"
+        for path in pickles:
+            path.write_bytes(path.read_bytes()[:100])
+    again = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True).stdout
+    for out in (first, again):
+        force, length, strain = map(float, out.split())
+        assert force == pytest.approx(2 * 4.4482216152605, rel=1e-12)
+        assert length == pytest.approx(0.0127, rel=1e-12) and strain == pytest.approx(1.5e-3, rel=1e-12)
