@@ -2,7 +2,8 @@
 
 A dense grid over every variable of a family (the section, the feature and the first and
 last station) is evaluated at once with the numeric model; the best grid points are then
-polished by scipy's SLSQP with finite differences, rounded and checked; with tolerances, every
+polished by scipy's SLSQP with finite differences, rounded and checked (the best one polished
+again with a pocket's depth held at its grid values); with tolerances, every
 limit is judged at the corners throughout (``model.tolerance``). A family whose sections come from
 stock (tubes always) is searched so with its section held at each row in turn. It is slow and
 thorough: the yardstick the optimiser's answers are measured against (tests, ``bench``).
@@ -18,7 +19,7 @@ from designer import model
 from designer.model import MaterialParams, tolerance
 from designer.result.evaluation import Evaluation
 from designer.search.problem import MM, Family, FamilyVariables, families, in_nlp_units
-from designer.search.rounding import pick, round_and_check
+from designer.search.rounding import floor_ceil, pick, round_and_check
 from designer.search.stock import on_stock, stock_rows, stock_system
 
 POLISH_STARTS = 6
@@ -42,15 +43,32 @@ def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluat
     which = np.repeat(np.arange(len(grids)), [len(g) for g in grids])
     f, viol = _evaluate(problem, mat, x)
     order = np.lexsort((f, viol > 0))[:POLISH_STARTS]
-    checked = []
+    checked, polished = [], []
+
+    def check(candidate, k):
+        design = problem.design(candidate, material)
+        if rows[k] is not None:
+            design = on_stock(design, rows[k][0], rows[k][2])
+        ev = round_and_check(design, spec)
+        if ev is not None:
+            checked.append(ev)
+
     for x0, k in zip(x[order], which[order]):
-        for candidate in (x0, _polish(held[k], mat, x0)):
-            design = problem.design(candidate, material)
-            if rows[k] is not None:
-                design = on_stock(design, rows[k][0], rows[k][2])
-            ev = round_and_check(design, spec)
-            if ev is not None:
-                checked.append(ev)
+        check(x0, k)
+        x1 = _polish(held[k], mat, x0)
+        check(x1, k)
+        polished.append((x1, k))
+    # the depth is drawn on its own, coarser grid (cad.depth_step): rounding it alone can cost
+    # more than a size step makes up, so the best polished answer is polished again with its
+    # depth held at each of its two grid values (as the optimiser's rounding does, search.ongrid)
+    if "depth" in problem.names and polished:
+        f, viol = _evaluate(problem, mat, np.array([x1 for x1, _ in polished]))
+        x1, k = polished[int(np.lexsort((f, viol > model.FEASIBILITY_TOLERANCE))[0])]
+        i = problem.names.index("depth")
+        for depth in floor_ceil(float(x1[i]) * MM, step=spec.cad.depth_step):
+            start = x1.copy()
+            start[i] = depth / MM
+            check(_polish(_held(held[k], {i: depth / MM}), mat, start), k)
     return pick(checked)
 
 

@@ -53,6 +53,21 @@ def test_objective_within_half_a_percent_of_reference_search(name, materials, se
     assert outcome.best.objective <= ref.objective * (1 + REFERENCE_GAP)
 
 
+@pytest.mark.slow
+def test_the_reference_search_holds_a_flat_s_depth_on_its_grid_and_meets_the_optimiser():
+    # The reference search (grid + SLSQP on the numeric model, no casadi) is the optimiser's
+    # yardstick. A flat's depth is drawn on a 0.05 mm grid (cad.depth_step): rounded alone from
+    # its polished answer (the gripper finger's Ti-6Al-4V bar: 7.971 mm, flats 1.632 mm deep) the
+    # design cost 2.3 % (0.40885 against 0.39959 before rounding). Polished again with the depth
+    # held at 1.60 and 1.65 mm, it is within the tie band of IPOPT's design, found independently.
+    spec = _reduced(load_spec(EXAMPLES / "gripper-finger.yaml"), ["Ti-6Al-4V"], ["round"])
+    ours = search.optimize(spec).best
+    (family,) = search.families(spec)
+    ref = reference.reference_search(spec, family, catalogue.material("Ti-6Al-4V"), levels=5)
+    assert ours.feasible and ref.feasible
+    assert abs(float(ref.objective) / float(ours.objective) - 1) <= model.TIE_TOLERANCE
+
+
 def test_infeasible_and_ranked_least_infeasible_first():
     spec = parse_spec_text(_spec_text(limits="  max_deflection: 0.001 mm"))
     outcome = search.optimize(spec)
