@@ -122,12 +122,17 @@ _FRONTS = "fronts.json"
 
 
 def _fronts_given(scratch: Path):
-    """The fronts the parent wrote into ``scratch/.claims`` (waiting for them), or None."""
+    """The fronts the parent wrote into ``scratch/.claims`` (waiting for them), or None. A parent
+    that ended without them (killed: it stops this process itself otherwise) ends this one."""
     import json
+    import multiprocessing
     import time
 
     path = scratch / ".claims" / _FRONTS
+    parent = multiprocessing.parent_process()
     while not path.exists():
+        if parent is not None and not parent.is_alive():
+            os._exit(1)
         time.sleep(0.02)
     return json.loads(path.read_text(encoding="utf-8"))
 

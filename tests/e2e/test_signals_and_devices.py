@@ -120,3 +120,57 @@ def test_a_signal_raised_where_python_ignores_exceptions_is_delivered_again(caps
     finally:
         restore()
     assert "Exception ignored" not in capsys.readouterr().err
+
+
+def _children(pid: int) -> list[int]:
+    """The live (not zombie) processes whose parent is ``pid`` (Linux /proc)."""
+    out = []
+    for stat_file in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat_file.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid and fields[0] != "Z":
+            out.append(int(stat_file.parent.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc")
+def test_the_cad_process_ends_when_a_killed_optimize_leaves_it_waiting(tmp_path):
+    # optimize's CAD process draws the design's plots, then waits for the trade-off fronts the
+    # other process hands over. SIGKILL gives that process no chance to stop it: the CAD process
+    # must notice its parent is gone and end, not wait for ever. The fronts are made slow here
+    # so that it is waiting (its four plots claimed) when the parent is killed.
+    code = ("import time; import designer.result.pipeline as p; "
+            "p.tradeoff_fronts = lambda *a, **k: time.sleep(120); "
+            "from designer.cli import main; "
+            f"main(['optimize', {str(EXAMPLES / 'gripper-finger.yaml')!r}, '-o', {str(tmp_path / 'out')!r}, '--quiet'])")
+    proc = subprocess.Popen([sys.executable, "-c", code], cwd=tmp_path, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    try:
+        start = time.monotonic()
+        while time.monotonic() - start < 120:
+            claims = [p for c in tmp_path.glob(".out.*/.claims") for p in c.iterdir()]
+            if len(claims) >= 4:
+                break
+            time.sleep(0.1)
+        else:
+            pytest.fail("the CAD process did not draw the design's plots")
+        children = _children(proc.pid)
+        assert children
+        proc.kill()
+        proc.wait()
+        start = time.monotonic()
+        while time.monotonic() - start < 10 and any(_alive(c) for c in children):
+            time.sleep(0.1)
+        assert not any(_alive(c) for c in children)
+    finally:
+        proc.kill()
