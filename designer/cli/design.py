@@ -90,9 +90,8 @@ def cad_child(cad: bool):
 def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None) -> dict:
     """The CAD job of ``write_outputs`` (in its child process): the CAD outputs, then, with
     ``plot_options`` (``write_design_plots``' keywords), the plots that the parent has not
-    claimed (``_claims``): the design's own, then, once the parent has given them
-    (``_FRONTS``), the trade-off plots. ``{"cad": {kind: path} or a DesignFileError, "plots":
-    [paths]}``."""
+    claimed (``_Shared``): the design's own, then, once the parent has handed them over, the
+    trade-off plots. ``{"cad": {kind: path} or a DesignFileError, "plots": [paths]}``."""
     from designer.outputs.cad.writer import write_cad_outputs
 
     try:
@@ -105,11 +104,11 @@ def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None)
 
         # staged inside the job's scratch folder, which the parent removes if it stops this child
         staging = scratch / ".plots"
-        claim = _claims(scratch)
-        written = write_design_plots(record, staging, tradeoff={}, claim=claim, **plot_options)
-        tradeoff = _fronts_given(scratch)
+        shared = _Shared(scratch)
+        written = write_design_plots(record, staging, tradeoff={}, claim=shared.claim, **plot_options)
+        tradeoff = shared.fronts()
         if tradeoff:
-            written += write_design_plots(record, staging, tradeoff=tradeoff, claim=claim, **plot_options)
+            written += write_design_plots(record, staging, tradeoff=tradeoff, claim=shared.claim, **plot_options)
         for path in written:
             plots.append(scratch / path.name)
             os.replace(path, plots[-1])
@@ -117,39 +116,45 @@ def cad_and_design_plots(record: dict, scratch: Path, plot_options: dict | None)
     return {"cad": cad, "plots": plots}
 
 
-# The trade-off fronts, or null where there are none, as the parent gives them to the child.
-_FRONTS = "fronts.json"
+class _Shared:
+    """What the job's two processes share in the scratch folder's ``.claims`` (removed before
+    the outputs move into place): an empty file per plot taken, created exclusively, and the
+    trade-off fronts (or null) that the parent hands over to the child."""
 
+    FRONTS = "fronts.json"
 
-def _fronts_given(scratch: Path):
-    """The fronts the parent wrote into ``scratch/.claims`` (waiting for them), or None. A parent
-    that ended without them (killed: it stops this process itself otherwise) ends this one."""
-    import json
-    import multiprocessing
-    import time
+    def __init__(self, scratch: Path):
+        self.folder = scratch / ".claims"
+        self.folder.mkdir(exist_ok=True)
 
-    path = scratch / ".claims" / _FRONTS
-    parent = multiprocessing.parent_process()
-    while not path.exists():
-        if parent is not None and not parent.is_alive():
-            os._exit(1)
-        time.sleep(0.02)
-    return json.loads(path.read_text(encoding="utf-8"))
-
-
-def _claims(scratch: Path):
-    """``claim(name)``: True for the first of the job's two processes to ask for a plot (an empty
-    file created exclusively in ``scratch/.claims``, which ``write_outputs`` removes)."""
-    folder = scratch / ".claims"
-
-    def claim(name: str) -> bool:
-        folder.mkdir(exist_ok=True)
+    def claim(self, name: str) -> bool:
+        """True for the first of the two processes to ask for the plot ``name``."""
         try:
-            os.close(os.open(folder / name, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+            os.close(os.open(self.folder / name, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
         except FileExistsError:
             return False
         return True
-    return claim
+
+    def hand_over(self, tradeoff) -> None:
+        """The parent's fronts (None where there are none), for the child's ``fronts``."""
+        from designer.outputs.files import atomic_write_json
+
+        atomic_write_json(self.folder / self.FRONTS, tradeoff)
+
+    def fronts(self):
+        """The fronts the parent handed over, waiting for them. A parent that ended without them
+        (killed: it stops this process itself otherwise) ends this one."""
+        import json
+        import multiprocessing
+        import time
+
+        path = self.folder / self.FRONTS
+        parent = multiprocessing.parent_process()
+        while not path.exists():
+            if parent is not None and not parent.is_alive():
+                os._exit(1)
+            time.sleep(0.02)
+        return json.loads(path.read_text(encoding="utf-8"))
 
 
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
@@ -176,14 +181,14 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
     plot_module = _optional("designer.outputs.plots") if plots else None
     with staged_directory(out_dir, stale=previous_outputs(out_dir)) as scratch:
         files = record.setdefault("files", {})
-        cad_job = claim = None
+        cad_job = shared = None
         plotted = []
         if cad and importlib.util.find_spec("cadquery") is not None:
             from designer.outputs.background import Background
 
-            shared = None if plot_module is None else {k: v for k, v in extra.items() if k != "tradeoff"}
-            claim = None if shared is None else _claims(scratch)
-            job = (dict(record), scratch, shared)
+            options = None if plot_module is None else {k: v for k, v in extra.items() if k != "tradeoff"}
+            shared = None if options is None else _Shared(scratch)
+            job = (dict(record), scratch, options)
             cad_job = (child.submit(cad_and_design_plots, *job) if child is not None
                        else Background(cad_and_design_plots, *job))
         try:
@@ -191,19 +196,19 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
                 tradeoff = fronts()
                 if tradeoff is not None:
                     extra["tradeoff"] = tradeoff
-            if claim is not None:   # the child draws the trade-off plots too, if it is free first
-                (scratch / ".claims").mkdir(exist_ok=True)
-                atomic_write_json(scratch / ".claims" / _FRONTS, extra.get("tradeoff"))
+            if shared is not None:   # the child draws the trade-off plots too, if it is free first
+                shared.hand_over(extra.get("tradeoff"))
             if plot_module is not None:
                 plotted += plot_module.write_design_plots(
-                    record, scratch, **extra, claim=claim, last_first=claim is not None,
+                    record, scratch, **extra, claim=None if shared is None else shared.claim,
+                    last_first=shared is not None,
                     progress=None if progress is None else (lambda done, total: progress("plots", done, total)))
                 files["plots"] = []   # (in its place among the files; filled below)
             for write in writers:
                 files.update({k: Path(v).name for k, v in write(scratch).items()})
             if cad_job is not None:
                 if progress is not None:
-                    progress("CAD model, drawing and picture" + (", plots" if claim is not None else ""), 0, 1)
+                    progress("CAD model, drawing and picture" + (", plots" if shared is not None else ""), 0, 1)
                 done = cad_job.result()
                 plotted += done["plots"]
                 if isinstance(done["cad"], DesignFileError):
@@ -216,7 +221,8 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         finally:
             if cad_job is not None:
                 cad_job.stop()
-        shutil.rmtree(scratch / ".claims", ignore_errors=True)
+        if shared is not None:
+            shutil.rmtree(shared.folder, ignore_errors=True)
         if plot_module is not None:
             files["plots"] = sorted(Path(p).name for p in plotted)
         files["report"] = "report.md"

@@ -169,9 +169,9 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
     value of its grid (``cad.depth_step``) and the rest solved again (the sizes then rounded, and
     the numeric grid around that answer searched if rounding them breaks a limit): the nearer
     value first, and the other only when that gives no design ``close`` (a predicate) to the
-    continuous answer; the better of the two then. None for a family without a pocket or when neither meets every limit. A
-    depth step of 0.05 mm takes a section step of about as much to make up, which the 0.01 mm
-    grid around the answer does not reach."""
+    continuous answer; the better of the two then. None for a family without a pocket or when
+    neither meets every limit. A depth step of 0.05 mm takes a section step of about as much to
+    make up, which the 0.01 mm grid around the answer does not reach."""
     if "depth" not in problem.names:
         return None
     i = problem.names.index("depth")

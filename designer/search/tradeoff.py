@@ -65,12 +65,14 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             # designs the swept limit binds at neither this level nor the search's own (or the
             # neighbour's) are taken as they are, the search's first
             same = {}
-            for source, other in ((outcome.candidates, given), (near, float(levels[j]) if j in found else given)):
+            for source, other in [(outcome.candidates, given)] + ([(near, float(levels[j]))] if j in found else []):
                 tight = level if other is None else (min if key == "max_deflection" else max)(level, other)
+                at = {fam: g.at(replace(base, limits=replace(base.limits, **{key: tight})), tight)
+                      for fam, g in graphs.items()}
                 for c in source:
                     if ((c.material, c.family) not in same and c.family in graphs and c.material in leading
                             and stock_system(base, c.family) == "none"   # (stock rows are not an answer's grid)
-                            and (u := _unbound(graphs[c.family], base, key, tight, c, variant)) is not None):
+                            and (u := _unbound(at[c.family], key, c, variant)) is not None):
                         same[(c.material, c.family)] = u
             warm = {(c.material, c.family): c for c in near
                     if c.evaluation is not None and c.evaluation.feasible and c.family in graphs}
@@ -82,7 +84,7 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             skip = ({(m, fam) for m in leading for fam in graphs if (m, fam) not in warm and (m, fam) not in ranked_out}
                     if tighter else set())
             skip -= set(same)
-            if len(skip | set(same)) == len(leading) * len(graphs):
+            if len(skip) + len(same) == len(leading) * len(graphs):
                 found[i] = [same.get((m, fam), Candidate(m, fam, None)) for m in leading for fam in graphs]
             else:
                 result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm, known=same,
@@ -105,15 +107,15 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     return out
 
 
-def _unbound(graph: FamilyProblem, base, key: str, tight: float, cand: Candidate, variant) -> Candidate | None:
+def _unbound(problem: FamilyProblem, key: str, cand: Candidate, variant) -> Candidate | None:
     """``cand`` (a neighbouring level's, or the search's) judged under ``variant`` when the swept
-    limit does not bind its answer before rounding: UNBOUND_ROOM inside the ``tight`` level at
-    every corner. The answer is then a solution at both levels, and its design on the grid the
-    same. None when it does bind, or ``cand`` has no such answer or its design fails here."""
+    limit does not bind its answer before rounding: UNBOUND_ROOM inside its level in ``problem``
+    (the swept problem at the tighter of the two levels) at every corner. The answer is then a
+    solution at both levels, and its design on the grid the same. None when it does bind, or
+    ``cand`` has no such answer or its design fails here."""
     s = cand.solution
     if cand.evaluation is None or not cand.evaluation.feasible or s is None or not s.success:
         return None
-    problem = graph.at(replace(base, limits=replace(base.limits, **{key: tight})), tight)
     g = np.asarray(problem.functions(s.x, problem.params(catalogue.material(cand.material)))[2]).ravel()
     rows = [k for k, name in enumerate(problem.limit_names) if name == SWEPT_LIMIT[key]]
     if not rows or g[rows].max() > -UNBOUND_ROOM:
