@@ -6,7 +6,9 @@ fixed designs from a spec and designs read back from design.json all pass throug
 
 from __future__ import annotations
 
+import copy
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -157,8 +159,33 @@ class Evaluation:
         return [lim.record() for lim in self.limits]
 
 
+# The designs judged lately, by design and spec (``evaluate``): a search judges many a design
+# more than once (an answer's rounding, then the same design as a neighbour's start or a front's
+# candidate; a third of the gripper finger's calls). The model is a pure function of the two.
+_JUDGED: OrderedDict = OrderedDict()
+JUDGED_KEPT = 1024
+
+
 def evaluate(design: Design, spec) -> Evaluation:
-    """Judge ``design``; sizes or electronics so far off that the numbers break are an InputError."""
+    """Judge ``design``; sizes or electronics so far off that the numbers break are an InputError.
+    A design judged lately under the same spec (the same object) is not judged again: its
+    evaluation is returned as a copy (a new object: callers tell answers apart by identity)."""
+    key = (design, id(spec))
+    try:
+        hit = _JUDGED.get(key)
+    except TypeError:  # a design with an unhashable part is judged every time
+        return _evaluate(design, spec)
+    if hit is not None and hit[0] is spec:
+        _JUDGED.move_to_end(key)
+        return copy.copy(hit[1])
+    ev = _evaluate(design, spec)
+    _JUDGED[key] = (spec, ev)   # (the spec is held: its id cannot be taken by another while kept)
+    while len(_JUDGED) > max(JUDGED_KEPT, 0):
+        _JUDGED.popitem(last=False)
+    return ev
+
+
+def _evaluate(design: Design, spec) -> Evaluation:
     params = design.material_params(spec)
     try:
         a = model.analyse(design.geometry, params, spec, adjust=design.adjustment)

@@ -273,13 +273,21 @@ class FamilyProblem:
         checked = [j for j, lim in enumerate(lims) if lim.name in tolerance.CORNER_LIMITS] if self.moved else []
         self.limit_names = [lim.name for lim in lims]
         if checked:
-            rows = ca.Function("rows", [x, par], [ca.vertcat(*[g[j] for j in checked])])
+            # a corner is the part as drawn, built at the corner's sizes: its pocket as long as the
+            # nominal design's (a drawn length), not as long as the corner's sizes would need
+            # (``pocket_as_needed``), as tolerance.corners builds it for the check
+            xs, drawn = ca.SX.sym("xs", variables.size), ca.SX.sym("l_p")
+            built = replace(variables.geometry([xs[i] * MM for i in range(n)]), pocket_length=drawn)
+            at_built = model.analyse(built, mat, spec, ops, adjust=adjustment)
+            built_lims = [lim for lim in model.limits(built, at_built, mat, spec, include_targets=not epigraph, ops=ops)
+                          if lim.name not in BOUND_LIMITS]
+            rows = ca.Function("rows", [xs, par, drawn], [ca.vertcat(*[built_lims[j].normalised for j in checked])])
             parts = [TOLERANCED[variables.names[i]] for i in self.moved]
             for weak, signs in tolerance.searched_corners(parts):
                 xc = [x[i] for i in range(variables.size)]
                 for k, (i, sign) in enumerate(zip(self.moved, signs)):
                     xc[i] = ca.fmax(x[i] + sign * dev[k], tolerance.LEAST[parts[k]] / MM)
-                at = rows(ca.vertcat(*xc), par)
+                at = rows(ca.vertcat(*xc), par, geometry.pocket_length)
                 here = [r for r, j in enumerate(checked) if (lims[j].name in tolerance.STRONG_CORNER_LIMITS) != weak]
                 g += [at[r] for r in here]
                 self.limit_names += [lims[checked[r]].name for r in here]

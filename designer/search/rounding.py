@@ -24,6 +24,10 @@ from designer.search.problem import pocket_as_needed
 # Steps of its own grid (cad.depth_step, 0.05 mm by default) that a wider box reaches in the depth
 # at most: a step of it is about five of the 0.01 mm grid.
 DEPTH_REACH = 2
+# IPOPT relaxes every bound it is given by this much (its bound_relax_factor, by default) before
+# it solves, so a converged answer may sit over a limit by up to it: still the optimum that
+# bounds every design near it (``outranked_before_rounding``).
+ANSWER_TOLERANCE = 1e-8
 
 
 def only_targets_missed(ev: Evaluation, epigraph: bool) -> bool:
@@ -144,15 +148,18 @@ def floor_ceil(v: float, reach: int = 0, step: float = ROUNDING) -> tuple:
     return tuple(round(k * step, 8) for k in range(max(lo - reach, 1) if reach else lo, hi + reach + 1))
 
 
-def outranked_before_rounding(problem, material, s, cap: float | None) -> Evaluation | None:
-    """The evaluation of IPOPT's answer ``s`` before rounding when it meets every limit there (or
-    misses only the accuracy targets, under the error objective) and its objective is above ``cap``
-    (rounding to the grid only loses); None otherwise."""
+def outranked_before_rounding(problem, material, s, cap: float | None, within: float = ANSWER_TOLERANCE
+                              ) -> Evaluation | None:
+    """The evaluation of IPOPT's answer ``s`` before rounding when it meets every limit there to
+    ``within`` (IPOPT's tolerance unless given; or misses only the accuracy targets, under the
+    error objective) and its objective is above ``cap`` (rounding to the grid only loses); None
+    otherwise."""
     if cap is None or not s.success:
         return None
     try:
         ev = evaluate(problem.design(s.x, material), problem.spec)
     except InputError:
         return None
-    met = ev.feasible or only_targets_missed(ev, problem.epigraph)
+    met = all(float(v.normalised) <= within or (problem.epigraph and v.name in model.TARGET_LIMITS)
+              for v in ev.violations)
     return ev if met and ev.objective > cap else None

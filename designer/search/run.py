@@ -149,7 +149,8 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
                 continue
             # on stock (not ``repair``) a converged answer that meets every limit is kept as it is
-            kept = None if repair or m != "ipopt" else outranked_before_rounding(problem, material, s, -math.inf)
+            kept = (None if repair or m != "ipopt"
+                    else outranked_before_rounding(problem, material, s, -math.inf, model.FEASIBILITY_TOLERANCE))
             if kept is not None and ev.feasible:
                 ev = kept
             elif not s.success:

@@ -248,3 +248,35 @@ def test_the_summary_lists_the_limits_that_bind_at_a_tolerance_corner():
     out = io.StringIO()
     print_summary(record, Console(file=out, width=120))
     assert "fatigue_feature at D min, p max" in out.getvalue()
+
+
+def test_the_nlp_s_corner_rows_are_the_corners_the_check_builds():
+    """The NLP holds each corner-checked limit at its corners as rows of its own; a corner is the
+    part as drawn, built at the corner's sizes: the flat as long as the nominal design's (a drawn
+    length), not as long as the corner's own sizes would need. Reference: every corner of IPOPT's
+    answer (the gripper finger's Ti-6Al-4V bar with flats, under its ISO 2768-m) built and judged
+    on its own (``_corner_values``): each row equals that corner's value. (When the rows took the
+    corner's own flat length, they read up to 2e-5 below the check at the answer, which then broke
+    a limit the NLP held: the answer was repaired where it should have been judged as it is.)"""
+    from designer.search.problem import FamilyProblem
+    from designer.search.problem import Family
+
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    problem = FamilyProblem(spec, Family("round", spec.search.feature))
+    material = catalogue.material("Ti-6Al-4V")
+    params = problem.params(material)
+    s = problem.solve_ipopt(params, problem.starts()[0])
+    assert s.success
+    ev = evaluate(problem.design(s.x, material), spec)
+    corners, values = _corner_values(ev, spec)
+    rows = np.asarray(problem.functions(s.x, params)[2]).ravel()
+    parts = [part for _, part in tolerance.toleranced(ev.design.geometry)]
+    compared = 0
+    for name, at in values.items():
+        weak = name not in tolerance.STRONG_CORNER_LIMITS
+        held = [at[corners.index(signs)] for w, signs in tolerance.searched_corners(parts) if w == weak]
+        nlp = [float(r) for r, n in zip(rows, problem.limit_names) if n == name][1:]   # the first is nominal
+        assert nlp == pytest.approx(held, rel=1e-9, abs=1e-12), name
+        compared += len(held)
+    assert compared >= 10
+    assert max(values["fatigue_feature"]) == pytest.approx(0.0, abs=1e-8)   # the answer holds it at a corner

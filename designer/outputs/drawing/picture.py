@@ -77,12 +77,12 @@ def _smooth_normals(vertices: np.ndarray, triangles: np.ndarray) -> np.ndarray:
 
 def _resample(line: np.ndarray, step: float) -> np.ndarray:
     """Points along a polyline no farther apart than ``step``."""
-    out = [line[:1]]
-    for a, b in zip(line[:-1], line[1:]):
-        count = max(1, int(math.ceil(np.linalg.norm(b - a) / step)))
-        t = np.linspace(0.0, 1.0, count + 1)[1:, None]
-        out.append(a + t * (b - a))
-    return np.concatenate(out)
+    a, d = line[:-1], np.diff(line, axis=0)
+    count = np.maximum(1, np.ceil(np.linalg.norm(d, axis=1) / step)).astype(int)
+    seg = np.repeat(np.arange(len(d)), count)
+    k = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count) + 1   # 1 .. count per segment
+    t = np.where(k == count[seg], 1.0, k * (1.0 / count[seg]))[:, None]
+    return np.concatenate([line[:1], a[seg] + t * d[seg]])
 
 
 def _zbuffer(xy: np.ndarray, depth: np.ndarray, lo: np.ndarray, pixel: float, shape: tuple,
@@ -130,7 +130,8 @@ def _zbuffer(xy: np.ndarray, depth: np.ndarray, lo: np.ndarray, pixel: float, sh
     pad = np.pad(zbuf, 1, constant_values=-np.inf)
     left, right, down, up = pad[1:-1, :-2], pad[1:-1, 2:], pad[:-2, 1:-1], pad[2:, 1:-1]
     hole = ~np.isfinite(zbuf) & ((np.isfinite(left) & np.isfinite(right)) | (np.isfinite(down) & np.isfinite(up)))
-    zbuf[hole] = np.maximum.reduce([left, right, down, up])[hole]
+    at = np.nonzero(hole)
+    zbuf[at] = np.maximum(np.maximum(left[at], right[at]), np.maximum(down[at], up[at]))
     if not hidden:
         return zbuf
     won = z >= zbuf[r, col] - 1e-9 * (np.abs(z) + 1.0)
