@@ -405,7 +405,7 @@ def candidate_order(record: dict) -> str:
     if any(c.get("status") == "outranked" for c in record.get("candidates", [])):
         text += (" Outranked: its optimum before rounding (≥, a bound on every size of the 0.01 mm grid or "
                  "of stock) already ranks below the chosen design, so it was not rounded or no stock size "
-                 "was solved.")
+                 "was solved; it is listed at that bound.")
     return text
 
 

@@ -306,12 +306,16 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     order = {id(ev): i for i, ev in enumerate(feasible)}
 
     def cand_key(c):
-        if c.outranked:  # after the feasible ones, by the continuous optimum that bounds their rows
-            return (0, True, c.continuous.objective, 0)
+        if c.outranked:  # at the continuous optimum that bounds its designs: before the first design above
+            bound = c.continuous.objective  # it, never before the chosen one (a stock search's rows' bounds are tighter)
+            if not feasible:
+                return (2, 0, bound, 0)
+            return (0, max(1, next((i for i, ev in enumerate(feasible) if ev.objective > bound), len(feasible))),
+                    0, bound)
         if c.evaluation is None:
-            return (2, True, math.inf, 0)
+            return (2, 1, 0, 0)
         if c.evaluation.feasible:
-            return (0, False, order[id(c.evaluation)], 0)
+            return (0, order[id(c.evaluation)], 1, 0)
         return (1, not buildable(c.evaluation), c.evaluation.worst_violation, c.evaluation.objective)
 
     candidates.sort(key=cand_key)

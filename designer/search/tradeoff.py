@@ -42,7 +42,7 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     starting from its own checked design at the neighbouring level (at the first level, from the
     search's answer): a continuation, before the usual starts.
     """
-    leading = _leading(outcome.candidates, materials)
+    leading = list(dict.fromkeys(c.material for c in outcome.candidates))[:materials]
     chosen = outcome.best.analysis
     base = replace(spec, objective="error")
     out = {}
@@ -105,25 +105,6 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
                                "feasible": bool(ev is not None and ev.feasible)})
         out[key] = points
     return out
-
-
-def _leading(candidates: list, materials: int) -> list[str]:
-    """The ``materials`` best distinct materials of the search's ``candidates`` (ranked): an
-    outranked candidate (not rounded; ranked after every verified design) counts at its continuous
-    optimum, the bound on its designs, among the verified designs' objectives."""
-    bounded = sorted((c for c in candidates if c.outranked), key=lambda c: c.continuous.objective)
-    merged = []
-    for c in candidates:
-        if c.outranked:
-            continue
-        if c.evaluation is not None and c.evaluation.feasible:
-            while bounded and bounded[0].continuous.objective < c.evaluation.objective:
-                merged.append(bounded.pop(0))
-        else:
-            merged += bounded
-            bounded = []
-        merged.append(c)
-    return list(dict.fromkeys(c.material for c in merged + bounded))[:materials]
 
 
 def _unbound(problem: FamilyProblem, key: str, cand: Candidate, variant) -> Candidate | None:

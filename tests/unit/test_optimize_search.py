@@ -493,29 +493,37 @@ def test_a_design_judged_again_under_the_same_spec_is_not_analysed_again(monkeyp
     assert fresh.predicted() == again.predicted() and fresh.tolerance == again.tolerance
 
 
-def test_the_fronts_materials_count_an_outranked_candidate_at_its_bound():
-    # The fronts draw the search's 4 best materials. An outranked candidate (not rounded: its
-    # continuous optimum was already more than 5 % above the best) is listed after every verified
-    # design, but its optimum bounds its designs: it counts there, among the verified objectives.
-    # Reference: the order by objective, written out by hand (the gripper finger's case: its
-    # 17-7PH round bar, outranked at 0.539, is a better material than 301's rectangle at 0.599).
-    from types import SimpleNamespace as NS
+def test_an_outranked_candidate_is_listed_at_its_bound_and_the_chart_and_fronts_follow():
+    # An outranked candidate (not rounded: its optimum before rounding was already more than 5 %
+    # above the best) is listed at that optimum, the bound on its designs: after the designs that
+    # meet every limit below it, before the first above it (never before the chosen design). The
+    # fronts draw the first 4 materials of that list and the candidates chart keeps it. Reference:
+    # the gripper finger's previous release, which rounded every one of these candidates: its
+    # 2024-T3 and 17-7PH-RH950 round bars (0.503, 0.5395) made those two materials the 3rd and 4th,
+    # ahead of 301-full-hard's rectangle (0.599); listed after every verified design, the
+    # outranked bars would have put 301-full-hard in the fronts instead.
+    from designer.outputs.plots import candidates as chart
+    from designer.outputs.plots.sensor import SensorData
 
-    from designer.search.tradeoff import _leading
-
-    def verified(material, objective, feasible=True):
-        return NS(material=material, outranked=False, continuous=None,
-                  evaluation=NS(objective=objective, feasible=feasible))
-
-    def outranked(material, bound):
-        return NS(material=material, outranked=True, evaluation=None, continuous=NS(objective=bound))
-
-    ranked = [verified("Ti-6Al-4V", 0.401), verified("7075-T6", 0.434), verified("2024-T3", 0.526),
-              verified("301-full-hard", 0.599), verified("304", 1.02, feasible=False),
-              outranked("17-7PH-RH950", 0.539), outranked("C17200", 0.891), outranked("6061-T6", 0.663)]
-    assert _leading(ranked, 4) == ["Ti-6Al-4V", "7075-T6", "2024-T3", "17-7PH-RH950"]
-    assert _leading(ranked, 8) == ["Ti-6Al-4V", "7075-T6", "2024-T3", "17-7PH-RH950", "301-full-hard",
-                                   "6061-T6", "C17200", "304"]
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    out = search.optimize(spec)
+    listed = out.candidates
+    assert not listed[0].outranked and listed[0].evaluation.feasible
+    outranked = [i for i, c in enumerate(listed) if c.outranked]
+    assert len(outranked) >= 6
+    for i in outranked:
+        bound = listed[i].continuous.objective
+        before = [c.evaluation.objective for c in listed[1:i] if not c.outranked and c.evaluation is not None]
+        after = [c.evaluation.objective for c in listed[i + 1:] if not c.outranked and c.evaluation is not None
+                 and c.evaluation.feasible]
+        assert all(v <= bound for v in before) and all(v > bound for v in after), listed[i].material
+    assert list(dict.fromkeys(c.material for c in listed))[:4] == ["Ti-6Al-4V", "7075-T6", "2024-T3", "17-7PH-RH950"]
+    record = json.loads(json.dumps(search_record(spec, out)))
+    rows = chart._candidate_rows(record, SensorData.from_design(record))
+    assert [(r["material"], r["section"]) for r in rows] == [(c["material"], c["section"]) for c in record["candidates"]]
+    ax = chart.plot_candidates(record).axes[0]   # each outranked one drawn as a bar to its bound
+    widths = [p.get_width() for p in ax.patches]
+    assert all(any(w == pytest.approx(listed[i].continuous.objective, rel=1e-12) for w in widths) for i in outranked)
 
 
 def test_an_answer_over_a_limit_by_ipopt_s_own_relaxation_still_bounds_its_designs():

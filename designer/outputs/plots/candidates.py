@@ -26,15 +26,21 @@ def plot_candidates(design: Mapping, ax=None):
                          "deflection": (1e3, "objective: free-end deflection under F_max at x_max (mm)"),
                          "mass": (1e3, "objective: mass of the free length (g)")}.get(kind, (1.0, "objective"))
     values = [r["objective"] * scale if r["objective"] is not None else None for r in rows]
-    known = [v for v in values if v is not None and v > 0]
+    bounds = [r["bound"] * scale if _bounded(r) else None for r in rows]
+    known = [v for v in values + bounds if v is not None and v > 0]
     log = bool(known) and max(known) / min(known) > 30
     bottom = min(known) / 2 if log else 0.0
     missing_at = (max(known) if known else 1.0)
 
     y = np.arange(len(rows))
-    for yi, row, value in zip(y, rows, values):
+    for yi, row, value, bound in zip(y, rows, values, bounds):
         colour = C_STATUS.get(row["status"], "#7f7f7f")
         infeasible = row["status"] in ("infeasible", "failed")
+        if bound is not None:  # outranked: a faint bar to the bound its optimum before rounding sets
+            ax.barh(yi, bound - bottom, left=bottom, height=0.7, color=colour, alpha=0.35, edgecolor=colour,
+                    linewidth=0.6, zorder=3)
+            ax.text(bound, yi, "  " + _missing_text(row, scale), va="center", fontsize=8, color="#555555", zorder=4)
+            continue
         if value is None:
             ax.text(bottom if log else 0.0, yi, "  " + _missing_text(row, scale), va="center", fontsize=8, color=colour)
             continue
@@ -82,11 +88,16 @@ def plot_candidates(design: Mapping, ax=None):
     return fig
 
 
+def _bounded(row: Mapping) -> bool:
+    """An outranked candidate with the bound its optimum before rounding sets."""
+    return row.get("status") == "outranked" and row.get("objective") is None and row.get("bound") is not None
+
+
 def _missing_text(row: Mapping, scale: float) -> str:
     """What a candidate without a design shows: outranked (with the bound its optimum before
     rounding sets), no stock size that meets every limit, or no design at all."""
-    if row["status"] == "outranked" and row.get("bound") is not None:
-        return f"outranked: ≥ {fmt_number(row['bound'] * scale, 4)} (its optimum before rounding)"
+    if _bounded(row):
+        return f"≥ {fmt_number(row['bound'] * scale, 4)}  outranked (its optimum before rounding)"
     if row.get("no_stock"):
         return "no stock size (report.md says why)"
     return "no design found"
@@ -125,23 +136,29 @@ def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
 def rank_candidates(rows: Sequence[Mapping]) -> list:
     """Order candidates as MODEL.md section 5 ranks designs: the ones that meet every limit by
     objective, where objectives within 0.1 % tie and the lower deflection, then the lower mass,
-    goes first; then the infeasible ones, least violating first; then those without a design."""
+    goes first, and each outranked one at its bound (before the first design above it, after the
+    first design), as the search lists them; then the infeasible ones, least violating first (and
+    the outranked ones when no design meets every limit); then those without a design."""
     def number(row, key):
         value = row.get(key)
         return math.inf if value is None else float(value)
 
     good = [r for r in rows if r.get("objective") is not None and r.get("status") not in ("infeasible", "failed")]
     bad = [r for r in rows if r.get("objective") is not None and r.get("status") in ("infeasible", "failed")]
-    none = [r for r in rows if r.get("objective") is None]
+    bounded = sorted((r for r in rows if _bounded(r)), key=lambda r: float(r["bound"]))
+    none = [r for r in rows if r.get("objective") is None and not _bounded(r)]
     rest = sorted(good, key=lambda r: r["objective"])
     ranked = []
     while rest:
         lead = rest[0]["objective"]
         tied = [r for r in rest if model.ties(r["objective"], lead)]  # the model's tie rule
         pick = min(tied, key=lambda r: (number(r, "deflection"), number(r, "mass"), r["objective"]))
+        while ranked and bounded and float(bounded[0]["bound"]) < pick["objective"]:
+            ranked.append(bounded.pop(0))   # (never before the first: the chosen design)
         ranked.append(pick)
         rest.remove(pick)
-    ranked += sorted(bad, key=lambda r: (number(r, "worst_violation"), r["objective"]))
+    bad = sorted(bad, key=lambda r: (number(r, "worst_violation"), r["objective"]))
+    ranked += bounded + bad if good else bad + bounded
     return ranked + none
 
 
