@@ -306,8 +306,11 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     order = {id(ev): i for i, ev in enumerate(feasible)}
 
     def cand_key(c):
-        if c.outranked:  # at the continuous optimum that bounds its designs: before the first design above
-            bound = c.continuous.objective  # it, never before the chosen one (a stock search's rows' bounds are tighter)
+        # an outranked candidate stands at its continuous optimum, the bound on its designs: before
+        # the first design above it, never before the chosen one (a stock search's outranked flag
+        # comes from its rows' bounds, which are tighter than the continuous one)
+        if c.outranked:
+            bound = c.continuous.objective
             if not feasible:
                 return (2, 0, bound, 0)
             return (0, max(1, next((i for i, ev in enumerate(feasible) if ev.objective > bound), len(feasible))),
