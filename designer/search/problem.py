@@ -259,12 +259,20 @@ class FamilyProblem:
         if swept is not None:
             spec = replace(spec, limits=replace(spec.limits, **{swept: par[CAP + 1] * SWEPT_UNITS[swept]}))
         ops = model.casadi_ops()
-        geometry = variables.geometry([x[i] * MM for i in range(n)])
         mat = MaterialParams.from_scaled(par)
-        a = model.analyse(geometry, mat, spec, ops, adjust=adjustment)
-        lims = [lim for lim in model.limits(geometry, a, mat, spec, include_targets=not epigraph, ops=ops)
+        # the model once, over the sizes and the pocket's drawn length: the design itself at the
+        # length its sizes need (``pocket_as_needed``), its tolerance corners (below) at its own
+        xs, drawn = ca.SX.sym("xs", variables.size), ca.SX.sym("l_p")
+        built = replace(variables.geometry([xs[i] * MM for i in range(n)]), pocket_length=drawn)
+        a = model.analyse(built, mat, spec, ops, adjust=adjustment)
+        lims = [lim for lim in model.limits(built, a, mat, spec, include_targets=not epigraph, ops=ops)
                 if lim.name not in BOUND_LIMITS]
-        g = [lim.normalised for lim in lims]
+        length = variables.geometry([x[i] * MM for i in range(n)]).pocket_length
+        outputs = [lim.normalised for lim in lims] + [a.deflection, a.mass] + \
+            (list(model.error_terms(a, spec.targets)) if epigraph else [])
+        model_at = ca.Function("model", [xs, par, drawn], [ca.vertcat(*outputs)])
+        nominal = model_at(x, par, length)
+        g = [nominal[i] for i in range(len(lims))]
         # with tolerances, each corner-checked limit again at every corner of the toleranced
         # variables (docs/model.md §14): the deviations (mm) are parameters after the others
         self.moved = [i for i, name in enumerate(variables.names) if name in TOLERANCED] \
@@ -274,27 +282,24 @@ class FamilyProblem:
         self.limit_names = [lim.name for lim in lims]
         if checked:
             # a corner is the part as drawn, built at the corner's sizes: its pocket as long as the
-            # nominal design's (a drawn length), not as long as the corner's sizes would need
-            # (``pocket_as_needed``), as tolerance.corners builds it for the check
-            xs, drawn = ca.SX.sym("xs", variables.size), ca.SX.sym("l_p")
-            built = replace(variables.geometry([xs[i] * MM for i in range(n)]), pocket_length=drawn)
-            at_built = model.analyse(built, mat, spec, ops, adjust=adjustment)
-            built_lims = [lim for lim in model.limits(built, at_built, mat, spec, include_targets=not epigraph, ops=ops)
-                          if lim.name not in BOUND_LIMITS]
-            rows = ca.Function("rows", [xs, par, drawn], [ca.vertcat(*[built_lims[j].normalised for j in checked])])
+            # nominal design's (a drawn length), not as long as the corner's sizes would need, as
+            # tolerance.corners builds it for the check
+            rows = ca.Function("rows", [xs, par, drawn], [ca.vertcat(*[lims[j].normalised for j in checked])])
             parts = [TOLERANCED[variables.names[i]] for i in self.moved]
             for weak, signs in tolerance.searched_corners(parts):
                 xc = [x[i] for i in range(variables.size)]
                 for k, (i, sign) in enumerate(zip(self.moved, signs)):
                     xc[i] = ca.fmax(x[i] + sign * dev[k], tolerance.LEAST[parts[k]] / MM)
-                at = rows(ca.vertcat(*xc), par, geometry.pocket_length)
+                at = rows(ca.vertcat(*xc), par, length)
                 here = [r for r, j in enumerate(checked) if (lims[j].name in tolerance.STRONG_CORNER_LIMITS) != weak]
                 g += [at[r] for r in here]
                 self.limit_names += [lims[checked[r]].name for r in here]
-        in_units = {"deflection": in_nlp_units(a.deflection, "deflection"), "mass": in_nlp_units(a.mass, "mass")}
+        n_limits = len(lims)   # the nominal outputs after the limit rows: deflection, mass, the error terms
+        in_units = {"deflection": in_nlp_units(nominal[n_limits], "deflection"),
+                    "mass": in_nlp_units(nominal[n_limits + 1], "mass")}
         if epigraph:  # minimise e subject to each error term <= e
             e = x[n]
-            g += [term - e for term in model.error_terms(a, spec.targets)]
+            g += [nominal[i] - e for i in range(n_limits + 2, nominal.numel())]
             f = e
         else:
             f = in_units[spec.objective]
