@@ -174,3 +174,17 @@ def test_the_cad_process_ends_when_a_killed_optimize_leaves_it_waiting(tmp_path)
         assert not any(_alive(c) for c in children)
     finally:
         proc.kill()
+
+
+def test_the_command_leaves_once_it_is_done_without_the_interpreter_s_shutdown():
+    # a 20 s sleep left for the interpreter's exit (as unloading casadi, matplotlib and the rest
+    # takes 0.2-0.3 s after an optimize) is never run; the output is flushed and the code kept
+    code = ("import atexit, sys, time; atexit.register(time.sleep, 20.0); "
+            "sys.argv = ['fpdesign', '--version']; from designer.cli import run; run()")
+    started = time.perf_counter()
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert time.perf_counter() - started < 10.0
+    assert done.returncode == 0 and done.stdout.startswith("fpdesign ")
+    bad = subprocess.run([sys.executable, "-c", code.replace("'--version'", "'optimize', 'no-such.yaml'")],
+                         capture_output=True, text=True, timeout=60)
+    assert bad.returncode == 2 and "no-such.yaml" in bad.stderr

@@ -27,3 +27,16 @@ def test_a_prepared_child_without_a_job_is_stopped():
     child = Background(modules=("json",))
     child.stop()
     assert not child._process.is_alive()
+
+
+def test_the_answer_does_not_wait_for_the_child_interpreter_s_shutdown():
+    # the job leaves a 20 s sleep for the child's exit (as unloading the CAD kernel and matplotlib
+    # takes about half a second): the parent has its answer and the child is gone long before
+    import atexit
+    import time
+
+    started = time.perf_counter()
+    child = Background(atexit.register, time.sleep, 20.0)
+    assert child.result() is time.sleep
+    assert time.perf_counter() - started < 10.0
+    assert not child._process.is_alive()
