@@ -176,15 +176,26 @@ def test_the_cad_process_ends_when_a_killed_optimize_leaves_it_waiting(tmp_path)
         proc.kill()
 
 
-def test_the_command_leaves_once_it_is_done_without_the_interpreter_s_shutdown():
-    # a 20 s sleep left for the interpreter's exit (as unloading casadi, matplotlib and the rest
-    # takes 0.2-0.3 s after an optimize) is never run; the output is flushed and the code kept
-    code = ("import atexit, sys, time; atexit.register(time.sleep, 20.0); "
+
+def test_the_command_leaves_once_it_is_done_without_the_interpreter_s_shutdown(tmp_path):
+    # a thread asleep for 20 s, which the interpreter's shutdown would wait for (as unloading
+    # casadi, matplotlib and the rest takes 0.2-0.3 s after an optimize), is not waited for; the
+    # exit functions (a profiler's, a coverage tool's) run, the output is flushed, the code kept
+    mark = tmp_path / "ran"
+    code = ("import atexit, pathlib, sys, threading, time; "
+            "threading.Thread(target=time.sleep, args=(20.0,)).start(); "
+            f"atexit.register(pathlib.Path({str(mark)!r}).touch); "
             "sys.argv = ['fpdesign', '--version']; from designer.cli import run; run()")
     started = time.perf_counter()
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert time.perf_counter() - started < 10.0
-    assert done.returncode == 0 and done.stdout.startswith("fpdesign ")
+    assert done.returncode == 0 and done.stdout.startswith("fpdesign ") and mark.exists()
     bad = subprocess.run([sys.executable, "-c", code.replace("'--version'", "'optimize', 'no-such.yaml'")],
                          capture_output=True, text=True, timeout=60)
     assert bad.returncode == 2 and "no-such.yaml" in bad.stderr
+
+
+def test_under_a_profiler_the_command_leaves_the_usual_way_so_that_it_reports():
+    done = subprocess.run([sys.executable, "-m", "cProfile", "-m", "designer.cli", "--version"],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and done.stdout.startswith("fpdesign ") and "function calls" in done.stdout
