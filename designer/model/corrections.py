@@ -34,6 +34,7 @@ from designer.model.ops import ops_for
 from designer.model.sections import Geometry
 
 TABLE = "corrections.yaml"
+_last: list = [None, None]   # the geometry ``parameters`` last gave (kept alive: its id is no other's), its answer
 
 
 def family(g: Geometry) -> str:
@@ -42,7 +43,14 @@ def family(g: Geometry) -> str:
 
 
 def parameters(g: Geometry) -> dict:
-    """The dimensionless parameters of a geometry's feature (numbers or casadi expressions)."""
+    """The dimensionless parameters of a geometry's feature (numbers or casadi expressions); the
+    last geometry's are kept, as one analysis asks for the same ones several times."""
+    if _last[0] is not g:
+        _last[:] = [g, _parameters(g)]
+    return dict(_last[1])
+
+
+def _parameters(g: Geometry) -> dict:
     size = g.size
     out = {"length_ratio": g.feature_length / size,
            "width_ratio": g.breadth / size,
@@ -389,19 +397,13 @@ def data_path(name: str):
 @lru_cache(maxsize=1)
 def load() -> Corrections:
     """The shipped table, or no corrections when it is absent."""
-    from designer.spec.catalogue import data_folder
-
-    path = data_folder() / TABLE
-    if not path.exists():
-        return Corrections({})
-    return from_dict(_read_yaml(path))
-
-
-def _read_yaml(path):
     import yaml
 
+    path = data_path(TABLE)
+    if not path.exists():
+        return Corrections({})
     with open(path, encoding="utf-8") as fh:
-        return yaml.safe_load(fh)
+        return from_dict(yaml.safe_load(fh))
 
 
 def from_dict(raw: dict) -> Corrections:

@@ -203,3 +203,24 @@ def test_a_fit_is_shifted_to_its_safe_side_until_no_left_out_point_misses_by_mor
     assert safe.exponents == ((1,), (0,)) and safe({"length_ratio": 2.0}) == pytest.approx(0.5)
     # a fit that already errs to the safe side is left as it is
     assert fits.shifted(kt, "stress", rows, [2.5, 3.1]).margin == 0.0
+
+
+def test_a_geometry_s_parameters_are_worked_out_once_per_analysis_and_never_another_s(monkeypatch):
+    from dataclasses import replace
+
+    # hole_ratio = d / b of HOLE_SPEC's 9.5 mm hole in a 12.7 mm bar, by hand
+    spec = parse_spec_text(HOLE_SPEC)
+    g = fixed_design(spec).rounded(spec.cad).geometry
+    calls = []
+    worked_out = corrections._parameters
+    monkeypatch.setattr(corrections, "_parameters", lambda geometry: calls.append(geometry) or worked_out(geometry))
+    first = corrections.parameters(g)
+    first["hole_ratio"] = -1.0                     # the caller's copy: what is kept is not changed
+    assert corrections.parameters(g)["hole_ratio"] == pytest.approx(9.5 / 12.7)
+    wider = replace(g, hole=0.0127 / 2)
+    assert corrections.parameters(wider)["hole_ratio"] == pytest.approx(0.5)
+    assert calls == [g, wider]
+    design = fixed_design(spec).rounded(spec.cad)
+    calls.clear()
+    model.analyse(design.geometry, design.material_params(spec), spec)   # the shipped table's fits ask 3-4 times
+    assert calls == [design.geometry]
