@@ -397,13 +397,12 @@ def data_path(name: str):
 @lru_cache(maxsize=1)
 def load() -> Corrections:
     """The shipped table, or no corrections when it is absent."""
-    import yaml
+    from designer.spec import strict_yaml
 
     path = data_path(TABLE)
     if not path.exists():
         return Corrections({})
-    with open(path, encoding="utf-8") as fh:
-        return from_dict(yaml.safe_load(fh))
+    return from_dict(strict_yaml.load_shipped(path.read_text(encoding="utf-8")))
 
 
 def from_dict(raw: dict) -> Corrections:

@@ -136,10 +136,12 @@ _user: tuple = ()
 @functools.lru_cache(maxsize=None)
 def _read(name: str) -> list[dict]:
     """A shipped catalogue file's entries, read once (never changed by their readers)."""
+    from designer.spec import strict_yaml
+
     path = data_folder() / name
     try:
-        entries = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
+        entries = strict_yaml.load_shipped(path.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
         raise FpdError(f"the catalogue file {path} cannot be read: {exc}") from exc
     return entries
 
@@ -301,7 +303,7 @@ def stock():
 
     path = data_folder() / stock_file.FILE
     try:
-        raw = strict_yaml.load(path.read_text(encoding="utf-8"))
+        raw = strict_yaml.load_shipped(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
         raise CatalogueError(f"{stock_file.FILE}: cannot be read ({path}): {exc}") from exc
     table = stock_file.parse(raw, shipped_material_names())
@@ -320,7 +322,7 @@ def end_mills():
 
     path = data_folder() / tools.FILE
     try:
-        raw = strict_yaml.load(path.read_text(encoding="utf-8"))
+        raw = strict_yaml.load_shipped(path.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
         raise CatalogueError(f"{tools.FILE}: cannot be read ({path}): {exc}") from exc
     table = tools.parse(raw)

@@ -138,12 +138,13 @@ def catalogue() -> dict[str, FrontEnd]:
     """Every front-end of the shipped catalogue, by name."""
     import yaml
 
+    from designer.spec import strict_yaml
     from designer.spec.catalogue import data_folder
 
     path = data_folder() / FILE
     try:
-        entries = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
+        entries = strict_yaml.load_shipped(path.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
         raise FpdError(f"the catalogue file {path} cannot be read: {exc}") from exc
     return {fe.name: fe for fe in (parse_entry(e, f"{FILE}[{i}]") for i, e in enumerate(entries))}
 
