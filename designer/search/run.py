@@ -297,7 +297,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         candidates = _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
         candidates = every_start_for_contenders(candidates, problems)
-    candidates = candidates_on_stock(spec, problems, candidates)
+    candidates = candidates_on_stock(spec, problems, candidates, skip)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
     seconds = time.perf_counter() - t0

@@ -16,7 +16,7 @@ from designer.search.stock import search_stock, stock_rows, stock_system
 from designer.spec import catalogue
 
 
-def candidates_on_stock(spec, problems: dict, candidates: list) -> list:
+def candidates_on_stock(spec, problems: dict, candidates: list, skip=()) -> list:
     """Every candidate whose family's sections come from stock (``search.stock``, and tubes
     always: ``stock.stock_system``) with its section a row of the stock catalogue, searched from
     its continuous answer (``search.stock.search_stock``). The candidates go best continuous
@@ -25,8 +25,9 @@ def candidates_on_stock(spec, problems: dict, candidates: list) -> list:
     ``outranked`` without a row solved. Sets of rows that a relaxation shows infeasible are
     dropped; when that leaves no design that meets every limit (and no bar of continuous sizes
     has one to report), every row is solved again, so that the least-infeasible stock design is
-    reported."""
-    stocked = [stock_system(spec, c.family) != "none" for c in candidates]
+    reported. A candidate in ``skip`` (``optimize``'s: a trade-off front's that a looser level
+    left without a feasible design) has none here either, on stock or not: it is left as it is."""
+    stocked = [stock_system(spec, c.family) != "none" and (c.material, c.family) not in skip for c in candidates]
     if not any(stocked):
         return candidates
     found = _on_stock(spec, problems, candidates, stocked, prune_infeasible=True)

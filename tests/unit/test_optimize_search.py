@@ -263,6 +263,38 @@ def test_a_front_skips_only_candidates_with_no_feasible_design():
         assert cand.evaluation is None or not cand.evaluation.feasible, (key, p)
 
 
+
+# The bench suite's 015-imperial (``bench.generate_suite()``): tubes alone, so on stock rows;
+# its min_frequency front's level of 257.7 Hz has no design that meets every limit.
+TUBES_ONLY = """name: 015-imperial
+load: {force: [0.1193 lbf, 1.796 lbf], position: [4.257 in, 7.616 in]}
+electronics: {excitation: 3.3 V, gain: 1.0, noise_rti: 143.7 nV}
+gauge: BF120-3AA
+bridge: quarter
+stations: 3
+limits: {width: [0.02628 in, 1.017 in], height: [0.02628 in, 0.6976 in], min_pocket_depth: 0.01969 in,
+  min_wall: 0.03937 in, max_deflection: 0.1463 in, min_frequency: 257.7 Hz}
+targets: {force_error: 1.64 %, position_error: 0.1308 in}
+search: {materials: [2024-T3, 7075-T6], sections: [tube], feature: pocket}
+objective: error
+tolerances: {class: none}
+"""
+
+
+def test_a_front_s_skipped_candidate_is_not_searched_on_stock_rows_either():
+    # With no design that meets every limit, every stock row is solved again so that the
+    # least-infeasible one is reported; a front's candidate that a looser level left without a
+    # feasible design (``skip``) has none here and is not among them (it cost 136 IPOPT runs).
+    spec = parse_spec_text(TUBES_ONLY)
+    tube = next(fam for fam in search.families(spec))
+    found = search.optimize(spec, skip={("2024-T3", tube)}, outrank=False, tie_break=False)
+    assert not any(c.evaluation is not None and c.evaluation.feasible for c in found.candidates)
+    searched = next(c for c in found.candidates if c.material == "7075-T6")
+    assert searched.evaluation is not None and len(searched.solves) > 20   # every row, solved again
+    skipped = next(c for c in found.candidates if c.material == "2024-T3")
+    assert skipped.evaluation is None and skipped.solves == ()
+
+
 # The bench suite's 016-short-beam (``bench.generate_suite(30, 0)``), with one material.
 SHORT_BEAM = """name: 016-short-beam
 load: {force: [39.12 mN, 703.7 mN], position: [8.212 mm, 10.99 mm]}
