@@ -46,6 +46,19 @@ def check() -> None:
         _raise(_received)
 
 
+def reinstall() -> None:
+    """Put Python's SIGINT and SIGTERM handlers back at the C level where a library replaced them
+    without Python knowing: gmsh's initialisation sets SIGTERM to its default action, so that a
+    SIGTERM would end the process at once and leave its scratch files. Only in the main thread; a
+    handler that Python did not install is left alone."""
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for s in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(s)
+        if handler is not None:
+            signal.signal(s, handler)
+
+
 def install():
     """Handle SIGINT and SIGTERM; returns a function that puts the previous handlers back.
     Outside the main thread nothing is installed."""

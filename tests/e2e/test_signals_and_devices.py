@@ -71,10 +71,10 @@ def test_a_reused_output_folder_holds_one_runs_outputs(tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("delay", [0.5, 2.0])
+@pytest.mark.parametrize("delay", [0.5, 2.0, 3.0])
 def test_a_signal_stops_verify_and_leaves_no_scratch(tmp_path, delay):
-    # 0.5 s: building the CAD solid in its child process; 2 s: meshing or solving (this machine;
-    # the whole coarse check of this design takes about 4 s)
+    # 0.5 s: building the CAD solid in its child process; 2 s and 3 s: meshing or solving, after
+    # gmsh's start (this machine; the whole coarse check of this design takes about 5 s)
     record = tmp_path / "in" / "design.json"
     assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(record.parent), "--no-cad", "--no-plots",
                  "--quiet"]) == 0
@@ -199,3 +199,22 @@ def test_under_a_profiler_the_command_leaves_the_usual_way_so_that_it_reports():
     done = subprocess.run([sys.executable, "-m", "cProfile", "-m", "designer.cli", "--version"],
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 0 and done.stdout.startswith("fpdesign ") and "function calls" in done.stdout
+
+
+@pytest.mark.parametrize("reinstall", [False, True])
+def test_gmsh_s_start_drops_the_sigterm_handler_and_reinstall_puts_it_back(reinstall):
+    # gmsh.initialize sets SIGTERM to its default action at the C level (Python still reports its
+    # own handler): a SIGTERM then ends the process at once, without cleaning up (-15). The mesher
+    # puts the handlers back after it (``interrupt.reinstall``); the signal then stops the run.
+    code = ("import os, signal, sys, time, gmsh\n"
+            "from designer import interrupt\n"
+            "interrupt.install()\n"
+            "gmsh.initialize(interruptible=False)\n"
+            f"if {reinstall}: interrupt.reinstall()\n"
+            "try:\n"
+            "    os.kill(os.getpid(), signal.SIGTERM)\n"
+            "    time.sleep(5)\n"
+            "except interrupt.Terminated:\n"
+            "    sys.exit(3)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert done.returncode == (3 if reinstall else -signal.SIGTERM), done.stderr

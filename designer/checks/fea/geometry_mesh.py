@@ -272,9 +272,12 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float, mesh_adapt: bo
     SolverError when the last mesh fails too."""
     import gmsh
 
+    from designer import interrupt
+
     failure = None
     for again in (True,) if mesh_adapt else (False, True):
         gmsh.initialize(interruptible=False)
+        interrupt.reinstall()   # gmsh has put SIGTERM back to its default action
         try:
             _set_up(step_path, pb, refinement)
             faces = _mesh_adapt_flat_faces() if again else []
