@@ -10,7 +10,11 @@ Per example, medians over ``--repeat`` runs of:
   the fronts and the plots);
 - and the start-up: ``fpdesign --help``.
 
-Run by hand:  python benchmarks/bench_job.py [--repeat 3] [--only NAME ...]
+With ``--suite``, instead: the whole job once on each spec of the bench suite (``fpdesign
+bench``'s generated specs, seed 0), its time, and whether the folder holds exactly the files its
+design.json lists; then the median and the slowest.
+
+Run by hand:  python benchmarks/bench_job.py [--repeat 3] [--only NAME ...] [--suite]
 """
 
 from __future__ import annotations
@@ -75,13 +79,45 @@ def stage_seconds(example: Path, stage: str) -> float:
     return json.loads(out.strip().splitlines()[-1]) if stage != "search" else total
 
 
+def suite_jobs(cmd: list[str]) -> int:
+    """The whole job on every generated spec of the bench suite; 1 if a folder is not what its
+    design.json says."""
+    from designer.bench.suite import generate_suite
+
+    times, wrong = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        for item in generate_suite():
+            spec, out = Path(tmp) / f"{item.name}.yaml", Path(tmp) / item.name
+            spec.write_text(item.text, encoding="utf-8")
+            t0 = time.perf_counter()
+            done = subprocess.run(cmd + ["optimize", str(spec), "-o", str(out), "--quiet"], capture_output=True)
+            times.append((time.perf_counter() - t0, item.name))
+            files = {f.name for f in out.iterdir()} if out.is_dir() else set()
+            listed = set()
+            if "design.json" in files:
+                record = json.loads((out / "design.json").read_text(encoding="utf-8"))["files"]
+                listed = {v for k, v in record.items() if k != "plots"} | set(record.get("plots", [])) | {"design.json"}
+            ok = done.returncode in (0, 1) and files == listed
+            if not ok:
+                wrong.append(item.name)
+            print(f"{item.name:28} exit {done.returncode}  {times[-1][0]:5.2f} s  {len(files):2} files"
+                  f"{'' if ok else '  NOT AS LISTED'}", flush=True)
+    print(f"\n{len(times)} specs: median {statistics.median(t for t, _ in times):.2f} s, "
+          f"{min(times)[0]:.2f}-{max(times)[0]:.2f} s (slowest {max(times)[1]}); "
+          f"{len(wrong)} folders not as listed{': ' + ', '.join(wrong) if wrong else ''}")
+    return 1 if wrong else 0
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeat", type=int, default=3)
     p.add_argument("--only", nargs="*", default=None)
+    p.add_argument("--suite", action="store_true", help="the whole job on each of the bench suite's specs")
     args = p.parse_args(argv)
     names = args.only or NAMES
     cmd = [sys.executable, "-m", "designer.cli"]
+    if args.suite:
+        return suite_jobs(cmd)
     rows = []
     for name in names:
         example = EXAMPLES / f"{name}.yaml"
