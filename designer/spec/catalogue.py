@@ -134,8 +134,9 @@ _user: tuple = ()
 
 
 @functools.lru_cache(maxsize=None)
-def _read(name: str) -> list[dict]:
-    """A shipped catalogue file's entries, read once (never changed by their readers)."""
+def read_shipped(name: str) -> list[dict]:
+    """A shipped catalogue file's entries (materials, gauges, front-ends), read once (never
+    changed by their readers)."""
     from designer.spec import strict_yaml
 
     path = data_folder() / name
@@ -279,20 +280,21 @@ def _joined(shipped: list, file: str, kind: str, user_entries) -> dict:
 @functools.lru_cache(maxsize=1)
 def materials() -> dict[str, Material]:
     """Every material: the shipped ones, then the user catalogues' in force."""
-    return _joined(_materials_from(_read("materials.yaml"), "materials.yaml", False), "materials.yaml", "materials",
+    shipped = _materials_from(read_shipped("materials.yaml"), "materials.yaml", False)
+    return _joined(shipped, "materials.yaml", "materials",
                    [(f, _materials_from(c["materials"], f, True)) for f, c in _user if c.get("materials")])
 
 
 @functools.lru_cache(maxsize=1)
 def gauges() -> dict[str, Gauge]:
     """Every strain gauge: the shipped ones, then the user catalogues' in force."""
-    return _joined(_gauges_from(_read("gauges.yaml"), "gauges.yaml", False), "gauges.yaml", "gauges",
+    return _joined(_gauges_from(read_shipped("gauges.yaml"), "gauges.yaml", False), "gauges.yaml", "gauges",
                    [(f, _gauges_from(c["gauges"], f, True)) for f, c in _user if c.get("gauges")])
 
 
 def shipped_material_names() -> tuple:
     """The names of the materials that ship with the package (materials.yaml)."""
-    return tuple(entry["name"] for entry in _read("materials.yaml"))
+    return tuple(entry["name"] for entry in read_shipped("materials.yaml"))
 
 
 @functools.lru_cache(maxsize=1)

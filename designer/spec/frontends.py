@@ -12,8 +12,8 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-from designer.errors import CatalogueError, FpdError, SpecError, describe_allowed
-from designer.spec.catalogue import quantity
+from designer.errors import CatalogueError, SpecError, describe_allowed
+from designer.spec.catalogue import quantity, read_shipped
 
 FILE = "frontends.yaml"
 KINDS = ("adc", "amplifier")
@@ -136,16 +136,7 @@ def parse_entry(entry, where: str) -> FrontEnd:
 @functools.lru_cache(maxsize=1)
 def catalogue() -> dict[str, FrontEnd]:
     """Every front-end of the shipped catalogue, by name."""
-    import yaml
-
-    from designer.spec import strict_yaml
-    from designer.spec.catalogue import data_folder
-
-    path = data_folder() / FILE
-    try:
-        entries = strict_yaml.load_shipped(path.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
-        raise FpdError(f"the catalogue file {path} cannot be read: {exc}") from exc
+    entries = read_shipped(FILE)
     return {fe.name: fe for fe in (parse_entry(e, f"{FILE}[{i}]") for i, e in enumerate(entries))}
 
 
