@@ -8,6 +8,7 @@ exception (a weakref callback or ``__del__`` that it interrupted), the signal is
 
 from __future__ import annotations
 
+import atexit
 import os
 import signal
 import sys
@@ -44,6 +45,18 @@ def check() -> None:
     """Raise the signal received during a call that swallowed it."""
     if _received is not None:
         _raise(_received)
+
+
+def leave_now(code: int, exit_functions: bool = True) -> None:
+    """End the process with ``code`` at once, its files written and closed: after the exit
+    functions (atexit: a coverage tool's), unless ``exit_functions`` is False, and the standard
+    streams flushed, but without the interpreter's clean-up (with casadi, the CAD kernel and
+    matplotlib loaded, unloading them takes 0.2-0.5 s)."""
+    if exit_functions:
+        atexit._run_exitfuncs()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(code)
 
 
 def reinstall() -> None:

@@ -8,7 +8,6 @@ commands that use them, so that every command starts fast.
 from __future__ import annotations
 
 import argparse
-import atexit
 import importlib
 import os
 import signal
@@ -96,14 +95,13 @@ def run() -> None:
     usual way, so that they can report. A run stopped by Ctrl-C or SIGTERM, already cleaned up,
     leaves at once in any case: a solver that caught the signal too may have left it pending,
     and the clean-up would raise it again."""
+    from designer import interrupt
+
     code = main()
-    if code not in STOP_CODES:
-        if sys.getprofile() is not None or sys.gettrace() is not None:
-            sys.exit(code)
-        atexit._run_exitfuncs()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(code)
+    stopped = code in STOP_CODES
+    if not stopped and (sys.getprofile() is not None or sys.gettrace() is not None):
+        sys.exit(code)
+    interrupt.leave_now(code, exit_functions=not stopped)
 
 
 STOP_CODES = (128 + signal.SIGINT, 128 + signal.SIGTERM)

@@ -11,12 +11,11 @@ SIGTERM).
 
 from __future__ import annotations
 
-import atexit
 import importlib
 import multiprocessing
-import os
 import signal
-import sys
+
+from designer import interrupt
 
 
 def _run(connection, target, args):
@@ -46,13 +45,9 @@ def _serve(jobs, connection, modules):
         connection.close()
         return
     _run(connection, target, args)
-    # the answer is sent and every file the job wrote is closed: end at once, after the exit
-    # functions (atexit) but without the interpreter's clean-up, which with the CAD kernel and
-    # matplotlib loaded takes about half a second that the parent would wait for
-    atexit._run_exitfuncs()
-    sys.stdout.flush()
-    sys.stderr.flush()
-    os._exit(0)
+    # the answer is sent and every file the job wrote is closed: end at once, without the
+    # interpreter's clean-up (about half a second with the CAD kernel, which the parent would wait for)
+    interrupt.leave_now(0)
 
 
 class Background:
