@@ -67,9 +67,15 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                    f"lower load.force[1] to {spec.load.force_max * float(v.limit) / float(v.value):.4g} N or enlarge the section")
     if "min_signal_snr" in violated:
         v = violated["min_signal_snr"]
-        ratio = float(v.limit) / float(v.value)
-        out.append(f"min_signal_snr: the smallest signal is {float(v.value):.3g} noise levels, below {float(v.limit):.3g}; "
-                   f"lower the noise to {sv / ratio * 1e3:.3g} mV or raise load.force[0] to {spec.load.force_min * ratio:.4g} N")
+        if not float(v.value) > 0:  # a station at or past the nearest load: no moment there for that load
+            out.append(f"min_signal_snr: a bridge gets no signal from a load at load.position[0] = "
+                       f"{spec.load.position_min * mm:.4g} mm: even the best design found cannot place its "
+                       f"{len(best.design.geometry.stations)} stations before it; use fewer stations or a load "
+                       "range farther from the clamp")
+        else:
+            ratio = float(v.limit) / float(v.value)
+            out.append(f"min_signal_snr: the smallest signal is {float(v.value):.3g} noise levels, below {float(v.limit):.3g}; "
+                       f"lower the noise to {sv / ratio * 1e3:.3g} mV or raise load.force[0] to {spec.load.force_min * ratio:.4g} N")
     if "deflection" in violated:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = {float(v.limit) * mm:.4g} mm; "

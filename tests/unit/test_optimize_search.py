@@ -18,7 +18,8 @@ from designer.result import designfile
 from designer import model, search
 from designer.result.record import search_record
 from designer.search import reference
-from designer.result.evaluation import evaluate
+from designer.search.diagnosis import diagnose
+from designer.result.evaluation import evaluate, fixed_design
 from designer.spec.reader import load_spec, parse_spec_text
 from designer.spec.tolerances import Tolerances
 from shared_inputs import optimize_spec_text as _spec_text
@@ -576,3 +577,18 @@ def test_an_answer_over_a_limit_by_ipopt_s_own_relaxation_still_bounds_its_desig
     bound = outranked_before_rounding(problem, material, s, cap=0.0)
     assert bound is not None and bound.objective == ev.objective
     assert outranked_before_rounding(problem, material, s, 0.0, model.FEASIBILITY_TOLERANCE) is None
+
+
+def test_the_diagnosis_of_a_station_under_the_nearest_load_gives_advice_not_a_division_by_zero():
+    # Prototype A (the paper's Table 1) with its second station moved to load.position[0]: a load
+    # there puts no moment on that station (M = F (x - d) = 0), so the smallest signal is zero
+    # noise levels, and "raise the force by limit / value" has no finite answer.
+    text = (EXAMPLES / "prototype-a.yaml").read_text().replace("stations: [20 mm, 120 mm]", "stations: [20 mm, 150 mm]")
+    spec = parse_spec_text(text)
+    ev = evaluate(fixed_design(spec), spec)
+    snr = {v.name: v for v in ev.violations}["min_signal_snr"]
+    assert float(snr.value) == 0.0
+    messages = diagnose(spec, ev, [])
+    said = [m for m in messages if m.startswith("min_signal_snr")]
+    assert len(said) == 1 and "no signal from a load at load.position[0] = 150 mm" in said[0]
+    assert "use fewer stations" in said[0]
