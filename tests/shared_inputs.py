@@ -104,6 +104,9 @@ CAD_BAD = {
                         "spec.cad.clamp_length"),
     "end mill wider than the slot": ("rect_pockets", lambda r: r["spec"]["cad"].update(end_mill_diameter=0.006),
                                      "spec.cad.end_mill_diameter"),
+    # moved across the bar, an end mill cuts a flat as long as itself: the 8.9 mm flat takes at most 8.9 mm
+    "end mill longer than the flat": ("round_flats", lambda r: r["spec"]["cad"].update(end_mill_diameter=0.0095),
+                                      "spec.cad.end_mill_diameter"),
     "groove off the beam": ("round_flats", lambda r: r["spec"]["cad"].update(groove_positions=[0.07, 0.125]),
                             "spec.cad.groove_positions"),
     "default groove at the free end": ("prototype_b", lambda r: r["spec"]["cad"].update(load_grooves=True),

@@ -97,7 +97,23 @@ def evaluate_fixed(spec) -> DesignResult:
     messages = [] if ev.feasible else ["the design violates: " + ", ".join(v.name for v in ev.violations)]
     messages += _bore_not_from_stock(spec, ev.design)
     record = build_record("feasible" if ev.feasible else "infeasible", spec, ev, messages=messages)
+    _cad_options_fit(record)
     return DesignResult(_with_large_deflection(record), ev)
+
+
+def _cad_options_fit(record: dict) -> None:
+    """The spec's ``cad:`` options checked against its fixed design, as the CAD would cut it (a
+    wire channel deeper than the pocket, a corner radius that leaves the gauge no flat floor, an
+    end mill wider than a flat is long): SpecError naming the key, whether or not the design meets
+    its limits and whether or not CAD outputs are asked for (the model judges the channel as given)."""
+    from designer.errors import DesignFileError, SpecError
+    from designer.outputs.cad.beam import resolve
+
+    try:
+        resolve(record)
+    except DesignFileError as exc:
+        if str(exc).startswith("spec.cad."):
+            raise SpecError(str(exc).replace("spec.cad.", "cad.")) from None
 
 
 # A fixed tube's sizes match a stock row when each is within half the 0.01 mm step designs are

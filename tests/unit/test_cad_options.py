@@ -90,3 +90,56 @@ def test_corner_radius_messages_give_the_value_and_what_is_allowed():
         cad.resolve(mutate("round_flats", lambda r: r["spec"]["cad"].update(corner_radius=0.0011)))
     assert str(info.value) == ("spec.cad.corner_radius: 0.0011 m (1.1 mm) leaves a flat floor 6.7 mm long, shorter "
                                "than the 6.9 mm gauge backing; it must be at most 1 mm")
+
+
+def test_a_flats_end_mill_may_be_as_long_as_the_flat():
+    # the round_flats fixture's flats are 8.9 mm long; an end mill of that diameter cuts them
+    beam = cad.resolve(mutate("round_flats", lambda r: r["spec"]["cad"].update(end_mill_diameter=0.0089)))
+    assert beam.pocket_length == pytest.approx(0.0089) and "Ø8.9" in beam.tool
+
+
+FLAT_SPEC = """\
+name: flats
+load: {force: [0.5 N, 20 N], position: [40 mm, 110 mm]}
+electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
+gauge: BF350-3AA
+bridge: half
+limits: {max_deflection: 1 mm}
+design:
+  material: Ti-6Al-4V
+  section: {kind: round, diameter: 8 mm}
+  stations: [9.45 mm, 30.55 mm]
+  feature: {kind: pocket, depth: 1.65 mm, length: 8.9 mm}
+  length: 115 mm
+"""
+
+
+@pytest.mark.parametrize("cad_line, key", [
+    ("cad: {channel_depth: 5 mm}", "cad.channel_depth"),          # deeper than the 1.65 mm flat
+    ("cad: {channel_width: 50 mm}", "cad.channel_width"),         # wider than the flat (5.5 mm)
+    ("cad: {corner_radius: 1.6 mm}", "cad.corner_radius"),        # floor 8.9 - 3.2 mm under the 6.9 mm backing
+    ("cad: {end_mill_diameter: 50 mm}", "cad.end_mill_diameter"),  # longer than the 8.9 mm flat
+])
+@pytest.mark.parametrize("cad_flag", ["--no-cad", None])
+def test_evaluate_refuses_cad_options_that_do_not_fit_the_fixed_design(tmp_path, capsys, cad_line, key, cad_flag):
+    # docs/spec.md 2.8: checked against a fixed design's pockets before it is judged, with or
+    # without CAD outputs (the model would otherwise judge a channel deeper than the flat)
+    from designer.cli import main
+
+    spec = tmp_path / "flats.yaml"
+    spec.write_text(FLAT_SPEC + cad_line + "\n")
+    out = tmp_path / "out"
+    code = main(["evaluate", str(spec), "-o", str(out), "--no-plots"] + ([cad_flag] if cad_flag else []))
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1 and f"error: {key}:" in err and "Traceback" not in err
+    assert not out.exists()
+
+
+def test_the_fixed_flats_design_alone_is_judged_feasible(tmp_path):
+    # the control of the test above: without the cad line the design meets every limit (exit 0)
+    from designer.cli import main
+
+    spec = tmp_path / "flats.yaml"
+    spec.write_text(FLAT_SPEC)
+    assert main(["evaluate", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 0

@@ -165,6 +165,7 @@ def resolve(record: dict) -> BeamCad:
                                       corner, system)
             tool = mills.tool_label(end_mill, corner, system)
         else:
+            mills.check_flat_end_mill(given, p_len)
             tool = mills.tool_label(given or recorded or mills.flat_end_mill(p_len, corner, system), corner, system)
     clamp = _clamp(cad, width, height)
     channels = None

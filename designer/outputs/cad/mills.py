@@ -49,6 +49,15 @@ def flat_end_mill(p_len: float, corner: float, system: str = "metric") -> float:
     return fitting[-1] if fitting else diameters[0]
 
 
+def check_flat_end_mill(given: float | None, p_len: float) -> None:
+    """A given end mill (cad.end_mill_diameter, m) for a flat on a round bar or tube: moved across
+    the bar, it cuts a flat as long as itself, so it must be no wider than the flat is long."""
+    if given is not None and given > p_len + LENGTH_EPS:
+        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} is wider than the flat is long "
+                              f"({fmt_mm(p_len)} mm); moved across the bar it would cut a longer flat: it must be "
+                              "at most the flat's length")
+
+
 def pocket_tool(spec, geometry) -> EndMill | None:
     """The end mill that cuts ``geometry``'s pockets or flats under ``spec`` (a Spec), as the
     CAD picks it; None without pockets. design.json records it (``design.feature.tool``)."""
@@ -61,6 +70,7 @@ def pocket_tool(spec, geometry) -> EndMill | None:
                      spec.gauge.width, corner, system)
     else:
         d = spec.cad.end_mill_diameter or flat_end_mill(geometry.pocket_length, corner, system)
+        check_flat_end_mill(spec.cad.end_mill_diameter, geometry.pocket_length)
     listed = catalogue.end_mills().tool(d, corner, system)
     return listed if listed is not None else EndMill(d, corner, "spec", system, "mm")
 
