@@ -16,7 +16,7 @@ from designer.model.limits import (ACTIVE_TOLERANCE, TARGET_LIMITS, Limit, limit
 from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, SECONDARY, TIE_TOLERANCE, error_ratio, error_terms,
                                       objective, rank, ranks_before, secondary, ties)
 from designer.model.ops import NUMERIC, Ops, casadi_ops
-from designer.model.sections import (Geometry, SectionProperties, feature_length, flat_half_angle,
+from designer.model.sections import (Geometry, SectionProperties, feature_length, features_apart, flat_half_angle,
                                      section_properties, segment_area, segment_inertia_across,
                                      segment_inertia_normal, unbuildable)
 

@@ -260,3 +260,22 @@ def unbuildable(g: Geometry) -> tuple[str, str] | None:
     if any(b <= a for a, b in zip(g.stations, g.stations[1:])):
         return "stations", f"{[round(float(s) * 1e3, 6) for s in g.stations]} mm must increase from the clamp outwards"
     return None
+
+
+def features_apart(stations, length, l_f, feature: str) -> tuple[str, str] | None:
+    """The first station whose feature (of length ``l_f`` along the beam: a pocket, a hole, or the
+    gauge on a plain surface) crosses the clamp face or the free end, or overlaps its neighbour's,
+    as ``(key, reason)`` with the design.json key under ``design``; None when each has its own
+    length of beam. The model's sections and the CAD's cuts assume so."""
+    what = {"pocket": "pocket", "hole": "hole", "none": "gauge"}[feature]
+    lo, hi = l_f / 2, length - l_f / 2
+    for i, s in enumerate(stations):
+        if not lo < s < hi:
+            return f"stations[{i}]", (f"{_value(s)} is off the beam: with its {_mm(l_f)} {what} it must lie between "
+                                      f"{_mm(lo)} and {_mm(hi)} from the clamp face (free length {_mm(length)})")
+    for i in range(len(stations) - 1):
+        if not stations[i + 1] - stations[i] > l_f:
+            return f"stations[{i + 1}]", (f"{_value(stations[i + 1])} is too close to station {i} at {_mm(stations[i])}: "
+                                          f"the {_mm(l_f)} {what}s would overlap; stations must increase by more than "
+                                          f"{_mm(l_f)}")
+    return None

@@ -232,7 +232,8 @@ def fixed_design(spec) -> Design:
 
     fd = spec.design
     geometry = geometry_for(spec, fd.section, fd.feature, fd.stations, spec.free_length)
-    problem = model.unbuildable(geometry)
+    problem = model.unbuildable(geometry) or model.features_apart(
+        geometry.stations, geometry.length, geometry.feature_length, geometry.feature)
     if problem is not None:  # not a beam at all: bad input, nothing to judge or write
         key, reason = problem
         raise SpecError(f"design.{key}: {reason}")

@@ -184,6 +184,8 @@ SPEC_VALUES = [
     ("design.stations", ["20 mm"], ()), ("design.stations", ["60 mm", "20 mm"], ("[60.0, 20.0] mm", "increase")),
     ("design.stations", "20 mm", ()), ("design.stations", ["20 mm", "abc"], ()),
     ("design.stations", ["20 mm", "400 mm"], ("off the beam",)), ("design.stations", ["20 mm", "20 mm"], ("[20.0, 20.0] mm", "increase")),
+    # the default pocket is as long as the gauge backing and its margins (8.9 mm for BF120-3AA's 6.9 mm)
+    ("design.stations", ["20 mm", "25 mm"], ("design.stations[1]", "too close", "8.9 mm pockets would overlap")),
     ("design.feature", "pocket", ()), ("design.feature.kind", "slot", ()), ("design.feature.depth", "3 mm", ("half",)),
     ("design.feature.depth", MISSING, ("missing",)), ("design.feature.depth", "1 N", ("wrong units",)),
     ("design.feature", {"kind": "hole", "diameter": "6 mm"}, ("design.feature.diameter", "height")),
@@ -202,7 +204,7 @@ def _spec_cases():
     out = []
     for i, (key, value, words) in enumerate(SPEC_VALUES):
         # optimize reads of a design: block only its length and number of stations (docs/spec.md §3)
-        fixed_only = key.startswith("design.stations") and value == ["20 mm", "400 mm"]
+        fixed_only = key.startswith("design.stations") and value in (["20 mm", "400 mm"], ["20 mm", "25 mm"])
         command = SPEC_COMMANDS[0 if fixed_only else i % len(SPEC_COMMANDS)]
         raw = _set(GOOD_SPEC, key, value)
         named = key.split("[")[0] if "[" in key else key

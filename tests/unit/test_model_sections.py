@@ -220,3 +220,23 @@ def test_the_gauge_backing_must_fit_the_face_it_reads():
     assert float(face(rectangle(4 * MM, 4 * MM)).normalised) < 0
     assert float(face(circular("round", 4 * MM)).normalised) < 0
     assert face(rectangle(10 * MM, 5 * MM, feature="pocket", depth=1 * MM)) is None
+
+
+@pytest.mark.parametrize("stations, length, l_f, key", [
+    ((0.020, 0.060), 0.310, 0.0089, None),
+    ((0.020, 0.0285), 0.310, 0.0089, "stations[1]"),    # 8.5 mm apart: the 8.9 mm pockets overlap
+    ((0.020, 0.0290), 0.310, 0.0089, None),
+    ((0.004, 0.060), 0.310, 0.0089, "stations[0]"),     # half the pocket over the clamp face
+    ((0.020, 0.120), 0.800, 0.150, "stations[0]"),      # 150 mm pockets at 20 and 120 mm
+    ((0.080, 0.200), 0.800, 0.150, "stations[1]"),      # they overlap by 30 mm
+    ((0.020, 0.306), 0.310, 0.0089, "stations[1]"),     # past the free end
+])
+def test_each_feature_needs_its_own_length_of_beam(stations, length, l_f, key):
+    # reference: the intervals (d - l_f/2, d + l_f/2) must lie inside (0, L) and be disjoint,
+    # checked here by sampling the beam on a 0.1 mm grid and counting the features over each point
+    x = np.arange(-0.05, length + 0.05, 1e-4)
+    over = sum((np.abs(x - d) < l_f / 2).astype(int) for d in stations)
+    fits = over.max() <= 1 and not over[(x <= 0) | (x >= length)].any()
+    problem = model.features_apart(stations, length, l_f, "pocket")
+    assert (problem is None) == fits
+    assert (problem and problem[0]) == key

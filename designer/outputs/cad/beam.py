@@ -222,21 +222,11 @@ def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
 
 
 def _check_stations(stations, length: float, l_f: float, fkind: str) -> tuple:
-    what = {"pocket": "pocket", "hole": "hole", "none": "gauge"}[fkind]
-    out = []
-    for i, s in enumerate(stations):
-        lo, hi = l_f / 2, length - l_f / 2
-        if not lo < s < hi:
-            raise DesignFileError(f"design.stations[{i}]: {_mm(s)} is off the beam: with its {fmt_mm(l_f)} mm "
-                                  f"{what} it must lie between {fmt_mm(lo)} mm and {fmt_mm(hi)} mm from the clamp "
-                                  f"face (free length {fmt_mm(length)} mm)")
-        out.append(float(s))
-    for i in range(len(out) - 1):
-        if not out[i + 1] - out[i] > l_f:
-            raise DesignFileError(f"design.stations[{i + 1}]: {_mm(out[i + 1])} is too close to station {i} at "
-                                  f"{fmt_mm(out[i])} mm: the {fmt_mm(l_f)} mm {what}s would overlap; stations must "
-                                  f"increase by more than {fmt_mm(l_f)} mm")
-    return tuple(out)
+    out = tuple(float(s) for s in stations)
+    problem = model.features_apart(out, length, l_f, fkind)
+    if problem is not None:
+        raise DesignFileError(f"design.{problem[0]}: {problem[1]}")
+    return out
 
 
 def bolt_clearance(bolt: float) -> float:
