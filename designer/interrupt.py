@@ -30,9 +30,18 @@ def _raise(signum: int):
     raise Terminated()
 
 
+# Inside our unraisable hook a signal is only noted (``_held``), not raised: raised there, Python
+# would print "Exception ignored in sys.unraisablehook" and its traceback; the hook sends it again.
+_in_hook = False
+_held = False
+
+
 def _handler(signum, frame):
-    global _received
+    global _received, _held
     _received = signum
+    if _in_hook:
+        _held = True
+        return
     _raise(signum)
 
 
@@ -84,10 +93,16 @@ def install():
     hook = sys.unraisablehook
 
     def unraisable(args):
-        if isinstance(args.exc_value, (KeyboardInterrupt, Terminated)) and _received is not None:
-            threading.Timer(REDELIVERY_DELAY, os.kill, (os.getpid(), _received)).start()
-            return  # not printed: Python would say "Exception ignored in ..." and go on
-        hook(args)
+        global _in_hook, _held
+        _in_hook, _held = True, False
+        try:
+            ours = isinstance(args.exc_value, (KeyboardInterrupt, Terminated)) and _received is not None
+            if not ours:  # not printed when ours: Python would say "Exception ignored in ..." and go on
+                hook(args)
+            if ours or _held:
+                threading.Timer(REDELIVERY_DELAY, os.kill, (os.getpid(), _received)).start()
+        finally:
+            _in_hook = False
 
     sys.unraisablehook = unraisable
 

@@ -122,6 +122,41 @@ def test_a_signal_raised_where_python_ignores_exceptions_is_delivered_again(caps
     assert "Exception ignored" not in capsys.readouterr().err
 
 
+def test_a_second_signal_during_the_redelivery_is_not_printed(capsys, monkeypatch):
+    """Ctrl-C pressed twice in quick succession: the second signal arrives while the hook that
+    sends the first one again is starting its timer. Raised there, Python would print "Exception
+    ignored in sys.unraisablehook" with a traceback; it must be noted, the run still stopped."""
+    import gc
+    import threading
+    import weakref
+
+    from designer import interrupt
+
+    class Timer(threading.Timer):
+        def start(self):
+            os.kill(os.getpid(), signal.SIGTERM)   # the second signal, inside the hook
+            time.sleep(0.01)
+            super().start()
+
+    monkeypatch.setattr(interrupt.threading, "Timer", Timer)
+
+    class Thing:
+        pass
+
+    restore = interrupt.install()
+    try:
+        thing = Thing()
+        ref = weakref.ref(thing, lambda _: os.kill(os.getpid(), signal.SIGTERM) or time.sleep(0.01))
+        with pytest.raises(interrupt.Terminated):
+            del thing
+            gc.collect()
+            assert ref() is None
+            time.sleep(2.0)  # the signal delivered again stops this
+    finally:
+        restore()
+    assert "Exception ignored" not in capsys.readouterr().err
+
+
 def _children(pid: int) -> list[int]:
     """The live (not zombie) processes whose parent is ``pid`` (Linux /proc)."""
     out = []
