@@ -44,7 +44,7 @@ TOLERANCED = {**tolerance.PART, "side": "section"}
 #: (benchmarks/bench_optimize.py).
 IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes", "ipopt.constr_viol_tol": 1e-9,
                  "ipopt.mu_strategy": "adaptive", "ipopt.expect_infeasible_problem": "yes",
-                 "error_on_fail": False, "show_eval_warnings": False}
+                 "error_on_fail": False, "show_eval_warnings": False, "calc_lam_p": False}
 # IPOPT's answers that are a verdict on the problem, not a failure of the solver: it converged
 # to a point that minimises the constraint violation. When every start ends so, another method
 # is not tried (on the bench suite such a fallback never found a feasible design).

@@ -127,3 +127,28 @@ def test_a_closed_pipe_is_a_quiet_exit(argv):
     err = proc.stderr.read().decode()
     proc.wait(timeout=60)
     assert proc.returncode == PIPE_CLOSED == 128 + 13 and err == ""
+
+
+def test_a_solve_that_meets_an_invalid_number_leaves_standard_error_quiet(capfd):
+    """A load region 8-15 mm from the clamp (no room for two stations): IPOPT stops at once on
+    an invalid number in the rectangle's model. casadi would then warn "Failed to calculate
+    multipliers" for the parameters' multipliers, which the search never reads: over a thousand
+    such lines in one optimize run."""
+    import casadi as ca
+
+    from designer.search import problem as P
+    from designer.spec import catalogue
+    from designer.spec.reader import parse_spec_text
+
+    spec = parse_spec_text("load: {force: [1 N, 10 N], position: [8 mm, 15 mm]}\n"
+                           "electronics: {excitation: 5 V, gain: 100, noise: 1 mV}\n")
+    fam = P.FamilyProblem(spec, P.Family("rectangle", "pocket"))
+    params = fam.params(catalogue.material("6061-T6"))
+    capfd.readouterr()
+    s = fam.solve_ipopt(params, fam.starts()[0])
+    assert s.message == "Invalid_Number_Detected"
+    assert "Failed to calculate multipliers" not in capfd.readouterr().err
+    loud = ca.nlpsol("loud", "ipopt", fam.nlp, dict(P.IPOPT_OPTIONS, calc_lam_p=True, **{"ipopt.tol": P.IPOPT_TOLERANCE}))
+    fam.ipopt = lambda stage="primary": loud
+    fam.solve_ipopt(params, fam.starts()[0])
+    assert "Failed to calculate multipliers" in capfd.readouterr().err   # the same solve does reach it
