@@ -16,7 +16,7 @@ import types as _types
 from designer.calibration.data import STANDARD_GRAVITY, Bridge, LoadSet, Readings, axis_force, bridges_for
 from designer.calibration.design import PROTOTYPE_MATCH, PROTOTYPE_SECTIONS, DesignConstants, design_constants
 from designer.calibration.fit import (D_TOLERANCE, K_SCALE_TOLERANCE, K_SPREAD_TOLERANCE, MIN_NOISE_DOF,
-                                      MIN_POINTS, MIN_R2, NOISE_CHOICES, NOISE_TEST_P, OUTLIER_ALPHA,
+                                      MIN_POINTS, MIN_RESPONSE, MIN_R2, NOISE_CHOICES, NOISE_TEST_P, OUTLIER_ALPHA,
                                       RECOMMENDED_POINTS, SIGNIFICANT_SIGMAS, Outlier, calibrate,
                                       outlier_rows)
 from designer.calibration.measurement import (Measurement, axis_covariance, combine, measure, measure_readings,

@@ -19,6 +19,7 @@ from designer.calibration.regression import SAME_VALUE, rank_problem, regress
 # CalibrationFileError lives in designer.errors; it stays importable from here, its old home.
 from designer.errors import CalibrationFileError, CsvError, InputError  # noqa: F401
 from designer.names import NOISE_CHOICES
+from designer.spec.units import RANGES
 
 # --------------------------------------------------------------------- named constants
 
@@ -50,7 +51,10 @@ D_TOLERANCE = 2e-3
 #: A significance threshold for "k or d differs": three standard errors.
 SIGNIFICANT_SIGMAS = 3.0
 
-#: Noise sources for standard errors and measurement uncertainty.
+#: A bridge column whose readings span less than this over the calibration loads does not respond
+#: to them (V): the smallest voltage fpdesign handles (spec.units.RANGES), far below the step of
+#: any converter (a 32-bit converter over +-1 mV: 0.5 pV).
+MIN_RESPONSE = RANGES["voltage"][0]
 
 
 def _mm(value: float) -> str:
@@ -102,6 +106,7 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
                            f"{column}{what}: {problem[1]}")
         cols = [i for i, b in enumerate(readings.bridges) if b.axis == axis]
         fits[axis] = (cols, regress(f_axis, loads.position, readings.voltages[:, cols]))
+    _refuse_constant_columns(readings)
 
     dof_total = sum(fit.dof * len(cols) for cols, fit in fits.values())
     rss_total = sum(float(np.sum(fit.rss)) for _, fit in fits.values())
@@ -135,6 +140,23 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     return Calibration(bridges, n, sigma, source, residual_noise, dof_total, design_noise, force_span,
                        position_span, design.name if design is not None else None, tuple(warnings),
                        readings.source)
+
+
+def _refuse_constant_columns(readings: Readings) -> None:
+    """CsvError for a bridge column that does not change with the load: the same value in every
+    row (a disconnected bridge or amplifier, a column of zeros), or values that span less than
+    MIN_RESPONSE. Such a column carries no k, and d = -b2/b1 would be 0/0."""
+    n = len(readings)
+    for j, bridge in enumerate(readings.bridges):
+        column = readings.voltages[:, j]
+        spread = float(np.ptp(column))
+        if spread >= MIN_RESPONSE:
+            continue
+        why = (f"it reads {float(column[0])!r} V in every row" if spread == 0 else
+               f"its readings span only {spread:.3g} V, less than the {MIN_RESPONSE:g} V fpdesign resolves")
+        raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column {bridge.name}: "
+                       f"does not respond to the load: {why}, and a bridge's reading must change with the load; "
+                       "check the bridge's wiring")
 
 
 def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, source: str,

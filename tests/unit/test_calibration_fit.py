@@ -116,6 +116,24 @@ def test_warning_when_a_gauge_sits_away_from_its_station():
     assert any(w.startswith("V2: the fitted station d") for w in c.warnings), c.warnings
 
 
+@pytest.mark.parametrize("value", [0.0, 1e-320, 0.1])
+def test_a_bridge_that_reads_the_same_in_every_row_is_refused(value):
+    """A disconnected bridge (a column of zeros, or of one value) has no k, and d = -b2/b1 would
+    be 0/0: calibration refuses it, naming the rows and the column, instead of writing NaN; so
+    too a column whose readings span less than the smallest voltage fpdesign handles."""
+    _, dc, r = _clean_b()
+    v = r.voltages.copy()
+    v[:, 1] = value
+    with pytest.raises(CsvError, match=rf"row 1 to row {len(r)}, column V2: does not respond to the load: "
+                                       rf"it reads {value!r} V in every row"):
+        cal.calibrate(_with_voltages(r, v), dc)
+    # a real bridge's readings scaled so far down that they span less than fpdesign resolves
+    v = r.voltages.copy()
+    v[:, 1] *= 0.1 * cal.MIN_RESPONSE / np.ptp(v[:, 1])
+    with pytest.raises(CsvError, match="column V2: does not respond to the load: its readings span only"):
+        cal.calibrate(_with_voltages(r, v), dc)
+
+
 # --------------------------------------------------------------------- measurement noise choices
 
 def test_measurement_sigma_scales_with_the_noise_and_includes_the_calibration():

@@ -327,6 +327,11 @@ def _csv_cases():
     def cell(i, column, value):
         return row(i, lambda line: ",".join(value if j == column else c for j, c in enumerate(line.split(","))))
 
+    def column(j, value):   # every data row's cell j (j = 2 is V1)
+        return lambda text: "\n".join([text.splitlines()[1]] + [",".join(value if i == j else c for i, c in
+                                                                       enumerate(l.split(",")))
+                                                              for l in text.splitlines()[2:]])
+
     edits = [
         ("empty", lambda t: "", ("empty",)),
         ("header only", lambda t: t.splitlines()[1] + "\n", ("no data rows",)),
@@ -359,6 +364,8 @@ def _csv_cases():
         ("one position", lambda t: "\n".join(
             [t.splitlines()[1]] + [",".join(["200", "150"] + l.split(",")[2:]) for l in t.splitlines()[2:]]),
          ("position_mm",)),
+        ("disconnected bridge", column(2, "0"), ("column V1", "does not respond to the load", "0.0 V")),
+        ("bridge reading 1e-320 V", column(3, "1e-320"), ("column V2", "does not respond to the load", "1e-320")),
     ]
     out = []
     for name, edit, words in edits:
