@@ -114,6 +114,7 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     design_noise = design.noise if design is not None else None
     sigma, source, warnings = _choose_noise(noise, residual_noise, dof_total, design_noise, n, readings.source,
                                             design_option)
+    _refuse_unresponsive(readings, fits, sigma)
 
     results: dict[int, BridgeCalibration] = {}
     for axis, (cols, fit) in fits.items():
@@ -157,6 +158,35 @@ def _refuse_constant_columns(readings: Readings) -> None:
         raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column {bridge.name}: "
                        f"does not respond to the load: {why}, and a bridge's reading must change with the load; "
                        "check the bridge's wiring")
+
+
+def _refuse_unresponsive(readings: Readings, fits: dict, sigma: float | None) -> None:
+    """CsvError for a bridge whose fitted k cannot be told from zero: within SIGNIFICANT_SIGMAS
+    standard errors of it (a bridge that reads noise, not the load), or so small that
+    d = -b2/k is not a number.
+
+    The standard error is ``s sqrt((X^T X)^-1_11)`` with ``s`` the larger of the calibration's
+    sigma_V and the bridge's own residual RMS (``sqrt(RSS / dof)``), so that a bridge reading
+    pure noise is refused whether or not that noise is the design's. A real bridge's k lies
+    hundreds of standard errors from zero at the design's noise; within three, k is not known
+    to 33 % and no measurement could use it.
+    """
+    n = len(readings)
+    for cols, fit in fits.values():
+        own = np.sqrt(fit.rss / fit.dof) if fit.dof > 0 else np.zeros(len(cols))
+        se_k = np.maximum(own, sigma or 0.0) * math.sqrt(fit.unscaled_covariance[1, 1])
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            d = fit.d
+        for j, col in enumerate(cols):
+            k = float(fit.k[j])
+            if abs(k) > SIGNIFICANT_SIGMAS * se_k[j] and math.isfinite(d[j]):
+                continue
+            why = (f"its fitted k = {k:.3g} V/(N·m) is within {SIGNIFICANT_SIGMAS:g} standard errors "
+                   f"({se_k[j]:.2g} V/(N·m)) of zero" if abs(k) <= SIGNIFICANT_SIGMAS * se_k[j] else
+                   f"its fitted k = {k:.3g} V/(N·m) is too small to place its station (d = -b2/k is not a number)")
+            raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column "
+                           f"{readings.bridges[col].name}: does not respond to the load: {why}, and a bridge's "
+                           "reading must follow the load's moment F·x; check the bridge's wiring and its gauges")
 
 
 def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, source: str,

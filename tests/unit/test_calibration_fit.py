@@ -134,6 +134,39 @@ def test_a_bridge_that_reads_the_same_in_every_row_is_refused(value):
         cal.calibrate(_with_voltages(r, v), dc)
 
 
+def test_a_bridge_that_reads_noise_or_the_force_alone_is_refused():
+    """A bridge whose readings do not follow the moment F·x: its fitted k lies within
+    SIGNIFICANT_SIGMAS standard errors of zero, whether it reads an offset with the design's noise,
+    the same noise ten times over (its own residuals, not the design's, set the standard error),
+    or the force alone (V = c + b F, no station d)."""
+    _, dc, r = _clean_b()
+    rng = np.random.default_rng(5)
+    dead = 0.1 + rng.normal(0.0, dc.noise, len(r))
+    for column in (dead, 0.1 + 10 * (dead - 0.1), 0.1 + 0.01 * r.force):
+        v = r.voltages.copy()
+        v[:, 2] = column
+        for noise in ("auto", "design"):
+            with pytest.raises(CsvError, match=rf"row 1 to row {len(r)}, column V3: does not respond to the load: "
+                                               rf"its fitted k = .* is within {cal.SIGNIFICANT_SIGMAS:g} standard "
+                                               "errors"):
+                cal.calibrate(_with_voltages(r, v), dc, noise)
+
+
+@pytest.mark.parametrize("key", PROTOTYPES)
+def test_real_noisy_bridges_still_calibrate(key):
+    """Simulated readings at the design's own noise, on the fewest loads (the 4 corners, one
+    residual degree of freedom per bridge) and on the 9-point scheme, calibrate for every seed
+    tried; so do the same readings with one bridge ten times noisier than designed."""
+    rec, dc = record(key), constants(key)
+    for scheme in ("4", "9"):
+        for seed in range(10):
+            r = rd.simulated_scheme_readings(rec, scheme, seed=seed)
+            assert len(cal.calibrate(r, dc).bridges) == len(dc.bridges)
+            v = r.voltages.copy()
+            v[:, 0] += np.random.default_rng(seed).normal(0.0, 10 * dc.noise, len(r))
+            assert len(cal.calibrate(_with_voltages(r, v), dc).bridges) == len(dc.bridges)
+
+
 # --------------------------------------------------------------------- measurement noise choices
 
 def test_measurement_sigma_scales_with_the_noise_and_includes_the_calibration():

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import copy
 import json
+import random
 import resource
 import time
 from dataclasses import dataclass, field
@@ -327,10 +328,13 @@ def _csv_cases():
     def cell(i, column, value):
         return row(i, lambda line: ",".join(value if j == column else c for j, c in enumerate(line.split(","))))
 
-    def column(j, value):   # every data row's cell j (j = 2 is V1)
-        return lambda text: "\n".join([text.splitlines()[1]] + [",".join(value if i == j else c for i, c in
-                                                                       enumerate(l.split(",")))
-                                                              for l in text.splitlines()[2:]])
+    def column(j, value):   # every data row's cell j (j = 2 is V1): text, or a function of the row
+        def edit(text):
+            lines = text.splitlines()
+            return "\n".join([lines[1]] + [",".join((value(n) if callable(value) else value) if i == j else c
+                                                     for i, c in enumerate(line.split(",")))
+                                            for n, line in enumerate(lines[2:])])
+        return edit
 
     edits = [
         ("empty", lambda t: "", ("empty",)),
@@ -366,6 +370,8 @@ def _csv_cases():
          ("position_mm",)),
         ("disconnected bridge", column(2, "0"), ("column V1", "does not respond to the load", "0.0 V")),
         ("bridge reading 1e-320 V", column(3, "1e-320"), ("column V2", "does not respond to the load", "1e-320")),
+        ("bridge reading noise", column(2, lambda n: f"{0.1 + random.Random(n).gauss(0, 1e-3):.9f}"),
+         ("column V1", "does not respond to the load", "standard errors")),
     ]
     out = []
     for name, edit, words in edits:
