@@ -10,6 +10,7 @@ import numpy as np
 from designer.calibration.data import Bridge, bridges_for
 from designer.errors import DesignFileError
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
+from designer.spec.units import RANGES
 
 
 @dataclass(frozen=True)
@@ -72,12 +73,28 @@ def _pair(value, key: str) -> tuple[float, float]:
     return lo, hi
 
 
+#: The largest sigma_V, V: noise at the amplifier output no larger than a reading can be (the
+#: spec's largest voltage, spec.units.RANGES, which readings.csv's volts are held to as well).
+#: Beyond it the figure is a typing error; it would overflow the plan and simulate readings that
+#: calibrate refuses.
+LARGEST_NOISE = RANGES["voltage"][1]
+
+
+def _bounded_noise(value: float, where: str) -> float:
+    if value > LARGEST_NOISE:
+        raise DesignFileError(f"{where} V is beyond what a reading can be; sigma_V at the amplifier output "
+                              f"must be positive and at most {LARGEST_NOISE:g} V")
+    return value
+
+
 def _noise_from(record: dict) -> float:
     """sigma_V: predicted.noise_voltage, else ``model.output_noise`` of spec.electronics (MODEL.md
-    section 3, the same precedence); each input it needs is checked first, naming its key."""
+    section 3, the same precedence); each input it needs is checked first, naming its key, and
+    sigma_V must be at most LARGEST_NOISE."""
     predicted = record.get("predicted") or {}
     if predicted.get("noise_voltage") is not None:
-        return json_number(predicted["noise_voltage"], "predicted.noise_voltage", positive=True)
+        value = json_number(predicted["noise_voltage"], "predicted.noise_voltage", positive=True)
+        return _bounded_noise(value, f"predicted.noise_voltage: {predicted['noise_voltage']!r}")
     spec = record["spec"]
     e = _require(spec, "electronics", "spec")
     noise = noise_rti = noise_strain = excitation = gain = factor = bridge_factor = None
@@ -99,7 +116,8 @@ def _noise_from(record: dict) -> float:
     else:
         raise DesignFileError("predicted.noise_voltage: missing, and spec.electronics gives none of "
                               "noise, noise_rti, noise_strain; one is required")
-    return output_noise(excitation, gain, factor, bridge_factor, noise, noise_rti, noise_strain)
+    value = output_noise(excitation, gain, factor, bridge_factor, noise, noise_rti, noise_strain)
+    return _bounded_noise(value, f"spec.electronics: the output noise it gives, {value:g}")
 
 
 def _prototype(section) -> str | None:

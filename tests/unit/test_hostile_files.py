@@ -1,5 +1,7 @@
 """JSON files that no fpdesign command wrote: each gets one line and exit 2 (docs/spec.md, exit codes)."""
 
+from pathlib import Path
+
 import pytest
 
 from designer.cli import main
@@ -42,8 +44,6 @@ design:
 
 @pytest.fixture(scope="module")
 def probe_record(tmp_path_factory):
-    from pathlib import Path
-
     out = tmp_path_factory.mktemp("probe") / "out"
     examples = Path(__file__).resolve().parents[2] / "examples"
     assert main(["optimize", str(examples / "probe.yaml"), "-o", str(out), "--no-cad", "--no-plots", "--quiet"]) == 0
@@ -125,6 +125,36 @@ def test_impossible_design_json_fields_are_bad_input(probe_record, tmp_path, cap
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "x.step").exists()
+
+
+def test_a_design_noise_beyond_any_reading_is_bad_input(tmp_path, capsys):
+    """predicted.noise_voltage of 1e300 V overflowed plan and was written into readings by
+    simulate-readings: every command that uses sigma_V refuses it, naming the key, the value
+    and the bound, and writes nothing; sigma_V at the bound is still read."""
+    import json
+
+    from designer.calibration.design import LARGEST_NOISE
+
+    good = Path(__file__).resolve().parents[1] / "data" / "cal_prototype_b.json"
+    readings = tmp_path / "r.csv"
+    assert main(["simulate-readings", str(good), "-o", str(readings), "--scheme", "9"]) == 0
+    record = json.loads(good.read_text())
+    record["predicted"]["noise_voltage"] = 1e300
+    bad = tmp_path / "design.json"
+    bad.write_text(json.dumps(record))
+    before = sorted(p.name for p in tmp_path.iterdir())
+    for argv in (["plan", str(bad), "-o", str(tmp_path / "plan.csv")],
+                 ["simulate-readings", str(bad), "-o", str(tmp_path / "r2.csv")],
+                 ["calibrate", str(readings), "--design", str(bad), "-o", str(tmp_path / "c.json")]):
+        capsys.readouterr()
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"fpdesign: error: predicted.noise_voltage: {1e300!r} V ") and "Traceback" not in err
+        assert f"at most {LARGEST_NOISE:g} V" in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    record["predicted"]["noise_voltage"] = LARGEST_NOISE
+    bad.write_text(json.dumps(record))
+    assert main(["plan", str(bad)]) == 0
 
 
 def test_calibration_residuals_must_be_numbers(probe_record, tmp_path, capsys):
