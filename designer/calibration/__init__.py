@@ -17,13 +17,13 @@ from designer.calibration.data import STANDARD_GRAVITY, Bridge, LoadSet, Reading
 from designer.calibration.design import PROTOTYPE_MATCH, PROTOTYPE_SECTIONS, DesignConstants, design_constants
 from designer.calibration.fit import (D_TOLERANCE, K_SCALE_TOLERANCE, K_SPREAD_TOLERANCE, MIN_NOISE_DOF,
                                       MIN_POINTS, MIN_RESPONSE, MIN_R2, NOISE_CHOICES, NOISE_TEST_P, OUTLIER_ALPHA,
-                                      RECOMMENDED_POINTS, SIGNIFICANT_SIGMAS, Outlier, calibrate,
-                                      outlier_rows)
+                                      RECOMMENDED_POINTS, Outlier, calibrate, outlier_rows)
 from designer.calibration.measurement import (Measurement, axis_covariance, combine, measure, measure_readings,
                                               predicted_sigma)
 from designer.calibration.schemes import (CALIBRATION_ANGLES_DEG, GRID_ANGLES_DEG, GRID_POINTS, PAPER_TABLE2,
                                           PLAN_GRID, SCHEMES, CalibrationPlan, SchemePrediction, plan, scheme_loads)
-from designer.calibration.record import CALIBRATION_VERSION, SPAN_TOLERANCE, BridgeCalibration, Calibration
+from designer.calibration.record import (CALIBRATION_VERSION, COVARIANCE_ROUNDING, LARGEST_K, LARGEST_STATION,
+                                         SIGNIFICANT_SIGMAS, SPAN_TOLERANCE, BridgeCalibration, Calibration)
 from designer.calibration.regression import (MAX_CONDITION, SAME_VALUE, Regression, design_matrix, rank_problem,
                                              regress)
 from designer.errors import CalibrationFileError

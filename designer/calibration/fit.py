@@ -14,7 +14,8 @@ import numpy as np
 
 from designer.calibration.data import Readings, axis_force
 from designer.calibration.design import DesignConstants
-from designer.calibration.record import SPAN_TOLERANCE, BridgeCalibration, Calibration
+from designer.calibration.record import (LARGEST_STATION, SIGNIFICANT_SIGMAS, SPAN_TOLERANCE, BridgeCalibration,
+                                         Calibration, coincident_stations)
 from designer.calibration.regression import SAME_VALUE, rank_problem, regress
 # CalibrationFileError lives in designer.errors; it stays importable from here, its old home.
 from designer.errors import CalibrationFileError, CsvError, InputError  # noqa: F401
@@ -48,8 +49,6 @@ K_SPREAD_TOLERANCE = 0.05
 K_SCALE_TOLERANCE = 0.25
 #: A fitted station d further than this from the design's (hand placement of a gauge), m.
 D_TOLERANCE = 2e-3
-#: A significance threshold for "k or d differs": three standard errors.
-SIGNIFICANT_SIGMAS = 3.0
 
 #: A bridge column whose readings span less than this over the calibration loads does not respond
 #: to them (V): the smallest voltage fpdesign handles (spec.units.RANGES), far below the step of
@@ -131,6 +130,11 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
                 tuple(float(r) for r in fit.residuals[:, j]),
                 tuple(tuple(float(v) for v in row) for row in fit.unscaled_covariance), dk, dd)
     bridges = tuple(results[i] for i in range(len(readings.bridges)))
+    same = coincident_stations(bridges)
+    if same:
+        raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, columns "
+                       f"{', '.join(bridges[i].name for i in same)}: all fit one station, d = {bridges[same[0]].d:.6g} m, "
+                       "so force and position cannot be told apart; check that they are not one bridge read twice")
 
     magnitude = np.abs(loads.force)
     loaded = magnitude > SAME_VALUE
@@ -179,11 +183,12 @@ def _refuse_unresponsive(readings: Readings, fits: dict, sigma: float | None) ->
             d = fit.d
         for j, col in enumerate(cols):
             k = float(fit.k[j])
-            if abs(k) > SIGNIFICANT_SIGMAS * se_k[j] and math.isfinite(d[j]):
+            if abs(k) > SIGNIFICANT_SIGMAS * se_k[j] and abs(d[j]) <= LARGEST_STATION:
                 continue
             why = (f"its fitted k = {k:.3g} V/(N·m) is within {SIGNIFICANT_SIGMAS:g} standard errors "
                    f"({se_k[j]:.2g} V/(N·m)) of zero" if abs(k) <= SIGNIFICANT_SIGMAS * se_k[j] else
-                   f"its fitted k = {k:.3g} V/(N·m) is too small to place its station (d = -b2/k is not a number)")
+                   f"its fitted k = {k:.3g} V/(N·m) places its station d = -b2/k at {d[j]:.3g} m, beyond the "
+                   f"{LARGEST_STATION:g} m a beam can be")
             raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column "
                            f"{readings.bridges[col].name}: does not respond to the load: {why}, and a bridge's "
                            "reading must follow the load's moment F·x; check the bridge's wiring and its gauges")

@@ -9,11 +9,25 @@ import numpy as np
 
 from designer.calibration.data import Bridge, bridges_for
 from designer.calibration.design import json_number
+from designer.calibration.regression import SAME_VALUE
 from designer.errors import CalibrationFileError
+from designer.spec.units import RANGES
 
 #: Calibration loads must reach each edge of the design's region to within this fraction of
 #: the region's span (section 3.3: the points should span the whole region).
 SPAN_TOLERANCE = 0.05
+#: A significance threshold for "k or d differs" and "k is not zero": three standard errors.
+SIGNIFICANT_SIGMAS = 3.0
+#: The farthest a bridge's station d may lie from the clamp, m: the spec's largest length
+#: (spec.units.RANGES). A fitted d beyond it means the bridge reads the force, not its moment.
+LARGEST_STATION = RANGES["length"][1]
+#: The largest |k|, V/(N m): the largest reading under the smallest load at the shortest lever
+#: arm the spec handles (spec.units.RANGES). A k beyond it is a typing error (and one large
+#: enough overflows the estimator's k^2 d^2 into NaN).
+LARGEST_K = RANGES["voltage"][1] / (RANGES["force"][0] * RANGES["length"][0])
+#: How far below zero an eigenvalue of the calibration covariance, scaled to a unit diagonal (its
+#: correlation matrix, eigenvalues 0 to 3), may fall by rounding of (X^T X)^-1.
+COVARIANCE_ROUNDING = 1e-9
 
 
 @dataclass(frozen=True)
@@ -157,6 +171,7 @@ def _calibration_from_dict(record) -> Calibration:
             raise CalibrationFileError(f"{where}.unscaled_covariance: {cov!r} must be a 3 x 3 matrix") from exc
         if cov_arr.shape != (3, 3) or not np.all(np.isfinite(cov_arr)):
             raise CalibrationFileError(f"{where}.unscaled_covariance: {cov!r} must be a 3 x 3 matrix")
+        _check_covariance(cov_arr, cov, where)
         residuals = raw.get("residuals", [])
         if not isinstance(residuals, list) or not all(
                 isinstance(r, (int, float)) and not isinstance(r, bool) and math.isfinite(r) for r in residuals):
@@ -169,12 +184,20 @@ def _calibration_from_dict(record) -> Calibration:
             tuple(float(r) for r in residuals),
             tuple(tuple(float(v) for v in row) for row in cov_arr),
             _cal_number(raw, "design_k", where, True), _cal_number(raw, "design_d", where, True)))
-        if bridges[-1].k == 0:
-            raise CalibrationFileError(f"{where}.k: 0 must be non-zero")
+        _check_constants(bridges[-1], raw, where)
     expected = bridges_for(max(b.bridge.station for b in bridges), 2 if any(b.bridge.axis for b in bridges) else 1)
     if tuple(b.bridge for b in bridges) != expected:
         raise CalibrationFileError(f"bridges: {[b.name for b in bridges]} must be "
                                    f"{[b.name for b in expected]} (every station, in order)")
+    if expected[-1].station < 2:
+        raise CalibrationFileError(f"bridges: {[b.name for b in bridges]}: a calibration needs at least 2 stations "
+                                   "(V1, V2) to tell force from position")
+    same = coincident_stations(bridges)
+    if same:
+        keys = ", ".join(f"bridges[{i}].d" for i in same)
+        raise CalibrationFileError(f"{keys}: all {bridges[same[0]].d!r} m; the bridges of an axis must sit at two "
+                                   "different distances from the clamp at least, or force and position cannot be "
+                                   "told apart; calibrate again")
     noise = record.get("noise") or {}
     span = record.get("span") or {}
     for key, value in (("noise", noise), ("span", span)):
@@ -202,6 +225,47 @@ def _calibration_from_dict(record) -> Calibration:
         None if record.get("design") is None else str(record["design"]),
         tuple(str(w) for w in record.get("warnings") or []), str(record.get("source", "")),
         _cal_number(record, "volts_per_count", "calibration", True, True))
+
+
+def coincident_stations(bridges) -> tuple[int, ...]:
+    """The indices of an axis's bridges whose stations d all coincide (within SAME_VALUE), which
+    leaves force and position undetermined (eqs. 11-12 divide by their spread); () when none."""
+    for axis in sorted({b.bridge.axis for b in bridges}):
+        index = [i for i, b in enumerate(bridges) if b.bridge.axis == axis]
+        d = [bridges[i].d for i in index]
+        if max(d) - min(d) <= SAME_VALUE:
+            return tuple(index)
+    return ()
+
+
+def _check_constants(b: BridgeCalibration, raw: dict, where: str) -> None:
+    """k and d that a measurement can use: k non-zero, beyond SIGNIFICANT_SIGMAS standard errors
+    of zero when the file gives one, at most LARGEST_K; d within LARGEST_STATION of the clamp."""
+    if b.k == 0:
+        raise CalibrationFileError(f"{where}.k: 0 must be non-zero")
+    if abs(b.k) > LARGEST_K:
+        raise CalibrationFileError(f"{where}.k: {raw['k']!r} is beyond what a bridge can read; its size must be at "
+                                   f"most {LARGEST_K:g} V/(N·m)")
+    if b.se_k is not None and abs(b.k) <= SIGNIFICANT_SIGMAS * b.se_k:
+        raise CalibrationFileError(f"{where}.k: {raw['k']!r} is within {SIGNIFICANT_SIGMAS:g} standard errors "
+                                   f"(se_k = {raw['se_k']!r}) of zero: the bridge did not respond to the load; "
+                                   "check its wiring and calibrate again")
+    if abs(b.d) > LARGEST_STATION:
+        raise CalibrationFileError(f"{where}.d: {raw['d']!r} must lie within {LARGEST_STATION:g} m of the clamp")
+
+
+def _check_covariance(cov: np.ndarray, raw, where: str) -> None:
+    """(X^T X)^-1 is symmetric positive definite: positive variances on the diagonal and, scaled
+    to a unit diagonal, no eigenvalue below -COVARIANCE_ROUNDING (its symmetric part)."""
+    sym = (cov + cov.T) / 2
+    variances = np.diag(sym)
+    if np.any(variances <= 0):
+        raise CalibrationFileError(f"{where}.unscaled_covariance: {_short(raw)} has a diagonal entry (a variance) "
+                                   "that is not positive; it must be (X^T X)^-1 of the calibration loads, positive "
+                                   "definite")
+    if np.linalg.eigvalsh(sym / np.sqrt(np.outer(variances, variances)))[0] < -COVARIANCE_ROUNDING:
+        raise CalibrationFileError(f"{where}.unscaled_covariance: {_short(raw)} is not positive semi-definite (it "
+                                   "would give negative variances); it must be (X^T X)^-1 of the calibration loads")
 
 
 def _short(value) -> str:

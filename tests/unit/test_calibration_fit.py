@@ -152,6 +152,15 @@ def test_a_bridge_that_reads_noise_or_the_force_alone_is_refused():
                 cal.calibrate(_with_voltages(r, v), dc, noise)
 
 
+def test_bridges_that_fit_one_station_are_refused():
+    """One bridge read three times (every column the same) fits one d for all: force and position
+    could not be told apart, so calibration refuses it rather than write what measure refuses."""
+    _, dc, r = _clean_b()
+    v = np.repeat(r.voltages[:, :1], 3, axis=1)
+    with pytest.raises(CsvError, match=r"columns V1, V2, V3: all fit one station"):
+        cal.calibrate(_with_voltages(r, v), dc)
+
+
 @pytest.mark.parametrize("key", PROTOTYPES)
 def test_real_noisy_bridges_still_calibrate(key):
     """Simulated readings at the design's own noise, on the fewest loads (the 4 corners, one

@@ -157,6 +157,44 @@ def test_a_design_noise_beyond_any_reading_is_bad_input(tmp_path, capsys):
     assert main(["plan", str(bad)]) == 0
 
 
+def _every_d_as_the_first(record):
+    for b in record["bridges"]:
+        b["d"] = record["bridges"][0]["d"]
+
+
+@pytest.mark.parametrize("edit, key, words", [
+    (_every_d_as_the_first, "bridges[0].d, bridges[1].d, bridges[2].d", "two different distances"),
+    (lambda r: r["bridges"][0].update(unscaled_covariance=[[-1, 0, 0], [0, -1, 0], [0, 0, -1]]),
+     "bridges[0].unscaled_covariance", "(a variance) that is not positive"),
+    (lambda r: r["bridges"][1].update(unscaled_covariance=[[1, 2, 0], [2, 1, 0], [0, 0, 1]]),
+     "bridges[1].unscaled_covariance", "not positive semi-definite"),
+    (lambda r: r["bridges"][1].update(d=1e300), "bridges[1].d", repr(1e300)),
+    (lambda r: r["bridges"][1].update(k=1e200), "bridges[1].k", repr(1e200)),
+    (lambda r: r["bridges"][2].update(k=r["bridges"][2]["se_k"]), "bridges[2].k", "within 3 standard errors"),
+])
+def test_a_calibration_that_cannot_measure_is_bad_input(tmp_path, capsys, edit, key, words):
+    """Hand-edited calibration.json that measure took with exit 0 and answered with NaN: bridges
+    of one axis at one station d, a covariance with negative variances, a station or k beyond any
+    beam, a k not told from zero. Each is refused on reading, naming the key; nothing is written."""
+    import json
+
+    from designer import calibration as cal
+    from designer.calibration import readings as rd
+    from shared_inputs import clean_prototype_b
+
+    _, dc, r = clean_prototype_b()
+    record = cal.calibrate(r, dc).to_dict()
+    edit(record)
+    path, results = tmp_path / "calibration.json", tmp_path / "results.csv"
+    path.write_text(json.dumps(record))
+    src = rd.write_readings(tmp_path / "readings.csv", r)
+    assert main(["measure", str(path), str(src), "-o", str(results)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"fpdesign: error: {path}: {key}: ") and words in err, err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not results.exists()
+
+
 def test_calibration_residuals_must_be_numbers(probe_record, tmp_path, capsys):
     import json
 
