@@ -43,8 +43,8 @@ def run_plot(args) -> int:
     try:
         paths = write_design_plots(design, out_dir, formats=FORMAT_CHOICES[args.format], tradeoff=tradeoff)
     except OSError as exc:
-        raise InputError(f"{out_dir}: cannot write the plots there ({exc.strerror or exc}); "
-                         "choose another folder with -o") from exc
+        raise InputError(f"cannot write {exc.filename or out_dir}: {exc.strerror or exc}; "
+                         "choose another folder for the plots with -o") from exc
     for path in paths:
         print(path)
     return 0
@@ -112,8 +112,8 @@ def run_bench(args) -> int:
     try:
         paths = bench.write_bench(result, Path(args.output))
     except OSError as exc:
-        raise InputError(f"{args.output}: cannot write the bench's files there ({exc.strerror or exc}); "
-                         "choose another folder with -o") from exc
+        raise InputError(f"cannot write {exc.filename or args.output}: {exc.strerror or exc}; "
+                         "choose another folder for the bench's files with -o") from exc
     from rich.console import Console
 
     console = Console()

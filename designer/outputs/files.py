@@ -10,7 +10,6 @@ import shutil
 import tempfile
 from pathlib import Path
 
-
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file in the same folder. A path that exists
     and is not a regular file (``/dev/null``, a FIFO, a terminal) is written directly: replacing it
@@ -25,16 +24,17 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
         return path
     _not_a_folder(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.chmod(tmp, file_mode())  # mkstemp makes 0600; outputs follow the umask
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
+    with naming(path):
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), dir=path.parent)
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(data)
+            os.chmod(tmp, file_mode())  # mkstemp makes 0600; outputs follow the umask
+            os.replace(tmp, path)
+        except BaseException:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+            raise
     return path
 
 
@@ -54,8 +54,9 @@ def move_into_place(tmp: Path, target: Path) -> None:
     """``os.replace(tmp, target)``, except that a device or FIFO at ``target`` receives the
     content instead of being replaced by a regular file."""
     if is_special(target):
-        with open(tmp, "rb") as src, open(target, "wb") as dst:
-            shutil.copyfileobj(src, dst)
+        with naming(target):
+            with open(tmp, "rb") as src, open(target, "wb") as dst:
+                shutil.copyfileobj(src, dst)
         os.unlink(tmp)
     else:
         os.replace(tmp, target)
@@ -68,20 +69,38 @@ def file_mode() -> int:
     return 0o666 & ~mask
 
 
+def temp_prefix(path: Path) -> str:
+    """The start of the name of ``path``'s temporary sibling: hidden, and recognisably its own."""
+    return f".{path.name}."
+
+
+@contextlib.contextmanager
+def naming(path: Path):
+    """OSErrors raised in the block name ``path``, the file the user asked for, instead of the
+    temporary file beside it."""
+    try:
+        yield
+    except OSError as exc:
+        exc.filename, exc.filename2 = str(path), None
+        raise
+
+
 @contextlib.contextmanager
 def temporary_sibling(path: Path):
     """A temporary file name next to ``path`` with ``file_mode()``, for writers that need a path
-    (move it into place with ``os.replace``); removed again unless it was moved."""
+    (move it into place with ``os.replace``); removed again unless it was moved. An OSError in the
+    block names ``path``."""
     _not_a_folder(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    os.chmod(tmp, file_mode())
-    try:
-        yield Path(tmp)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+    with naming(path):
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=".tmp", dir=path.parent)
+        os.close(fd)
+        os.chmod(tmp, file_mode())
+        try:
+            yield Path(tmp)
+        finally:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
@@ -92,35 +111,141 @@ def atomic_write_json(path: str | os.PathLike, obj) -> Path:
     return atomic_write_text(path, json.dumps(obj, indent=2, allow_nan=False) + "\n")
 
 
+def make_folders(folder: Path) -> list[Path]:
+    """``folder.mkdir(parents=True, exist_ok=True)``; returns the folders it created, outermost
+    first, for ``remove_folders`` should the run fail."""
+    folder = Path(folder)
+    missing = []
+    while not os.path.lexists(folder) and folder.parent != folder:
+        missing.append(folder)
+        folder = folder.parent
+    if not folder.is_dir():
+        raise NotADirectoryError(errno.ENOTDIR, "it is a file, not a folder", str(folder))
+    made = []
+    try:
+        for path in reversed(missing):
+            path.mkdir()
+            made.append(path)
+    except BaseException:
+        remove_folders(made)
+        raise
+    return made
+
+
+def remove_folders(made) -> None:
+    """Remove the folders ``make_folders`` created, innermost first, where they are still empty."""
+    for path in reversed(list(made)):
+        with contextlib.suppress(OSError):
+            path.rmdir()
+
+
+def check_targets(targets) -> None:
+    """Before anything is moved: OSError naming the target when a folder is where a file is to
+    go, or a file where one of its folders is to be."""
+    for target in targets:
+        target = Path(target)
+        if target.is_dir() and not target.is_symlink():
+            raise IsADirectoryError(errno.EISDIR, "a folder is in the way", str(target))
+        folder = target.parent
+        while not folder.exists() and not folder.is_symlink() and folder.parent != folder:
+            folder = folder.parent
+        if not folder.is_dir():
+            raise NotADirectoryError(errno.ENOTDIR, f"{folder} is a file, not a folder", str(target))
+
+
+def commit(moves, aside: Path | None = None) -> None:
+    """Move each staged file of ``moves`` (``(staged, target)`` pairs, on the targets' file
+    system) into place: all of them or none. Every target is checked first (``check_targets``);
+    a target that exists is linked aside (into the folder ``aside``, else beside its staged
+    file) before it is replaced, and should a move fail (or a signal stop it) the files moved
+    so far are taken out again, the old ones put back and the folders made for them removed,
+    and the error names the target."""
+    moves = [(Path(staged), Path(target)) for staged, target in moves]
+    check_targets(target for _, target in moves)
+    done, made = [], []
+    try:
+        for i, (staged, target) in enumerate(moves):
+            with naming(target):
+                made += make_folders(target.parent)
+                old = None
+                if os.path.lexists(target):
+                    old = aside / str(i) if aside is not None else staged.with_name(staged.name + ".old")
+                    _set_aside(target, old)
+                done.append((target, old))
+                os.replace(staged, target)
+    except BaseException:
+        for target, old in reversed(done):
+            with contextlib.suppress(OSError):
+                if old is None:
+                    os.unlink(target)
+                else:
+                    os.replace(old, target)
+        remove_folders(made)
+        raise
+    for _, old in done:
+        if old is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(old)
+
+
+def _set_aside(target: Path, old: Path) -> None:
+    """Keep ``target`` as ``old`` too: a hard link, so that ``target`` stays in place until it is
+    replaced; moved there where the file system has no hard links."""
+    try:
+        os.link(target, old, follow_symlinks=False)
+    except OSError:
+        os.replace(target, old)
+
+
 @contextlib.contextmanager
 def staged_directory(target: str | os.PathLike, stale=()):
-    """Yield a scratch folder; on success its files are moved into ``target``, and the files of
-    ``stale`` (names relative to ``target``: a previous run's outputs) that this run did not write
-    again are removed, so that the folder holds one run's outputs.
+    """Yield a scratch folder; on success its files are moved into ``target`` (``commit``: all
+    or none), and the files of ``stale`` (names relative to ``target``: a previous run's
+    outputs) that this run did not write again are removed, so that the folder holds one run's
+    outputs.
 
-    If the block raises, the scratch folder is removed and ``target`` is left as it was.
+    If the block raises, the scratch folder is removed and ``target`` is left as it was; an
+    OSError names the file in ``target`` rather than in the scratch folder.
     """
     target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    scratch = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    made = make_folders(target.parent)
+    done = False
     try:
-        yield scratch
-        target.mkdir(parents=True, exist_ok=True)
-        written = set()
-        for item in sorted(scratch.rglob("*")):
-            if item.is_file():
-                name = item.relative_to(scratch)
-                dest = target / name
-                dest.parent.mkdir(parents=True, exist_ok=True)
-                os.replace(item, dest)
-                written.add(name.as_posix())
-        for name in set(stale) - written:
-            old = target / name
-            if old.resolve().parent == target.resolve() and old.is_file():  # names in the folder itself
-                with contextlib.suppress(OSError):
-                    old.unlink()
+        with naming(target):
+            scratch = Path(tempfile.mkdtemp(prefix=temp_prefix(target), dir=target.parent))
+        try:
+            try:
+                yield scratch
+            except OSError as exc:
+                _name_in(exc, scratch, target)
+                raise
+            names = sorted(item.relative_to(scratch) for item in scratch.rglob("*") if item.is_file())
+            made += make_folders(target)
+            commit([(scratch / name, target / name) for name in names],
+                   aside=Path(tempfile.mkdtemp(prefix=".old.", dir=scratch)))
+            done = True
+        finally:
+            shutil.rmtree(scratch, ignore_errors=True)
     finally:
-        shutil.rmtree(scratch, ignore_errors=True)
+        if not done:
+            remove_folders(made)
+    written = {name.as_posix() for name in names}
+    for name in set(stale) - written:
+        old = target / name
+        if old.resolve().parent == target.resolve() and old.is_file():  # names in the folder itself
+            with contextlib.suppress(OSError):
+                old.unlink()
+
+
+def _name_in(exc: OSError, scratch: Path, target: Path) -> None:
+    """Make ``exc`` name the file in ``target`` where it names one in the scratch folder."""
+    for attr in ("filename", "filename2"):
+        value = getattr(exc, attr)
+        if isinstance(value, (str, os.PathLike)):
+            try:
+                setattr(exc, attr, str(target / Path(value).relative_to(scratch)))
+            except ValueError:
+                pass
 
 
 def previous_outputs(folder: Path) -> set:

@@ -58,6 +58,17 @@ def test_plot_command_bad_tradeoff_file_exits_2(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+def test_plot_command_with_a_folder_in_the_way_names_it_and_writes_no_plot(tmp_path, capsys):
+    out = tmp_path / "out"
+    (out / "voltage-isolines.png").mkdir(parents=True)    # the second plot of four
+    assert main(["plot", str(DATA / "plot_prototype_b.json"), "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == (f"fpdesign: error: cannot write {out / 'voltage-isolines.png'}: "
+                                               "a folder is in the way; choose another folder for the plots with -o")
+    assert [p.name for p in out.iterdir()] == ["voltage-isolines.png"]
+    assert not any((out / "voltage-isolines.png").iterdir())
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
 def test_plot_command_missing_prediction_names_the_key(tmp_path, capsys):
     record = json.loads((DATA / "plot_prototype_b.json").read_text())
     del record["predicted"]["sensitivity"]

@@ -20,7 +20,7 @@ from designer.outputs.cad.step import step_file, stl_file
 from designer.outputs.drawing.figures import figure_bytes
 from designer.outputs.drawing.picture import plot_model
 from designer.outputs.drawing.sheet import plot_drawing
-from designer.outputs.files import file_mode, move_into_place
+from designer.outputs.files import file_mode, move_into_place, naming, temp_prefix
 from designer.outputs.part import BeamCad
 
 
@@ -66,23 +66,25 @@ def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]
     try:
         for kind, target in wanted.items():
             target.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-            os.close(fd)
-            tmp = Path(tmp)
-            staged.append((tmp, target))
-            if kind == "step":
-                step_file(solid, tmp, beam.name)
-            elif kind == "stl":
-                stl_file(solid, tmp)
-            elif kind == "png":
-                tmp.write_bytes(figure_bytes(plot_model(model_meshes(beam, solid), beam), "png"))
-            else:
-                sheet = sheet or plot_drawing(beam)
-                tmp.write_bytes(figure_bytes(sheet, "svg" if kind == "svg" else "png"))
+            with naming(target):
+                fd, tmp = tempfile.mkstemp(prefix=temp_prefix(target), suffix=".tmp", dir=target.parent)
+                os.close(fd)
+                tmp = Path(tmp)
+                staged.append((tmp, target))
+                if kind == "step":
+                    step_file(solid, tmp, beam.name)
+                elif kind == "stl":
+                    stl_file(solid, tmp)
+                elif kind == "png":
+                    tmp.write_bytes(figure_bytes(plot_model(model_meshes(beam, solid), beam), "png"))
+                else:
+                    sheet = sheet or plot_drawing(beam)
+                    tmp.write_bytes(figure_bytes(sheet, "svg" if kind == "svg" else "png"))
         mode = file_mode()
         for tmp, target in staged:
-            os.chmod(tmp, mode)
-            move_into_place(tmp, target)
+            with naming(target):
+                os.chmod(tmp, mode)
+                move_into_place(tmp, target)
     finally:
         for tmp, _ in staged:
             with contextlib.suppress(FileNotFoundError):

@@ -1,0 +1,83 @@
+"""Output folders and files are all or nothing (docs/spec.md, exit codes): a run that cannot put
+every file in place leaves the folder exactly as it was, and its one line names the user's path,
+never a scratch folder or temporary file."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from designer.cli import main
+from designer.outputs import files
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def snapshot(folder: Path) -> dict:
+    """Every entry under ``folder``: a file's bytes, a folder as None."""
+    return {p.relative_to(folder).as_posix(): (p.read_bytes() if p.is_file() else None)
+            for p in sorted(folder.rglob("*"))}
+
+
+def test_a_folder_in_the_way_of_an_output_is_named_and_nothing_is_moved(tmp_path, capsys):
+    out = tmp_path / "out"
+    (out / "report.md").mkdir(parents=True)      # design.json would go in first, then report.md fails
+    (out / "my-notes.txt").write_text("kept")
+    before = snapshot(out)
+    assert main(["evaluate", str(EXAMPLES / "prototype-a.yaml"), "-o", str(out), "--no-cad", "--no-plots"]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == f"fpdesign: error: cannot write {out / 'report.md'}: a folder is in the way"
+    assert snapshot(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]    # no hidden scratch folder
+
+
+def _fail_on(monkeypatch, name: str, error: BaseException):
+    """``os.replace`` in designer.outputs.files raising ``error`` when it moves a file to ``name``."""
+    real = os.replace
+
+    def replace(src, dst, *args, **kwargs):
+        if Path(dst).name == name == Path(src).name:   # the staged file, not the old one put back
+            raise error
+        return real(src, dst, *args, **kwargs)
+
+    monkeypatch.setattr(files.os, "replace", replace)
+
+
+@pytest.mark.parametrize("error", [PermissionError(13, "Permission denied"), KeyboardInterrupt()])
+def test_a_move_that_fails_midway_puts_the_old_files_back_and_takes_the_new_ones_out(tmp_path, monkeypatch,
+                                                                                     error):
+    out = tmp_path / "out"
+    out.mkdir()
+    for name in ("a.txt", "c.txt"):
+        (out / name).write_text(f"old {name}")
+    before = snapshot(out)
+    _fail_on(monkeypatch, "c.txt", error)    # after a.txt (replaced) and b.txt (new) are in place
+    with pytest.raises(type(error)) as raised:
+        with files.staged_directory(out) as scratch:
+            for name in ("a.txt", "b.txt", "c.txt"):
+                (scratch / name).write_text(f"new {name}")
+    assert snapshot(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    if isinstance(error, OSError):
+        assert raised.value.filename == str(out / "c.txt")
+
+
+def test_a_failed_run_removes_the_folders_it_made(tmp_path, monkeypatch):
+    out = tmp_path / "new" / "out"
+    _fail_on(monkeypatch, "b.txt", PermissionError(13, "Permission denied"))
+    with pytest.raises(PermissionError):
+        with files.staged_directory(out) as scratch:
+            for name in ("a.txt", "b.txt"):
+                (scratch / name).write_text(name)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_error_while_writing_names_the_file_in_the_output_folder(tmp_path):
+    out = tmp_path / "out"
+    with pytest.raises(OSError) as raised:
+        with files.staged_directory(out) as scratch:
+            raise OSError(28, "No space left on device", str(scratch / "design.json"))
+    assert raised.value.filename == str(out / "design.json")
+    assert list(tmp_path.iterdir()) == []
