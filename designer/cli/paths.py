@@ -2,33 +2,25 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from designer.errors import InputError
-
-
-def _same(a: str | os.PathLike, b: str | os.PathLike) -> bool:
-    pa, pb = Path(a), Path(b)
-    try:
-        if pa.exists() and pb.exists():
-            return os.path.samefile(pa, pb)
-    except OSError:
-        return False
-    return pa.resolve() == pb.resolve()
+from designer.outputs.files import same_file
 
 
 def guard_inputs(outputs: dict, inputs: dict) -> None:
-    """InputError when an output file (``{flag: path}``) is one of the inputs (``{name: path}``)
-    or a folder: checked before any work is done."""
-    for flag, out in outputs.items():
-        if not out:
-            continue
+    """InputError when an output file (``{flag: path}``) is one of the inputs (``{name: path}``),
+    a folder, or the file of another output: checked before any work is done."""
+    given = [(flag, out) for flag, out in outputs.items() if out]
+    for i, (flag, out) in enumerate(given):
         if Path(out).is_dir():
             raise InputError(f"{flag}: {out} is a folder; give a file name")
         for name, path in inputs.items():
-            if path and _same(out, path):
+            if path and same_file(out, path):
                 raise InputError(f"{flag}: {out} is the {name} this command reads; write to another file")
+        for other, path in given[:i]:
+            if same_file(out, path):
+                raise InputError(f"{other} {path} and {flag} {out} name the same file; give each output its own file")
 
 
 def output_folder(path, flag: str = "-o", what: str = "the outputs"):

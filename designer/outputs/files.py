@@ -111,6 +111,18 @@ def atomic_write_json(path: str | os.PathLike, obj) -> Path:
     return atomic_write_text(path, json.dumps(obj, indent=2, allow_nan=False) + "\n")
 
 
+def same_file(a: str | os.PathLike, b: str | os.PathLike) -> bool:
+    """True when ``a`` and ``b`` name one file: the same path spelt differently, through a
+    symbolic link, or (both existing) a hard link."""
+    pa, pb = Path(a), Path(b)
+    try:
+        if pa.exists() and pb.exists():
+            return os.path.samefile(pa, pb)
+    except OSError:
+        return False
+    return pa.resolve() == pb.resolve()
+
+
 def make_folders(folder: Path) -> list[Path]:
     """``folder.mkdir(parents=True, exist_ok=True)``; returns the folders it created, outermost
     first, for ``remove_folders`` should the run fail."""

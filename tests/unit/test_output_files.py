@@ -81,3 +81,23 @@ def test_an_error_while_writing_names_the_file_in_the_output_folder(tmp_path):
             raise OSError(28, "No space left on device", str(scratch / "design.json"))
     assert raised.value.filename == str(out / "design.json")
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("second", ["same", "dotted", "symlink", "hardlink"])
+def test_two_outputs_that_name_one_file_are_refused_before_anything_is_written(tmp_path, capsys, second):
+    design = Path(__file__).resolve().parents[1] / "data" / "cad_rect_pockets.json"
+    folder = tmp_path / "p"
+    folder.mkdir()
+    first = folder / "beam.out"
+    other = {"same": first, "dotted": folder / "." / "beam.out", "symlink": folder / "link.out",
+             "hardlink": folder / "hard.out"}[second]
+    if second == "symlink":
+        other.symlink_to(first.name)
+    if second == "hardlink":
+        first.write_text("mine")
+        os.link(first, other)
+    before = snapshot(folder)
+    assert main(["export", str(design), "--step", str(first), "--stl", str(other)]) == 2
+    assert capsys.readouterr().err.strip() == (f"fpdesign: error: --step {first} and --stl {other} name the same "
+                                               "file; give each output its own file")
+    assert snapshot(folder) == before
