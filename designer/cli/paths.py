@@ -10,11 +10,16 @@ from designer.outputs.files import same_file
 
 def guard_inputs(outputs: dict, inputs: dict) -> None:
     """InputError when an output file (``{flag: path}``) is one of the inputs (``{name: path}``),
-    a folder, or the file of another output: checked before any work is done."""
+    a folder, below a file, or the file of another output: checked before any work is done."""
     given = [(flag, out) for flag, out in outputs.items() if out]
     for i, (flag, out) in enumerate(given):
         if Path(out).is_dir():
             raise InputError(f"{flag}: {out} is a folder; give a file name")
+        folder = Path(out).parent
+        while not folder.exists() and folder.parent != folder:
+            folder = folder.parent
+        if not folder.is_dir():
+            raise InputError(f"{flag}: {out} cannot be written: {folder} is a file, not a folder")
         for name, path in inputs.items():
             if path and same_file(out, path):
                 raise InputError(f"{flag}: {out} is the {name} this command reads; write to another file")

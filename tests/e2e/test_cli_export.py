@@ -272,6 +272,18 @@ def test_bad_design_exits_2_names_the_key_and_writes_nothing(tmp_path, capsys, c
     assert not out.exists() or not any(out.iterdir())
 
 
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full, a device that is always full")
+def test_a_device_that_cannot_be_written_leaves_no_file_written_and_no_folder_made(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "beam.step").write_text("the previous model")
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert main(["export", str(DATA / "cad_rect_pockets.json"), "--step", str(out / "beam.step"),
+                 "--svg", str(out / "new" / "drawing.svg"), "--stl", "/dev/full"]) == 2
+    assert capsys.readouterr().err.strip() == "fpdesign: error: cannot write /dev/full: No space left on device"
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+
+
 def test_not_json_and_no_outputs_exit_2(tmp_path, capsys):
     path = tmp_path / "design.json"
     path.write_text("{not json")

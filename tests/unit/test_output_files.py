@@ -101,3 +101,14 @@ def test_two_outputs_that_name_one_file_are_refused_before_anything_is_written(t
     assert capsys.readouterr().err.strip() == (f"fpdesign: error: --step {first} and --stl {other} name the same "
                                                "file; give each output its own file")
     assert snapshot(folder) == before
+
+
+def test_an_export_below_a_file_is_refused_before_any_folder_is_made(tmp_path, capsys):
+    design = Path(__file__).resolve().parents[1] / "data" / "cad_rect_pockets.json"
+    (tmp_path / "afile").write_text("x")
+    before = snapshot(tmp_path)
+    target = tmp_path / "afile" / "z.png"
+    assert main(["export", str(design), "--step", str(tmp_path / "n1" / "ok.step"), "--png", str(target)]) == 2
+    assert capsys.readouterr().err.strip() == (f"fpdesign: error: --png: {target} cannot be written: "
+                                               f"{tmp_path / 'afile'} is a file, not a folder")
+    assert snapshot(tmp_path) == before

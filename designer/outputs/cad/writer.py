@@ -3,7 +3,8 @@
 ``export(record, step=..., stl=..., svg=..., png=..., drawing_png=...)`` writes the files the
 ``export`` command asks for; ``write_cad_outputs(record, out_dir)`` the ones ``optimize`` and
 ``evaluate`` write. Every file is made in a temporary file beside its target, and all are
-moved into place only when every one succeeded.
+moved into place only when every one succeeded; a device or FIFO among the targets (which
+cannot be put back) is written first, so that a failure there leaves no file written.
 """
 
 from __future__ import annotations
@@ -20,7 +21,8 @@ from designer.outputs.cad.step import step_file, stl_file
 from designer.outputs.drawing.figures import figure_bytes
 from designer.outputs.drawing.picture import plot_model
 from designer.outputs.drawing.sheet import plot_drawing
-from designer.outputs.files import file_mode, move_into_place, naming, temp_prefix
+from designer.outputs.files import (commit, file_mode, is_special, make_folders, move_into_place, naming,
+                                     remove_folders, temp_prefix)
 from designer.outputs.part import BeamCad
 
 
@@ -59,15 +61,21 @@ def write_cad_outputs(design: dict, out_dir: str | os.PathLike) -> dict[str, Pat
 
 
 def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]:
-    """Make every file in a temporary file beside its target; move them all into place only
-    when all succeeded. The drawing is drawn once for both of its formats."""
+    """Make every file in a temporary file, beside its target (in the temporary folder for a
+    device or FIFO); then write the devices and FIFOs, and then move the regular files into
+    place (``commit``). Should anything fail, no regular file is written and the folders made
+    for them are removed. The drawing is drawn once for both of its formats."""
     staged: list[tuple[Path, Path]] = []
+    made: list[Path] = []
     sheet = None
     try:
         for kind, target in wanted.items():
-            target.parent.mkdir(parents=True, exist_ok=True)
+            special = is_special(target)
+            if not special:
+                made += make_folders(target.parent)
             with naming(target):
-                fd, tmp = tempfile.mkstemp(prefix=temp_prefix(target), suffix=".tmp", dir=target.parent)
+                fd, tmp = tempfile.mkstemp(prefix=temp_prefix(target), suffix=".tmp",
+                                           dir=None if special else target.parent)
                 os.close(fd)
                 tmp = Path(tmp)
                 staged.append((tmp, target))
@@ -80,14 +88,21 @@ def _write_all(beam: BeamCad, solid, wanted: dict[str, Path]) -> dict[str, Path]
                 else:
                     sheet = sheet or plot_drawing(beam)
                     tmp.write_bytes(figure_bytes(sheet, "svg" if kind == "svg" else "png"))
-        mode = file_mode()
+                os.chmod(tmp, file_mode())
         for tmp, target in staged:
-            with naming(target):
-                os.chmod(tmp, mode)
+            if is_special(target):
                 move_into_place(tmp, target)
+        commit([(tmp, target) for tmp, target in staged if not is_special(target)])
+    except BaseException:
+        _remove(staged)
+        remove_folders(made)
+        raise
     finally:
-        for tmp, _ in staged:
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(tmp)
+        _remove(staged)
     return dict(wanted)
 
+
+def _remove(staged) -> None:
+    for tmp, _ in staged:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
