@@ -158,9 +158,10 @@ class _Shared:
 
 
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
-                  writers=(), fronts=None, progress=None, child=None) -> None:
+                  writers=(), fronts=None, progress=None, child=None, inputs=()) -> None:
     """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
-    ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing.
+    ``writers`` (callables taking the scratch folder, returning ``{name: path}``): all or nothing,
+    and never over one of ``inputs`` (``(what, path)`` pairs, ``read_files``).
 
     The CAD model is built in a child process (``child``, one ``cad_child`` started earlier, or
     a new one) while this one computes ``fronts`` (a callable giving the trade-off fronts, or
@@ -179,7 +180,7 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
     extra = dict(extra_plots or {})
     plot_module = _optional("designer.outputs.plots") if plots else None
-    with staged_directory(out_dir, stale=previous_outputs(out_dir)) as scratch:
+    with staged_directory(out_dir, stale=previous_outputs(out_dir), inputs=inputs) as scratch:
         files = record.setdefault("files", {})
         cad_job = shared = None
         plotted = []
@@ -244,7 +245,7 @@ def run_evaluate(args) -> int:
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
     result = evaluate_fixed(spec)
     write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
-                  extra_plots={"formats": _plot_formats(args)})
+                  extra_plots={"formats": _plot_formats(args)}, inputs=read_files(args, spec))
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.success else 1
@@ -286,10 +287,20 @@ def _optimize(args, child) -> int:
         fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
         write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
                       extra_plots={"formats": _plot_formats(args)}, writers=writers, fronts=fronts,
-                      progress=progress, child=child)
+                      progress=progress, child=child, inputs=read_files(args, spec))
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.status == "optimal" else 1
+
+
+def read_files(args, spec) -> list:
+    """The files optimize and evaluate read, as ``(what, path)`` pairs: the spec, the catalogue
+    files it names (relative to its folder) and those of ``--catalogue``."""
+    from designer.spec.catalogue import user_file
+
+    own = spec.catalogue[:len(spec.catalogue) - len(args.catalogue)]   # the spec's, then --catalogue's
+    return ([("spec", Path(args.spec))] + [("catalogue", user_file(f, Path(args.spec).parent)) for f, _ in own]
+            + [("catalogue", Path(f)) for f in args.catalogue])
 
 
 def _plot_formats(args) -> tuple:

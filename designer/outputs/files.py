@@ -210,15 +210,18 @@ def _set_aside(target: Path, old: Path) -> None:
 
 
 @contextlib.contextmanager
-def staged_directory(target: str | os.PathLike, stale=()):
+def staged_directory(target: str | os.PathLike, stale=(), inputs=()):
     """Yield a scratch folder; on success its files are moved into ``target`` (``commit``: all
     or none), and the files of ``stale`` (names relative to ``target``: a previous run's
     outputs) that this run did not write again are removed, so that the folder holds one run's
-    outputs.
+    outputs. ``inputs`` (``(what, path)`` pairs: the files the run reads) are never replaced or
+    removed: InputError naming the file when one of them is among the outputs.
 
     If the block raises, the scratch folder is removed and ``target`` is left as it was; an
     OSError names the file in ``target`` rather than in the scratch folder.
     """
+    from designer.errors import InputError
+
     target = Path(target)
     made = make_folders(target.parent)
     done = False
@@ -232,6 +235,11 @@ def staged_directory(target: str | os.PathLike, stale=()):
                 _name_in(exc, scratch, target)
                 raise
             names = sorted(item.relative_to(scratch) for item in scratch.rglob("*") if item.is_file())
+            for name in names:
+                for what, path in inputs:
+                    if same_file(target / name, path):
+                        raise InputError(f"{target / name} is the {what} this command reads; write the "
+                                         "outputs to another folder")
             made += make_folders(target)
             commit([(scratch / name, target / name) for name in names],
                    aside=Path(tempfile.mkdtemp(prefix=".old.", dir=scratch)))
@@ -244,6 +252,8 @@ def staged_directory(target: str | os.PathLike, stale=()):
     written = {name.as_posix() for name in names}
     for name in set(stale) - written:
         old = target / name
+        if any(same_file(old, path) for _, path in inputs):
+            continue
         if old.resolve().parent == target.resolve() and old.is_file():  # names in the folder itself
             with contextlib.suppress(OSError):
                 old.unlink()

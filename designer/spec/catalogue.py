@@ -167,6 +167,13 @@ def use(catalogues) -> None:
         raise
 
 
+def user_file(name: str, folder: Path | None) -> Path:
+    """The path of the catalogue file a spec names: ``name`` relative to the spec's ``folder``
+    (None: the working folder), ``~`` expanded."""
+    path = Path(name).expanduser()
+    return path if path.is_absolute() or folder is None else folder / path
+
+
 def read_user(path: str | Path, shown: str | None = None) -> tuple[str, dict]:
     """A user catalogue file as ``(file, content)``: ``file`` is how messages name it (``shown``,
     else the path as given). CatalogueError for a file that cannot be read or is not a mapping

@@ -376,8 +376,7 @@ def _parse_catalogue(raw, folder: Path | None) -> tuple:
     for i, item in enumerate(items):
         key = "catalogue" if not isinstance(raw, list) else f"catalogue[{i}]"
         if isinstance(item, str) and item.strip():
-            path = Path(item).expanduser()
-            out.append(catalogue.read_user(path if path.is_absolute() or folder is None else folder / path, item))
+            out.append(catalogue.read_user(catalogue.user_file(item, folder), item))
         elif isinstance(item, dict):
             shown = item.get("file", key)
             if not isinstance(shown, str) or not shown.strip():

@@ -112,3 +112,47 @@ def test_an_export_below_a_file_is_refused_before_any_folder_is_made(tmp_path, c
     assert capsys.readouterr().err.strip() == (f"fpdesign: error: --png: {target} cannot be written: "
                                                f"{tmp_path / 'afile'} is a file, not a folder")
     assert snapshot(tmp_path) == before
+
+
+@pytest.mark.parametrize("command, example, name", [("evaluate", "prototype-a.yaml", "report.md"),
+                                                    ("evaluate", "prototype-a.yaml", "design.json"),
+                                                    ("optimize", "probe.yaml", "report.md")])
+def test_optimize_and_evaluate_refuse_to_write_over_their_own_spec(tmp_path, capsys, command, example, name):
+    out = tmp_path / "out"
+    out.mkdir()
+    spec = out / name
+    spec.write_bytes((EXAMPLES / example).read_bytes())
+    before = snapshot(out)
+    assert main([command, str(spec), "-o", str(out), "--no-cad", "--no-plots"]) == 2
+    assert capsys.readouterr().err.strip() == (f"fpdesign: error: {spec} is the spec this command reads; write the "
+                                               "outputs to another folder")
+    assert snapshot(out) == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+@pytest.mark.parametrize("how", ["spec", "option"])
+def test_evaluate_refuses_to_write_over_a_catalogue_it_reads(tmp_path, capsys, how):
+    out = tmp_path / "out"
+    out.mkdir()
+    catalogue = out / "report.md"
+    catalogue.write_bytes((Path(__file__).resolve().parents[1] / "data" / "user-catalogue.yaml").read_bytes())
+    spec = out / "spec.yaml"
+    text = (EXAMPLES / "prototype-a.yaml").read_text(encoding="utf-8")
+    spec.write_text(text + ("catalogue: report.md\n" if how == "spec" else ""), encoding="utf-8")
+    before = snapshot(out)
+    option = ["--catalogue", str(catalogue)] if how == "option" else []
+    assert main(["evaluate", str(spec), "-o", str(out), "--no-cad", "--no-plots", *option]) == 2
+    assert capsys.readouterr().err.strip() == (f"fpdesign: error: {catalogue} is the catalogue this command reads; "
+                                               "write the outputs to another folder")
+    assert snapshot(out) == before
+
+
+def test_a_spec_listed_among_a_previous_run_s_outputs_is_not_removed(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    spec = out / "operating-region.png"      # a plot of an earlier run, which this one does not draw
+    spec.write_bytes((EXAMPLES / "prototype-a.yaml").read_bytes())
+    (out / "design.json").write_text('{"files": {"plots": ["operating-region.png"]}}')
+    main(["evaluate", str(spec), "-o", str(out), "--no-cad", "--no-plots"])
+    assert spec.read_bytes() == (EXAMPLES / "prototype-a.yaml").read_bytes()
+    assert sorted(p.name for p in out.iterdir()) == ["design.json", "operating-region.png", "report.md"]
