@@ -10,6 +10,11 @@ import shutil
 import tempfile
 from pathlib import Path
 
+#: Characters of a target's name kept in the name of its temporary file or scratch folder (which
+#: adds a dot, eight random characters and a suffix): a name near the 255 bytes a file name may
+#: have then fails, if at all, as itself and not as its longer temporary.
+TEMP_NAME_CHARS = 40
+
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file in the same folder. A path that exists
     and is not a regular file (``/dev/null``, a FIFO, a terminal) is written directly: replacing it
@@ -71,7 +76,7 @@ def file_mode() -> int:
 
 def temp_prefix(path: Path) -> str:
     """The start of the name of ``path``'s temporary sibling: hidden, and recognisably its own."""
-    return f".{path.name}."
+    return f".{path.name[:TEMP_NAME_CHARS]}."
 
 
 @contextlib.contextmanager

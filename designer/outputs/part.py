@@ -23,6 +23,11 @@ MM = 1e-3  # metres per millimetre; CAD files are in millimetres (SPEC.md, the C
 
 FACES = ("+z", "-z", "+y", "-y")
 
+#: The longest file name made of a design's name, in characters: the names of its files
+#: (``<name>-drawing.png``, the longest) and their temporary copies stay far inside the 255
+#: bytes a file name may have, whatever the length of the spec's free-text ``name``.
+MAX_FILE_STEM = 100
+
 
 @dataclass(frozen=True)
 class Clamp:
@@ -139,9 +144,9 @@ class BeamCad:
 
     @property
     def file_stem(self) -> str:
-        """The name made safe for file names."""
+        """The name made safe for file names: plain ASCII, at most ``MAX_FILE_STEM`` characters."""
         stem = re.sub(r"[^A-Za-z0-9._-]+", "-", ascii_text(self.name)).strip("-.")
-        return stem or "design"
+        return stem[:MAX_FILE_STEM].rstrip("-.") or "design"
 
     def bounding_box(self) -> tuple:
         """((xmin, xmax), (ymin, ymax), (zmin, zmax)) of the solid, m."""

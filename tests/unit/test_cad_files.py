@@ -29,3 +29,13 @@ def test_outputs_are_readable_like_ordinary_files(tmp_path):
     os.umask(mask)
     for path in written.values():
         assert path.stat().st_mode & 0o777 == 0o666 & ~mask
+
+
+def test_a_long_design_name_gives_files_named_after_its_first_characters(tmp_path):
+    from designer.outputs.part import MAX_FILE_STEM
+    from shared_inputs import cad_mutate
+
+    long = cad_mutate("prototype_a", lambda r: r["spec"].update(name="x" * 300))
+    written = cad.write_cad_outputs(long, tmp_path)
+    assert written["step"].name == "x" * MAX_FILE_STEM + ".step"
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in written.values())

@@ -114,3 +114,11 @@ def test_the_readme_s_error_budget_is_the_budget_example_s():
     assert f"**{b['force']['combined'] * 100:.3f} %**" in section
     assert f"{terms['span drift'] * 100:.3f} %" in section
     assert f"**{b['position']['combined'] * 1e3:.3f} mm**" in section
+
+
+def test_the_spec_docs_give_the_length_the_file_names_are_cut_to():
+    from designer.outputs.part import MAX_FILE_STEM
+
+    text = (ROOT / "docs" / "spec.md").read_text(encoding="utf-8")
+    stated = re.search(r"at most its first (\d+)\s+characters", text)
+    assert stated and int(stated.group(1)) == MAX_FILE_STEM

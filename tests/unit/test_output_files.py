@@ -11,6 +11,7 @@ import pytest
 
 from designer.cli import main
 from designer.outputs import files
+from designer.outputs.part import MAX_FILE_STEM
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
@@ -156,3 +157,26 @@ def test_a_spec_listed_among_a_previous_run_s_outputs_is_not_removed(tmp_path):
     main(["evaluate", str(spec), "-o", str(out), "--no-cad", "--no-plots"])
     assert spec.read_bytes() == (EXAMPLES / "prototype-a.yaml").read_bytes()
     assert sorted(p.name for p in out.iterdir()) == ["design.json", "operating-region.png", "report.md"]
+
+
+@pytest.mark.parametrize("name, stem", [
+    ("a" * 300, "a" * MAX_FILE_STEM),
+    ("gripper finger " * 30, ("gripper-finger-" * 30)[:MAX_FILE_STEM].rstrip("-")),
+    ("Fühler", "Fuhler"),
+])
+def test_a_file_name_made_of_a_long_design_name_is_cut_to_its_first_characters(name, stem):
+    from designer.outputs.cad import resolve
+    from shared_inputs import cad_mutate
+
+    beam = resolve(cad_mutate("prototype_c", lambda r: r["spec"].update(name=name)))
+    assert beam.file_stem == stem and len(beam.file_stem) <= MAX_FILE_STEM
+    assert beam.name == name.strip()     # the report, drawing and STEP keep the whole name
+
+
+def test_a_file_whose_name_is_near_the_limit_is_written_through_its_temporary(tmp_path):
+    path = tmp_path / ("b" * 250 + ".step")
+    files.atomic_write_text(path, "model")
+    with files.temporary_sibling(tmp_path / ("c" * 250 + ".stl")) as tmp:
+        tmp.write_text("mesh")
+    assert path.read_text() == "model"
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]
