@@ -23,8 +23,8 @@ def register(sub) -> None:
     p.add_argument("--no-plots", action="store_true", help="do not write the plots")
     p.add_argument("--svg", action="store_true", help="also write the plots as SVG")
     p.add_argument("--verify", action="store_true", help="check the chosen design with a 3-D finite-element model")
-    p.add_argument("--verify-mesh", choices=("coarse", "normal", "fine"), default="normal",
-                   help="mesh of the 3-D check [normal]")
+    p.add_argument("--verify-mesh", choices=("coarse", "normal", "fine"), default=None,
+                   help="with --verify: mesh of the 3-D check [normal]")
     p.add_argument("--verify-rounds", type=int, default=None, metavar="N",
                    help="with --verify: corrected rounds when the design fails in 3-D (the model adjusted by the "
                         "3-D/model ratios and solved again) [3]")
@@ -52,7 +52,7 @@ def register(sub) -> None:
     s.add_argument("--seed", type=seed, default=0, help="seed of the noise draws, 0 or more [0]")
     s.add_argument("--angle", type=float, default=30.0, help="biaxial designs: load angle in degrees [30]")
     s.add_argument("--readings", metavar="CSV", help="also write noisy bridge readings at the paper's loads")
-    s.add_argument("--scheme", default="paper", help="loads for --readings: paper, 4, 9 or grid [paper]")
+    s.add_argument("--scheme", default=None, help="with --readings: their loads: paper, 4, 9 or grid [paper]")
     s.set_defaults(func=run_simulate)
 
     m = sub.add_parser("materials", help="list the material, gauge and stock catalogue")
@@ -273,10 +273,13 @@ def _optimize(args, child) -> int:
     rounds = DesignOptions.verify_rounds if args.verify_rounds is None else args.verify_rounds
     if rounds < 0:
         raise SpecError(f"--verify-rounds: {rounds} is not allowed; must be 0 or more")
+    for flag, value in (("--verify-mesh", args.verify_mesh), ("--verify-rounds", args.verify_rounds)):
+        if value is not None and not args.verify:  # (silently ignored, the user would think it checked)
+            raise SpecError(f"{flag}: {value} given without --verify; add --verify to check the design in 3-D")
     out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec, _user_catalogues(args))
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
-        result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh,
+        result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh or "normal",
                                             verify_rounds=rounds, tradeoff=False, progress=progress))
         writers = []
         if result.verification is not None:
@@ -378,6 +381,10 @@ def run_simulate(args) -> int:
             raise SpecError(f"--grid: {name} = {n} is not allowed; use 2 to {MAX_GRID}")
     if not (math.isfinite(args.angle) and -360 <= args.angle <= 360):
         raise SpecError(f"--angle: {args.angle!r} is not allowed; give degrees from -360 to 360")
+    if args.scheme is not None and not args.readings:
+        raise SpecError(f"--scheme: {args.scheme} given without --readings; it chooses the loads of the readings "
+                        "--readings CSV writes")
+    args.scheme = args.scheme or "paper"
     if args.readings:
         from designer.calibration.schemes import SCHEMES
         from designer.cli.paths import guard_inputs

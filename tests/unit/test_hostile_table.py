@@ -404,6 +404,11 @@ FLAG_CASES = [
     (("optimize", "{spec}", "--verify-rounds", "-1"), ("--verify-rounds", "-1"), False),
     (("optimize", "{spec}", "--verify-rounds", "x"), ("--verify-rounds", "x"), True),
     (("optimize", "{spec}", "--verify-mesh", "huge"), ("--verify-mesh", "huge"), True),
+    # flags of the 3-D check, or of the readings, without it: refused, not silently ignored
+    (("optimize", "{spec}", "--verify-rounds", "2"), ("--verify-rounds", "2", "without --verify"), False),
+    (("optimize", "{spec}", "--verify-mesh", "fine"), ("--verify-mesh", "fine", "without --verify"), False),
+    (("simulate", "{design}", "--draws", "100", "--grid", "2", "2", "--scheme", "4"),
+     ("--scheme", "4", "without --readings"), False),
     (("optimize", "{missing}.yaml"), ("no such file",), False),
     (("optimize", "{dir}"), ("cannot be read",), False),
     (("optimize", "{spec}", "--bogus"), ("--bogus",), True),
