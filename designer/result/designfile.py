@@ -26,7 +26,8 @@ FEATURE_KEYS = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "
 def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
     """The JSON in ``path``; a missing, unreadable or malformed file raises ``error`` (an InputError)."""
     where = f"{what} {path}".strip()
-    text = read_text(path, error, where)
+    # (a byte-order mark, which some Windows editors write, is read past as in spec.yaml and CSV)
+    text = read_text(path, error, where, encoding="utf-8-sig")
     if len(text) > MAX_JSON_CHARS:
         raise error(f"{where}: the file is {len(text) / 1e6:.0f} MB; fpdesign's JSON files are at most "
                     f"{MAX_JSON_CHARS / 1e6:.0f} MB")
@@ -198,7 +199,7 @@ def rebuild(record: dict):
     try:
         spec = parse_spec(raw_spec)
     except SpecError as exc:
-        raise DesignFileError(f"spec.{exc}") from exc
+        raise DesignFileError(f"spec.{str(exc).removeprefix('spec.')}") from exc   # (a top-level key: spec.x)
     d = record["design"]
     props = d["material_properties"]
     material = Material(name=d["material"], description="from design.json", E=props["E"],

@@ -295,3 +295,26 @@ def test_inputs_built_to_exhaust_time_or_memory_stop_at_once(tmp_path, name):
 def test_simulate_sizes_built_to_exhaust_memory_stop_at_once(probe_record, tmp_path, args):
     code, peak_mb, err, seconds = _measured(["simulate", str(probe_record), *args])
     assert code == 2 and peak_mb < 1024 and seconds < 10, err
+
+
+def test_a_design_json_with_a_byte_order_mark_reads_as_without_it(tmp_path):
+    # RFC 8259 section 8.1: a parser may ignore a BOM; spec.yaml and readings.csv already do
+    from designer.result.designfile import read_json
+
+    source = Path(__file__).resolve().parents[1] / "data" / "plot_prototype_b.json"
+    marked = tmp_path / "design.json"
+    marked.write_bytes(b"\xef\xbb\xbf" + source.read_bytes())
+    assert read_json(marked) == read_json(source)
+
+
+def test_an_unknown_key_of_design_json_s_spec_is_named_as_the_file_holds_it(tmp_path, capsys):
+    # design.json's spec holds the spec's keys one level down: spec.colour, not spec.spec.colour
+    import json
+
+    source = Path(__file__).resolve().parents[1] / "data" / "plot_prototype_b.json"
+    record = json.loads(source.read_text())
+    record["spec"]["colour"] = "red"
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(record))
+    assert main(["plan", str(path)]) == 2
+    assert capsys.readouterr().err.startswith("fpdesign: error: spec.colour: unknown key")
