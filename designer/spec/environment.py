@@ -51,7 +51,15 @@ def parse_environment(raw) -> Environment | None:
     value = required(raw, "temperature", "environment")
     if not isinstance(value, (list, tuple)) or len(value) != 2:
         raise SpecError(f"environment.temperature: {value!r} must be [lowest, highest], such as [0 °C, 40 °C]")
+    for i, v in enumerate(value):
+        if isinstance(v, str) and "delta" in v.lower():
+            raise SpecError(f"environment.temperature[{i}]: {v!r} is a temperature difference; give a temperature, "
+                            "such as 0 °C, 273 K or 32 degF")
     low, high = (units.parse(v, "temperature", f"environment.temperature[{i}]") for i, v in enumerate(value))
+    for i, t in enumerate((low, high)):
+        if not t > 0:
+            raise SpecError(f"environment.temperature[{i}]: {value[i]!r} is at or below absolute zero; must be "
+                            "above -273.15 °C (0 K)")
     if not low < high:
         raise SpecError(f"environment.temperature: {value!r} is reversed or empty; the lowest must come first")
     cal = units.parse(raw.get("calibrated_at", ROOM), "temperature", "environment.calibrated_at")

@@ -221,6 +221,8 @@ def test_with_an_environment_the_targets_and_the_objective_are_the_combined_unce
     ({"temperature": ["40 °C", "0 °C"]}, "environment.temperature", "reversed"),
     ({"temperature": ["0 °C", "40 °C"], "calibrated_at": "50 °C"}, "environment.calibrated_at", "0 °C to 40 °C"),
     ({"temperature": ["0 °C", "5 V"]}, "environment.temperature[1]", "temperature"),
+    ({"temperature": ["-10 K", "50 K"]}, "environment.temperature[0]", "above -273.15 °C"),
+    ({"temperature": ["0 delta_degC", "50 delta_degC"]}, "environment.temperature[0]", "temperature difference"),
     ({"temperature": ["0 °C", "40 °C"], "tare": "yes"}, "environment.tare", "true or false"),
     ({"temperature": ["0 °C", "40 °C"], "humidity": 3}, "environment.humidity", "temperature"),
 ])
