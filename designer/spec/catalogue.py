@@ -256,6 +256,11 @@ def _materials_from(entries, where: str, user: bool) -> list[Material]:
                   for k, (field, kind) in _MATERIAL_FIELDS.items()}
         if not 0 <= values["poisson"] < 0.5:
             raise CatalogueError(f"{key}.poisson: {values['poisson']!r} must be at least 0 and less than 0.5")
+        for strength in ("yield_strength", "fatigue"):   # no metal yields or tires above its breaking stress
+            if values[strength] > values["ultimate"]:
+                k = "yield" if strength == "yield_strength" else "fatigue"
+                raise CatalogueError(f"{key}.{k}: {entry[k]!r} is above the ultimate strength ({entry['ultimate']!r}); "
+                                     "must be at most it")
         out.append(Material(name=name, description=_text(entry, "description", key, False),
                             source=_text(entry, "source", key, user), **values))
     return out
@@ -268,7 +273,16 @@ def _gauges_from(entries, where: str, user: bool) -> list[Gauge]:
         values = {k: quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}
         out.append(Gauge(name=name, description=_text(entry, "description", key, False),
                          source=_text(entry, "source", key, user), **values, **gauge_thermal(entry, key)))
+        grid_on_backing(out[-1], key, CatalogueError)
     return out
+
+
+def grid_on_backing(gauge: Gauge, key: str, error: type) -> None:
+    """``error`` naming ``key``'s grid size when a gauge's grid is longer or wider than its backing."""
+    for grid, backing in (("grid_length", "length"), ("grid_width", "width")):
+        if getattr(gauge, grid) > getattr(gauge, backing) * (1 + 1e-12):
+            raise error(f"{key}.{grid}: {getattr(gauge, grid) * 1e3:g} mm is more than the backing's {backing}, "
+                        f"{getattr(gauge, backing) * 1e3:g} mm; the grid lies on the backing")
 
 
 def _joined(shipped: list, file: str, kind: str, user_entries) -> dict:

@@ -139,6 +139,7 @@ SPEC_VALUES = [
     ("gauge", {"name": "BF120-3AA", "length": "-7 mm"}, ("length",)),
     ("gauge", {"name": "NOPE", "factor": 2}, ("NOPE",)), ("gauge", {"name": 350}, ("350",)),
     ("gauge", {"name": "BF120-3AA", "resistance": "120 V"}, ("resistance", "wrong units")),
+    ("gauge", {"name": "BF120-3AA", "grid_length": "20 mm"}, ("gauge.grid_length", "backing")),
     ("bridge", "double", ()), ("bridge", 2, ()), ("bridge", True, ()), ("bridge", [1], ()),
     ("stations", 1, ()), ("stations", 11, ()), ("stations", 2.5, ()), ("stations", "two", ()), ("stations", True, ()),
     ("axes", 0, ()), ("axes", 3, ()), ("axes", "x", ()), ("axes", 1.5, ()),

@@ -136,6 +136,13 @@ BAD = {
     "shipped table name": (lambda t: t.replace("name: shop-6082-round", "name: al-round-metric"), ["shop.yaml", "al-round-metric", "used twice"]),
     "unknown family": (lambda t: t.replace("family: shop-aluminium", "family: nope"), ["shop.yaml", "family", "nope"]),
     "not a mapping": (lambda t: "- 1\n- 2\n", ["shop.yaml", "mapping"]),
+    # a metal yields and tires below its breaking stress; a gauge's grid lies on its backing
+    "yield above ultimate": (lambda t: t.replace("yield: 260 MPa", "yield: 400 MPa"),
+                             ["shop.yaml", "6082-T6", ".yield", "400 MPa", "ultimate"]),
+    "fatigue above ultimate": (lambda t: t.replace("fatigue: 90 MPa", "fatigue: 350 MPa"),
+                               ["shop.yaml", "6082-T6", ".fatigue", "350 MPa", "ultimate"]),
+    "grid longer than the backing": (lambda t: t.replace("grid_length: 2 mm", "grid_length: 20 mm"),
+                                     ["shop.yaml", "KFGS-2-120", ".grid_length", "20 mm", "6.4 mm"]),
     "end mill radius too large": (lambda t: t.replace("8.5: [0.2, 0.5]", "8.5: [0.2, 4.5]"),
                                   ["shop.yaml", "shop-mills", "tools.8.5[1]", "4.5 mm", "not less than"]),
     "end mill unit": (lambda t: t.replace("    unit: mm\n    source: \"our tool crib", "    unit: cm\n    source: \"our tool crib"),
