@@ -232,9 +232,12 @@ def fixed_design(spec) -> Design:
 
     fd = spec.design
     geometry = geometry_for(spec, fd.section, fd.feature, fd.stations, spec.free_length)
-    problem = model.unbuildable(geometry) or model.features_apart(
-        geometry.stations, geometry.length, geometry.feature_length, geometry.feature)
-    if problem is not None:  # not a beam at all: bad input, nothing to judge or write
-        key, reason = problem
-        raise SpecError(f"design.{key}: {reason}")
-    return Design(catalogue.material(fd.material, "design.material"), geometry)
+    design = Design(catalogue.material(fd.material, "design.material"), geometry)
+    # (and as it is judged: a size under 0.005 mm rounds to nothing on the 0.01 mm grid)
+    for g, rounded in ((geometry, ""), (design.rounded(spec.cad).geometry, " (rounded to 0.01 mm, as the design "
+                                                                           "is judged)")):
+        problem = model.unbuildable(g) or model.features_apart(g.stations, g.length, g.feature_length, g.feature)
+        if problem is not None:  # not a beam at all: bad input, nothing to judge or write
+            key, reason = problem
+            raise SpecError(f"design.{key}: {reason}{rounded}")
+    return design

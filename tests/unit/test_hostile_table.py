@@ -49,6 +49,9 @@ GOOD_SPEC = {
 #: A complete design.json (the paper's Prototype B, as the plot tests read it).
 GOOD_DESIGN = json.loads((DATA / "plot_prototype_b.json").read_text())
 MISSING = object()   # a key removed
+#: A plain round bar 0.004 mm across: a beam as given, nothing on the 0.01 mm grid it is judged on.
+TINY_DESIGN = {"material": "6061-T6", "section": {"kind": "round", "diameter": "0.004 mm"},
+               "stations": ["20 mm", "60 mm"], "feature": {"kind": "none"}, "length": "310 mm"}
 
 
 def _set(tree, path: str, value):
@@ -181,6 +184,8 @@ SPEC_VALUES = [
     ("design.section", "rectangle", ()), ("design.section.kind", "hexagon", ()),
     ("design.section.width", MISSING, ("missing",)), ("design.section.width", "abc", ()),
     ("design.section.height", "-5 mm", ()), ("design.section.height", "1e6 m", ()),
+    # under 0.005 mm a size rounds to nothing on the 0.01 mm grid the design is judged on
+    ("design", TINY_DESIGN, ("design.section.diameter", "must be positive", "rounded to 0.01 mm")),
     ("design.section", {"kind": "tube", "diameter": "10 mm", "wall": "6 mm"}, ("design.section.wall", "half")),
     ("design.section", {"kind": "round", "diameter": "10 mm", "width": "3 mm"}, ("width", "unknown key")),
     ("design.stations", ["20 mm"], ()), ("design.stations", ["60 mm", "20 mm"], ("[60.0, 20.0] mm", "increase")),
@@ -206,7 +211,8 @@ def _spec_cases():
     out = []
     for i, (key, value, words) in enumerate(SPEC_VALUES):
         # optimize reads of a design: block only its length and number of stations (docs/spec.md §3)
-        fixed_only = key.startswith("design.stations") and value in (["20 mm", "400 mm"], ["20 mm", "25 mm"])
+        fixed_only = (key.startswith("design.stations") and value in (["20 mm", "400 mm"], ["20 mm", "25 mm"])
+                      or value is TINY_DESIGN)
         command = SPEC_COMMANDS[0 if fixed_only else i % len(SPEC_COMMANDS)]
         raw = _set(GOOD_SPEC, key, value)
         named = key.split("[")[0] if "[" in key else key
