@@ -277,12 +277,13 @@ def _gauges_from(entries, where: str, user: bool) -> list[Gauge]:
     return out
 
 
-def grid_on_backing(gauge: Gauge, key: str, error: type) -> None:
-    """``error`` naming ``key``'s grid size when a gauge's grid is longer or wider than its backing."""
+def grid_on_backing(gauge: Gauge, key: str, error: type) -> Gauge:
+    """``gauge``; ``error`` naming ``key``'s grid size when its grid is longer or wider than its backing."""
     for grid, backing in (("grid_length", "length"), ("grid_width", "width")):
         if getattr(gauge, grid) > getattr(gauge, backing) * (1 + 1e-12):
             raise error(f"{key}.{grid}: {getattr(gauge, grid) * 1e3:g} mm is more than the backing's {backing}, "
                         f"{getattr(gauge, backing) * 1e3:g} mm; the grid lies on the backing")
+    return gauge
 
 
 def _joined(shipped: list, file: str, kind: str, user_entries) -> dict:

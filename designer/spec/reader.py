@@ -403,9 +403,7 @@ def _parse_gauge(raw) -> Gauge:
     if name is not None and (base := catalogue.modified_from(name)) is not None:
         name = base   # a modified catalogue gauge as design.json records it: the same gauge again
     if name is not None and name in catalogue.gauges():
-        gauge = catalogue.customised(catalogue.gauge(name), **fields)
-        catalogue.grid_on_backing(gauge, "gauge", SpecError)
-        return gauge
+        return catalogue.grid_on_backing(catalogue.customised(catalogue.gauge(name), **fields), "gauge", SpecError)
     missing = [k for k in ("factor", "length", "width", "max_strain") if k not in fields]
     if missing and name is not None:
         catalogue.gauge(name)  # an unknown name with incomplete fields: say which names exist
@@ -415,9 +413,7 @@ def _parse_gauge(raw) -> Gauge:
     fields.setdefault("resistance", 120.0)
     fields.setdefault("grid_length", fields["length"] / 2)
     fields.setdefault("grid_width", fields["width"] / 2)
-    gauge = Gauge(name=name or "custom", **fields)
-    catalogue.grid_on_backing(gauge, "gauge", SpecError)
-    return gauge
+    return catalogue.grid_on_backing(Gauge(name=name or "custom", **fields), "gauge", SpecError)
 
 
 _LIMIT_KINDS = {
