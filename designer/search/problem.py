@@ -72,6 +72,29 @@ class Family:
 
 
 def families(spec) -> list[Family]:
+    """The section families the search solves: the spec's, less those whose size bounds leave no
+    room (``unsearchable``); SpecError (the first family's) when that leaves none."""
+    every = _every_family(spec)
+    out = [fam for fam in every if fam not in unsearchable(spec)]
+    if every and not out:
+        FamilyVariables.of(spec, every[0])   # raises, naming the bound
+    return out
+
+
+def unsearchable(spec) -> dict:
+    """``{family: why}`` for the spec's families whose size bounds leave no room (limits.width
+    [60, 70] mm with the default heights leaves a round bar none): reported as not searched, while
+    the others are searched."""
+    out = {}
+    for fam in _every_family(spec):
+        try:
+            FamilyVariables.of(spec, fam)
+        except SpecError as exc:
+            out[fam] = str(exc)
+    return out
+
+
+def _every_family(spec) -> list[Family]:
     feature = spec.search.feature
     return [Family(s, feature) for s in spec.search.sections if not (feature == "hole" and s != "rectangle")]
 

@@ -15,7 +15,7 @@ from designer.search.diagnosis import diagnose
 from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid, onto_the_grid
 from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
-                                     families, in_nlp_units, start_from)
+                                     families, in_nlp_units, start_from, unsearchable)
 from designer.search.rounding import (buildable, only_targets_missed, outranked_before_rounding, pick,
                                       round_and_check)
 from designer.search.stock import same_section, search_stock, stock_system
@@ -300,6 +300,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     candidates = candidates_on_stock(spec, problems, candidates, skip)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
+    candidates += [Candidate(m.name, fam, None, (), (f"not searched: {why}",))
+                   for fam, why in unsearchable(spec).items() for m in mats]
     seconds = time.perf_counter() - t0
     evaluations = sum(s.evaluations for c in candidates for s in c.solves)
     feasible = model.rank([c.evaluation for c in candidates if c.evaluation is not None and c.evaluation.feasible])

@@ -19,6 +19,7 @@ from designer import model, search
 from designer.result.record import search_record
 from designer.search import reference
 from designer.search.diagnosis import diagnose
+from designer.errors import SpecError
 from designer.result.evaluation import evaluate, fixed_design
 from designer.spec.reader import load_spec, parse_spec_text
 from designer.spec.tolerances import Tolerances
@@ -592,3 +593,28 @@ def test_the_diagnosis_of_a_station_under_the_nearest_load_gives_advice_not_a_di
     said = [m for m in messages if m.startswith("min_signal_snr")]
     assert len(said) == 1 and "no signal from a load at load.position[0] = 150 mm" in said[0]
     assert "use fewer stations" in said[0]
+
+
+WIDE_ONLY = """\
+load: {{force: [50 N, 2000 N], position: [100 mm, 300 mm]}}
+electronics: {{excitation: 5 V, gain: 500, noise: 1 mV}}
+limits: {{width: [60 mm, 70 mm]}}
+search: {{materials: [7075-T6], sections: {sections}}}
+"""
+
+
+def test_a_family_whose_bounds_leave_no_room_is_not_searched_and_the_others_are():
+    # limits.width 60-70 mm with the default heights (at most 50 mm, docs/spec.md 2.5): a round
+    # bar's diameter must be within both ranges, so round and tube have no size; rectangles do
+    spec = parse_spec_text(WIDE_ONLY.format(sections="[rectangle, round, tube]"))
+    assert spec.limits.height[1] < 60e-3
+    found = search.optimize(spec)
+    by_family = {c.family.section: c for c in found.candidates}
+    assert by_family["rectangle"].solves, "rectangles searched"
+    for section in ("round", "tube"):
+        cand = by_family[section]
+        assert cand.evaluation is None and not cand.solves and cand.status == "failed"
+        assert cand.fallbacks[0].startswith("not searched: limits: the bounds leave no room for diameter")
+    # with no family left, the spec itself is the problem (exit 2), as before
+    with pytest.raises(SpecError, match="no room for diameter"):
+        search.optimize(parse_spec_text(WIDE_ONLY.format(sections="[round, tube]")))
