@@ -314,8 +314,8 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
     user = _parse_catalogue(raw.get("catalogue"), folder) + tuple(catalogues)
     catalogue.use(user)
     name = raw.get("name", default_name)
-    if not isinstance(name, str) or not name.strip():
-        raise SpecError(f"name: {name!r} must be a non-empty text")
+    if not isinstance(name, str) or not name.strip() or any(ord(c) < 32 or ord(c) == 127 for c in name):
+        raise SpecError(f"name: {name!r} must be a non-empty text on one line, without control characters")
 
     load_raw = _mapping(_required(raw, "load", ""), "load", ("force", "position"))
     f_min, f_max = units.parse_range(_required(load_raw, "force", "load"), "force", "load.force")

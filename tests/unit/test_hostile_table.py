@@ -116,6 +116,7 @@ NUMBER_HOSTILES = ("abc", "-3", [1, 2], {"a": 1}, True, float("nan"), "1e400 m",
 SPEC_VALUES = [
     # key, value, words of the message beyond the key (default: the value as written)
     ("name", 42, ()), ("name", "", ()), ("name", [1], ()), ("name", "   ", ()),
+    ("name", "a\x00b", ("control characters",)), ("name", "a\nb", ("on one line",)),
     ("load", "heavy", ()), ("load", [1, 2], ()), ("load", MISSING, ("missing",)),
     ("load.force", MISSING, ("missing",)), ("load.position", MISSING, ("missing",)),
     ("load.colour", "red", ("unknown key",)),
