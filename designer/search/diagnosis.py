@@ -6,16 +6,24 @@ from designer import model
 from designer.result.evaluation import Evaluation
 
 
+def no_room(spec) -> str:
+    """Why the stations cannot fit before the load region (the geometry rules of docs/model.md
+    section 1, ``model.minimum_room``), whatever the section; '' when they can."""
+    room = model.minimum_room(spec)
+    if not spec.load.position_min < room - 1e-9:
+        return ""
+    return (f"no room for {spec.stations} gauge stations before the load region: load.position[0] is "
+            f"{spec.load.position_min * 1e3:.4g} mm but the clamp clearance, {spec.stations} features of "
+            f"their length, the gauge gaps and the load clearance need at least {room * 1e3:.4g} mm; "
+            "move the load region out, use fewer stations, a smaller gauge or smaller margins")
+
+
 def diagnose(spec, best: Evaluation, candidates) -> list[str]:
     """Name the limits in conflict and what would resolve them, in the spec's own terms."""
     mm = 1e3
     out = []
-    room = model.minimum_room(spec)
-    if spec.load.position_min < room - 1e-9:
-        out.append(f"no room for {spec.stations} gauge stations before the load region: load.position[0] is "
-                   f"{spec.load.position_min * mm:.4g} mm but the clamp clearance, {spec.stations} features of "
-                   f"their length, the gauge gaps and the load clearance need at least {room * mm:.4g} mm; "
-                   "move the load region out, use fewer stations, a smaller gauge or smaller margins")
+    if no_room(spec):
+        out.append(no_room(spec))
     violated = {v.name: v for v in best.violations}
     label = f"{best.design.label()} (the least infeasible design found)"
     head = f"no design meets every limit; closest: {label}, violating " + ", ".join(violated) if violated else \

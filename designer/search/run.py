@@ -11,7 +11,7 @@ import numpy as np
 from designer import model
 from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import Evaluation
-from designer.search.diagnosis import diagnose
+from designer.search.diagnosis import diagnose, no_room
 from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid, onto_the_grid
 from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
@@ -328,6 +328,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
               "solves": sum(len(c.solves) for c in candidates),
               "fallbacks": [f"{c.material} {c.family.label}: {f}" for c in candidates for f in c.fallbacks]}
     if not any(c.evaluation is not None for c in candidates):
+        if no_room(spec):
+            raise SpecError(f"load.position: {no_room(spec)}")
         if unmachinable:
             raise SpecError("search.sections: " + "; ".join(f"{fam.label}: {why}" for fam, why in unmachinable.items()))
         notes = "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))

@@ -9,6 +9,7 @@ from dataclasses import replace
 
 from designer import model
 from designer.result.evaluation import Evaluation
+from designer.search.diagnosis import no_room
 from designer.search.ongrid import back_off, closer_on_the_grid
 from designer.search.problem import in_nlp_units, start_from
 from designer.search.rounding import pick, round_and_check
@@ -35,6 +36,8 @@ def candidates_on_stock(spec, problems: dict, candidates: list, skip=()) -> list
         return found
     if any(c.evaluation is not None and not s for c, s in zip(found, stocked)):
         return found  # a bar of continuous sizes is the least infeasible design; tubes add no better one
+    if no_room(spec):
+        return found  # the stations cannot fit whatever the section: no row's design would say more
     return _on_stock(spec, problems, candidates, stocked, prune_infeasible=False)
 
 

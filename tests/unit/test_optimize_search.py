@@ -618,3 +618,19 @@ def test_a_family_whose_bounds_leave_no_room_is_not_searched_and_the_others_are(
     # with no family left, the spec itself is the problem (exit 2), as before
     with pytest.raises(SpecError, match="no room for diameter"):
         search.optimize(parse_spec_text(WIDE_ONLY.format(sections="[round, tube]")))
+
+
+def test_stations_that_fit_no_section_before_the_load_are_bad_input_without_a_row_search(monkeypatch):
+    # load at 8-15 mm: two stations with 8.9 mm pockets need 5 + 2 x 8.9 + 2 + 5 = 29.8 mm before
+    # it (docs/model.md section 1), whatever the section. No bar gives a design there, and the
+    # tubes' every stock row was solved for a least-infeasible design (2117 solves, a minute) to
+    # report what the geometry says before any solve.
+    from designer.search import stocked
+
+    rows = []
+    monkeypatch.setattr(stocked, "search_stock", lambda *a, **k: rows.append(a) or None)
+    spec = parse_spec_text("load: {force: [1 N, 10 N], position: [8 mm, 15 mm]}\n"
+                           "electronics: {excitation: 5 V, gain: 100, noise: 1 mV}\n")
+    with pytest.raises(SpecError, match=r"^load.position: no room for 2 gauge stations .* at least 29.8 mm"):
+        search.optimize(spec)
+    assert rows == []
