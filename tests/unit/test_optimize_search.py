@@ -615,6 +615,11 @@ def test_a_family_whose_bounds_leave_no_room_is_not_searched_and_the_others_are(
         cand = by_family[section]
         assert cand.evaluation is None and not cand.solves and cand.status == "failed"
         assert cand.fallbacks[0].startswith("not searched: limits: the bounds leave no room for diameter")
+    # the candidates chart says so for each (two families of one material), not "no design found"
+    from designer.outputs.plots.candidates import plot_candidates
+
+    texts = [t.get_text() for t in plot_candidates(search_record(spec, found)).axes[0].texts]
+    assert texts.count("  not searched: the limits leave it no size") == 2
     # with no family left, the spec itself is the problem (exit 2), as before
     with pytest.raises(SpecError, match="no room for diameter"):
         search.optimize(parse_spec_text(WIDE_ONLY.format(sections="[round, tube]")))

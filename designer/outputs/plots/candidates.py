@@ -95,11 +95,14 @@ def _bounded(row: Mapping) -> bool:
 
 def _missing_text(row: Mapping, scale: float) -> str:
     """What a candidate without a design shows: outranked (with the bound its optimum before
-    rounding sets), no stock size that meets every limit, or no design at all."""
+    rounding sets), no stock size that meets every limit, a family the limits leave no size
+    (not searched), or no design at all."""
     if _bounded(row):
         return f"≥ {fmt_number(row['bound'] * scale, 4)}  outranked (its optimum before rounding)"
     if row.get("no_stock"):
         return "no stock size (report.md says why)"
+    if row.get("not_searched"):
+        return "not searched: the limits leave it no size"
     return "no design found"
 
 
@@ -121,6 +124,7 @@ def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
                      "mass": optional_number(c.get("mass")),
                      "worst_violation": optional_number(c.get("worst_violation")),
                      "bound": optional_number(c.get("continuous_objective")), "no_stock": bool(c.get("stock_note")),
+                     "not_searched": any(str(f).startswith("not searched:") for f in c.get("fallbacks") or []),
                      "chosen": str(c.get("material")) == s.material and str(c.get("section")) in chosen_labels})
     if not any(r["chosen"] for r in rows):
         rows.append({"material": s.material, "section": s.section, "status": s.status or "feasible",
