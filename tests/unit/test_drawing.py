@@ -119,3 +119,24 @@ def test_drawing_and_picture_call_out_the_floor_radius():
     v = meshes["corner"]["vertices"]
     assert v[:, 1].max() == pytest.approx(0.0, abs=1e-6)
     assert v[:, 0].min() < (0.015 - 0.0089 / 2) / MM < v[:, 0].max()
+
+
+@pytest.mark.parametrize("name", ["prototype-b", "gripper-finger-left-hand-prototype-rev-c-for-the-conveyor-line-4",
+                                  "x" * 300])
+def test_the_design_s_name_stays_inside_the_title_block(name):
+    # measured on the rendered text (matplotlib's own extent), against the block's right edge
+    from designer.outputs import drawing
+    from designer.outputs.drawing import sheet
+
+    rec = record("prototype_b")
+    rec["spec"]["name"] = name
+    fig = drawing.plot_drawing(cad.resolve(rec))
+    ax = fig.axes[0]
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    title = next(t for t in ax.texts if t.get_fontweight() == "bold" and t.get_fontsize() >= sheet.MIN_TITLE_PT
+                 and (t.get_text() == name or t.get_text().endswith("…")))
+    right = ax.transData.inverted().transform(title.get_window_extent(renderer))[1, 0]
+    assert right <= sheet.PAPER[0] - sheet.BORDER - 1.0
+    assert title.get_text() == name or len(name) > 100   # cut only when even the smallest size is too wide

@@ -290,6 +290,21 @@ def _notes(pen, beam: BeamCad, X) -> None:
                  weight="bold" if i == 0 else "normal")
 
 
+# The design's name in the title block: TITLE_PT, smaller for a long name down to MIN_TITLE_PT,
+# then cut with an ellipsis; BOLD_WIDTH: bold DejaVu Sans is about this much wider than the pen's
+# estimate for regular text.
+TITLE_PT, MIN_TITLE_PT, BOLD_WIDTH = 13.0, 8.0, 1.12
+
+
+def _title_fit(pen, name: str, room: float) -> tuple[str, float]:
+    """``(text, size)`` of ``name`` that fits ``room`` mm in the title block."""
+    width = pen.text_width(name, TITLE_PT) * BOLD_WIDTH
+    size = max(MIN_TITLE_PT, TITLE_PT * min(1.0, room / width)) if width else TITLE_PT
+    while len(name) > 1 and pen.text_width(name, size) * BOLD_WIDTH > room:
+        name = name[:-2].rstrip() + "…"
+    return name, size
+
+
 def _title_block(pen, beam: BeamCad) -> None:
     x0, x1, y0, y1 = 262.0, PAPER[0] - BORDER, BORDER, 62.0
     pen.line([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], "visible")
@@ -298,7 +313,8 @@ def _title_block(pen, beam: BeamCad) -> None:
         pen.line([x0, x1], [yy, yy], "thin")
     pen.line([x0 + 74, x0 + 74], [y0, rows[0]], "thin")
     pen.text(x0 + 3, y1 - 3, "fpdesign force-and-position cantilever", size=NOTE_PT - 0.5, ha="left", va="top")
-    pen.text(x0 + 3, y1 - 7.3, beam.name, size=13, ha="left", va="top", weight="bold")
+    name, size = _title_fit(pen, beam.name, x1 - x0 - 6)
+    pen.text(x0 + 3, y1 - 7.3, name, size=size, ha="left", va="top", weight="bold")
 
     def cell(col, row, label, value):
         x = x0 + (3 if col == 0 else 77)
