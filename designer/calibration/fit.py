@@ -133,7 +133,8 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     same = coincident_stations(bridges)
     if same:
         raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, columns "
-                       f"{', '.join(bridges[i].name for i in same)}: all fit one station, d = {bridges[same[0]].d:.6g} m, "
+                       f"{', '.join(bridges[i].name for i in same)}: all fit one station, "
+                       f"d = {bridges[same[0]].d:.6g} m, "
                        "so force and position cannot be told apart; check that they are not one bridge read twice")
 
     magnitude = np.abs(loads.force)

@@ -279,8 +279,9 @@ def _optimize(args, child) -> int:
     out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec, _user_catalogues(args))
     with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
-        result = design(spec, DesignOptions(method=args.method, verify=args.verify, verify_mesh=args.verify_mesh or "normal",
-                                            verify_rounds=rounds, tradeoff=False, progress=progress))
+        result = design(spec, DesignOptions(method=args.method, verify=args.verify,
+                                            verify_mesh=args.verify_mesh or "normal", verify_rounds=rounds,
+                                            tradeoff=False, progress=progress))
         writers = []
         if result.verification is not None:
             from designer.checks import fea

@@ -275,7 +275,7 @@ def features_apart(stations, length, l_f, feature: str) -> tuple[str, str] | Non
                                       f"{_mm(lo)} and {_mm(hi)} from the clamp face (free length {_mm(length)})")
     for i in range(len(stations) - 1):
         if not stations[i + 1] - stations[i] > l_f:
-            return f"stations[{i + 1}]", (f"{_value(stations[i + 1])} is too close to station {i} at {_mm(stations[i])}: "
-                                          f"the {_mm(l_f)} {what}s would overlap; stations must increase by more than "
-                                          f"{_mm(l_f)}")
+            return f"stations[{i + 1}]", (f"{_value(stations[i + 1])} is too close to station {i} at "
+                                          f"{_mm(stations[i])}: the {_mm(l_f)} {what}s would overlap; stations "
+                                          f"must increase by more than {_mm(l_f)}")
     return None
