@@ -22,8 +22,8 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
     """Name the limits in conflict and what would resolve them, in the spec's own terms."""
     mm = 1e3
     out = []
-    if no_room(spec):
-        out.append(no_room(spec))
+    if crowded := no_room(spec):
+        out.append(crowded)
     violated = {v.name: v for v in best.violations}
     label = f"{best.design.label()} (the least infeasible design found)"
     head = f"no design meets every limit; closest: {label}, violating " + ", ".join(violated) if violated else \

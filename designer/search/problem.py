@@ -74,10 +74,10 @@ class Family:
 def families(spec) -> list[Family]:
     """The section families the search solves: the spec's, less those whose size bounds leave no
     room (``unsearchable``); SpecError (the first family's) when that leaves none."""
-    every = _every_family(spec)
-    out = [fam for fam in every if fam not in unsearchable(spec)]
+    every, left_out = _every_family(spec), unsearchable(spec)
+    out = [fam for fam in every if fam not in left_out]
     if every and not out:
-        FamilyVariables.of(spec, every[0])   # raises, naming the bound
+        raise SpecError(left_out[every[0]])
     return out
 
 

@@ -328,8 +328,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
               "solves": sum(len(c.solves) for c in candidates),
               "fallbacks": [f"{c.material} {c.family.label}: {f}" for c in candidates for f in c.fallbacks]}
     if not any(c.evaluation is not None for c in candidates):
-        if no_room(spec):
-            raise SpecError(f"load.position: {no_room(spec)}")
+        if crowded := no_room(spec):
+            raise SpecError(f"load.position: {crowded}")
         if unmachinable:
             raise SpecError("search.sections: " + "; ".join(f"{fam.label}: {why}" for fam, why in unmachinable.items()))
         notes = "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))

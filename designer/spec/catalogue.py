@@ -256,9 +256,8 @@ def _materials_from(entries, where: str, user: bool) -> list[Material]:
                   for k, (field, kind) in _MATERIAL_FIELDS.items()}
         if not 0 <= values["poisson"] < 0.5:
             raise CatalogueError(f"{key}.poisson: {values['poisson']!r} must be at least 0 and less than 0.5")
-        for strength in ("yield_strength", "fatigue"):   # no metal yields or tires above its breaking stress
-            if values[strength] > values["ultimate"]:
-                k = "yield" if strength == "yield_strength" else "fatigue"
+        for k in ("yield", "fatigue"):   # no metal yields or tires above its breaking stress
+            if values[_MATERIAL_FIELDS[k][0]] > values["ultimate"]:
                 raise CatalogueError(f"{key}.{k}: {entry[k]!r} is above the ultimate strength ({entry['ultimate']!r}); "
                                      "must be at most it")
         out.append(Material(name=name, description=_text(entry, "description", key, False),
