@@ -9,7 +9,10 @@ other) and the peak of the whole process tree's summed memory, and the figures o
 the peak stress ratio and the mesh-convergence changes.
 
     python benchmarks/bench_verify.py [--mesh normal] [--repeat 3] [--only NAME ...]
-                                      [--out benchmarks/bench_verify.md] [--work DIR]
+                                      [--suite NAME ...] [--out benchmarks/bench_verify.md] [--work DIR]
+
+``--suite`` adds specs of the bench suite (``fpdesign bench``'s, seed 0) by name, such as
+035-kilonewton, a 787 mm bar of 87 mm whose check is the largest the suite asks for.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ ROOT = Path(__file__).resolve().parent.parent
 FIXED = ("prototype-a", "prototype-b", "prototype-b-inner", "prototype-c")
 OPTIMISED = ("gripper-finger", "weigh-bar", "probe", "prototype-b-optimized")
 EXAMPLES = FIXED + OPTIMISED
+SUITE_COUNT = 50    # the bench suite's specs that --suite may name
 # A run is measured by a small Python parent that starts the command, waits for it and reads its
 # children's rusage: ru_maxrss of RUSAGE_CHILDREN is the largest peak of any process waited for
 # (verify, the child that builds its STEP and the one that solves the convergence mesh), in kB on
@@ -73,6 +77,11 @@ def make_design(name: str, work: Path) -> Path:
     if design.is_file():
         return design
     example = ROOT / "examples" / f"{name}.yaml"
+    if name not in EXAMPLES:       # a spec of the bench suite, written beside its design
+        from designer import bench
+
+        example = work / f"{name}.yaml"
+        example.write_text(next(s.text for s in bench.generate_suite(SUITE_COUNT) if s.name == name), encoding="utf-8")
     if name in FIXED:
         cmd = ["evaluate", str(example), "-o", str(out), "--no-plots"]
     else:
@@ -124,7 +133,7 @@ def bench(names, mesh: str, repeat: int, work: Path) -> list[dict]:
 
 
 def table(rows: list[dict], mesh: str, repeat: int) -> str:
-    lines = [f"`fpdesign verify --mesh {mesh}` on each example's design: median wall time of {repeat} run(s), each "
+    lines = [f"`fpdesign verify --mesh {mesh}` on each design: median wall time of {repeat} run(s), each "
              "in a fresh process; the largest peak resident memory of one process (the run, the process it "
              "starts to build the STEP solid, or the one that solves the convergence mesh beside it), and the "
              "peak of their sum (sampled every 20 ms).", "",
@@ -154,12 +163,22 @@ def main(argv=None) -> int:
     parser.add_argument("--repeat", type=int, default=3, help="runs per example; the median time is reported [3]")
     parser.add_argument("--only", nargs="*", default=None, help=f"examples to run (of {', '.join(EXAMPLES)})")
     parser.add_argument("--out", default=str(ROOT / "benchmarks" / "bench_verify.md"))
+    parser.add_argument("--suite", nargs="*", default=[], metavar="NAME",
+                        help="specs of the bench suite to run as well, such as 035-kilonewton")
     parser.add_argument("--work", default=None, help="folder for the designs and reports [a temporary folder]")
     args = parser.parse_args(argv)
-    names = args.only or list(EXAMPLES)
+    names = list(args.only or ([] if args.suite else EXAMPLES))
     unknown = sorted(set(names) - set(EXAMPLES))
     if unknown:
         parser.error(f"unknown example(s): {', '.join(unknown)}")
+    if args.suite:
+        from designer import bench
+
+        known = [s.name for s in bench.generate_suite(SUITE_COUNT)]
+        unknown = sorted(set(args.suite) - set(known))
+        if unknown:
+            parser.error(f"unknown suite spec(s): {', '.join(unknown)}; the suite's are {', '.join(known)}")
+        names += args.suite
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="bench-verify-") as tmp:
         work = Path(args.work) if args.work else Path(tmp)

@@ -19,7 +19,8 @@ How the check is made:
   those faces are meshed again by gmsh's MeshAdapt (and the convergence mesh likewise).
 - Linear elasticity with quadratic tetrahedra (scikit-fem's ``ElementTetP2``), assembled here
   in vectorised form, a chunk of elements at a time, and solved by conjugate gradients
-  preconditioned with a two-level (quadratic / linear) cycle, in which the unknowns of the
+  preconditioned with a two-level (quadratic / linear) cycle (the linear level solved exactly,
+  or on a large mesh by one cycle of algebraic multigrid), in which the unknowns of the
   mesh's slivers (tetrahedra far flatter than a regular one, which gmsh leaves where a floor
   radius's narrow faces meet their neighbours) are also solved exactly; a thin wide plate, on
   which the linear level locks, by a sparse LU. Either solution must leave a small true residual

@@ -4,13 +4,15 @@ conjugate gradients with a two-level (quadratic / linear) preconditioner.
 The clamp face is held fixed, the symmetry planes carry their (anti)symmetry conditions, and
 the load beyond the cut enters at the cut face as its resultant (Saint-Venant): a uniform shear
 ``tau = -F/A`` and a bending stress ``sigma = M z / I`` with ``M = F (x_max - x_cut)``; ``A``
-and ``I`` are integrated over the meshed cut face. scipy and scikit-fem are imported inside the
-functions.
+and ``I`` are integrated over the meshed cut face. scipy, scikit-fem and pyamg are imported
+inside the functions.
 
 Memory: the stiffness is assembled ``ASSEMBLY_CHUNK`` elements at a time (the quadratic
 shape-function gradients written out from the barycentric ones) straight into one matrix of
 3 x 3 blocks, handed on as CSR; the held components are eliminated in place (row and column
-zeroed, diagonal kept), so no free-block copy of the matrix is made. A thin wide plate is
+zeroed, diagonal kept), so no free-block copy of the matrix is made. The preconditioner's
+linear level is factorised only while that is small (EXACT_COARSE); past it one multigrid cycle
+keeps its memory in proportion to the mesh. A thin wide plate is
 solved directly instead: its linear coarse level locks in bending (hundreds of iterations),
 while its nearly two-dimensional sparsity makes the factorisation small.
 
@@ -55,6 +57,16 @@ REFINEMENT_STEPS = 3
 REFINED = 1e-9
 # Elements assembled at a time: their blocks take 7.2 kB each.
 ASSEMBLY_CHUNK = 4096
+# The linear coarse level is factorised exactly up to this many unknowns (every example's
+# meshes: 4 500 to 36 000). Above it an exact LU's fill outgrows the stiffness itself (the bench
+# suite's 035-kilonewton, a 787 mm bar of 87 mm: 227 950 coarse unknowns, 563 M nonzeros in
+# L + U, 9.5 GB and 6 minutes), and one V-cycle of smoothed-aggregation algebraic multigrid
+# (pyamg, the six rigid-body modes as its near null space) stands in for it, in memory linear in
+# the unknowns: there 4.7 s of set-up, 54 iterations instead of 50, and the stiffness's assembly
+# (3.7 GB) the solve's peak.
+EXACT_COARSE = 50_000
+# The multigrid's own coarsest level, solved exactly, has at most this many unknowns.
+AMG_COARSEST = 500
 
 # The 4-point Gauss rule on a tetrahedron (exact for the quadratic integrand of P2 stiffness):
 # barycentric coordinates of the points, one row per point.
@@ -235,8 +247,8 @@ def _sliver_dofs(points: np.ndarray, tets: np.ndarray, element_dofs: np.ndarray,
 
 def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: Problem,
                   slivers: np.ndarray) -> tuple[np.ndarray, int]:
-    """Conjugate gradients, preconditioned by damped Jacobi on P2 around an exact solve of the
-    Galerkin P1 problem on the mesh's vertices; the dofs of ``slivers`` (``_sliver_dofs``) are
+    """Conjugate gradients, preconditioned by damped Jacobi on P2 around a solve of the Galerkin
+    P1 problem on the mesh's vertices (exact, or one multigrid cycle: ``_coarse_solver``); the dofs of ``slivers`` (``_sliver_dofs``) are
     also solved exactly, next to the Jacobi steps (a symmetric multiplicative cycle)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
@@ -244,12 +256,7 @@ def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: P
     free_v = ~_constrained(mesh.p, pb).T.ravel()
     P = sp.kron(_prolongation(mesh, n_nodes), sp.eye(3), format="csr")
     P = (sp.diags((~fixed.ravel()).astype(float)) @ P).tocsc()[:, free_v].tocsr()
-    coarse = (P.T @ (K @ P)).tocsc()
-    try:
-        lu = spla.splu(coarse, permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
-    except RuntimeError as exc:
-        raise SolverError(f"the coarse finite-element system is singular ({exc}); the beam is not held") from exc
-    del coarse
+    coarse_solve = _coarse_solver(P.T @ (K @ P), mesh.p, free_v)
     dinv = 1.0 / K.diagonal()
     root = np.sqrt(dinv)
     scaled = spla.LinearOperator(K.shape, lambda v: root * (K @ (root * v)), dtype=float)
@@ -271,7 +278,7 @@ def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: P
         x = omega_dinv * r
         residual = r - K @ x
         exactly(x, residual)
-        x += P @ lu.solve(P.T @ residual)
+        x += P @ coarse_solve(P.T @ residual)
         residual = r - K @ x
         exactly(x, residual)
         return x + omega_dinv * residual
@@ -286,6 +293,41 @@ def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: P
     if info != 0:
         raise SolverError(f"the finite-element solve did not converge in {CG_MAX_ITERATIONS} iterations")
     return x, count[0]
+
+
+def rigid_body_modes(points: np.ndarray) -> np.ndarray:
+    """The six rigid-body motions (3 n, 6) at ``points`` (3, n), dof ``3 i + component``: three
+    translations and three rotations, about X, Y and Z."""
+    x, y, z = points
+    modes = np.zeros((3 * points.shape[1], 6))
+    for a in range(3):
+        modes[a::3, a] = 1.0
+    modes[1::3, 3], modes[2::3, 3] = -z, y
+    modes[0::3, 4], modes[2::3, 4] = z, -x
+    modes[0::3, 5], modes[1::3, 5] = -y, x
+    return modes
+
+
+def _coarse_solver(coarse, vertices: np.ndarray, free: np.ndarray):
+    """The coarse level's solve ``r -> A^-1 r`` of the linear system ``coarse`` on the free
+    components ``free`` of the mesh's ``vertices``: a sparse LU up to EXACT_COARSE unknowns, else
+    one symmetric V-cycle of smoothed-aggregation multigrid (symmetric Gauss-Seidel smoothing, so
+    the cycle stays a symmetric positive definite preconditioner for conjugate gradients)."""
+    import scipy.sparse.linalg as spla
+
+    if coarse.shape[0] <= EXACT_COARSE:
+        try:
+            lu = spla.splu(coarse.tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
+        except RuntimeError as exc:
+            raise SolverError(f"the coarse finite-element system is singular ({exc}); the beam is not held") from exc
+        return lu.solve
+    import pyamg
+
+    hierarchy = pyamg.smoothed_aggregation_solver(coarse.tocsr(), B=rigid_body_modes(vertices)[free],
+                                                  symmetry="symmetric", max_coarse=AMG_COARSEST,
+                                                  coarse_solver="splu")
+    cycle = hierarchy.aspreconditioner(cycle="V")
+    return lambda r: cycle @ r
 
 
 def solve(points, tets, pb: Problem) -> Solution:
