@@ -78,10 +78,10 @@ def make_design(name: str, work: Path) -> Path:
         return design
     example = ROOT / "examples" / f"{name}.yaml"
     if name not in EXAMPLES:       # a spec of the bench suite, written beside its design
-        from designer import bench
+        from designer.bench import generate_suite
 
         example = work / f"{name}.yaml"
-        example.write_text(next(s.text for s in bench.generate_suite(SUITE_COUNT) if s.name == name), encoding="utf-8")
+        example.write_text(next(s.text for s in generate_suite(SUITE_COUNT) if s.name == name), encoding="utf-8")
     if name in FIXED:
         cmd = ["evaluate", str(example), "-o", str(out), "--no-plots"]
     else:
@@ -137,7 +137,7 @@ def table(rows: list[dict], mesh: str, repeat: int) -> str:
              "in a fresh process; the largest peak resident memory of one process (the run, the process it "
              "starts to build the STEP solid, or the one that solves the convergence mesh beside it), and the "
              "peak of their sum (sampled every 20 ms).", "",
-             "| example | time (s) | peak RSS (MB) | all processes (MB) | gauge strain FEA/model | deflection FEA/model "
+             "| design | time (s) | peak RSS (MB) | all processes (MB) | gauge strain FEA/model | deflection FEA/model "
              "| peak stress FEA/model (where) | change on the 1.5x coarser mesh: strain, deflection, stress "
              "| elements, unknowns, CG iterations (run; convergence mesh) |",
              "|---|---:|---:|---:|---|---:|---|---|---|"]
@@ -172,9 +172,9 @@ def main(argv=None) -> int:
     if unknown:
         parser.error(f"unknown example(s): {', '.join(unknown)}")
     if args.suite:
-        from designer import bench
+        from designer.bench import generate_suite
 
-        known = [s.name for s in bench.generate_suite(SUITE_COUNT)]
+        known = [s.name for s in generate_suite(SUITE_COUNT)]
         unknown = sorted(set(args.suite) - set(known))
         if unknown:
             parser.error(f"unknown suite spec(s): {', '.join(unknown)}; the suite's are {', '.join(known)}")

@@ -135,7 +135,7 @@ def test_a_coarse_level_past_the_exact_limit_is_one_multigrid_cycle(monkeypatch)
     factorised are the multigrid's own coarsest, of at most AMG_COARSEST unknowns. Reference: the
     same system with the exact coarse solve; both are solved to CG_TOLERANCE, so they agree to
     1e-6 of the largest displacement, and the cycle costs few more iterations (measured: 45
-    against 44 on a 61 x 7 x 7 block, 29 and 29 on this one, 54 against 50 on 035-kilonewton's 1.9 M
+    against 44 on a 61 x 7 x 7 block, 29 and 29 on this one, 54 against 48 on 035-kilonewton's 1.9 M
     unknowns)."""
     import scipy.sparse.linalg as spla
     from skfem import MeshTet
