@@ -49,6 +49,9 @@ RANGES = {
     "temperature": (1.0, 2000.0), "time": (1e-3, 1e9),
 }
 
+# pint's base units of no dimension that are not plain numbers
+_COUNTED = {"radian": "an angle", "steradian": "a solid angle", "count": "a count"}
+
 _SUBSTITUTIONS = (
     (re.compile(r"(?<![A-Za-z])(µε|με|ue|uε)(?![A-Za-z])"), "microstrain"),
     (re.compile(r"%"), " percent"),
@@ -113,8 +116,14 @@ def _parse_text(text: str, dimension: str, si_unit: str, example: str, key: str)
         quantity = ureg.Quantity(number, unit.strip())
     except Exception as exc:  # pint raises several types for unreadable text
         raise SpecError(f"{key}: {shown!r} cannot be read as a quantity; expected {example}") from exc
-    if str(quantity.units) == "dimensionless":
+    if str(quantity.units) == "dimensionless" and not dimension:
         return float(quantity.magnitude)
+    counted = [what for name, what in _COUNTED.items() if name in dict(quantity.to_base_units().unit_items())]
+    if counted:
+        # pint takes an angle or a count for a plain number: '2 rad' would be a gain of 2,
+        # '60 rpm' a frequency of 2 pi Hz, '100 rad/s' one of 100 Hz
+        raise SpecError(f"{key}: {text!r} has the wrong units: it holds {' and '.join(counted)}, which fpdesign "
+                        f"does not convert; expected {example}")
     try:
         if dimension:
             return float(quantity.to(si_unit).magnitude)

@@ -118,3 +118,31 @@ def test_the_units_are_the_same_whatever_becomes_of_pint_s_cache(tmp_path, troub
         force, length, strain = map(float, out.split())
         assert force == pytest.approx(2 * 4.4482216152605, rel=1e-12)
         assert length == pytest.approx(0.0127, rel=1e-12) and strain == pytest.approx(1.5e-3, rel=1e-12)
+
+
+@pytest.mark.parametrize("text, kind", [
+    ("2 rad", "ratio"), ("5 deg", "ratio"), ("3 sr", "ratio"), ("128 count", "ratio"), ("0.1 rad", "strain"),
+    ("60 rpm", "frequency"), ("100 rad/s", "frequency"), ("2 turn/s", "frequency"),
+])
+def test_angles_revolutions_and_counts_are_refused_not_read_as_numbers(text, kind):
+    """pint's radian, steradian and count are units of no dimension: it converts '2 rad' to the
+    plain number 2 and, since 1 revolution = 2 pi rad, '60 rpm' to 2 pi Hz (60 rpm is one cycle a
+    second, 1 Hz) and '100 rad/s' to 100 Hz (an angular frequency of 100 rad/s is 100 / 2 pi =
+    15.9 Hz). A spec never needs one, so each is refused naming the key and what is allowed."""
+    what = "a count" if "count" in text else "an angle"
+    with pytest.raises(SpecError) as err:
+        units.parse(text, kind, "limits.min_frequency")
+    assert str(err.value) == (f"limits.min_frequency: {text!r} has the wrong units: it holds {what}, which "
+                              f"fpdesign does not convert; expected {units.KINDS[kind][2]}")
+
+
+@pytest.mark.parametrize("text, kind, si", [("128 dimensionless", "ratio", 128.0), ("3 mm/m", "ratio", 0.003),
+                                            ("5 ppm", "ratio", 5e-6), ("100 Hz", "frequency", 100.0)])
+def test_plain_ratios_and_frequencies_still_read(text, kind, si):
+    assert units.parse(text, kind, "key") == pytest.approx(si, rel=1e-12)
+
+
+def test_a_plain_number_named_dimensionless_is_no_frequency():
+    """'128 dimensionless' is a plain number: a ratio, never 128 Hz."""
+    with pytest.raises(SpecError, match="'128 dimensionless' has the wrong units; expected a frequency"):
+        units.parse("128 dimensionless", "frequency", "limits.min_frequency")
