@@ -10,6 +10,7 @@ import numpy as np
 from designer.calibration.data import Bridge, bridges_for
 from designer.errors import DesignFileError
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
+from designer.model.sections import stations_before_load
 from designer.spec.units import RANGES
 
 
@@ -157,6 +158,9 @@ def design_constants(record: dict) -> DesignConstants:
     load = _require(spec, "load", "spec")
     force = _pair(_require(load, "force", "spec.load"), "spec.load.force")
     position = _pair(_require(load, "position", "spec.load"), "spec.load.position")
+    problem = stations_before_load(stations, position[0])
+    if problem is not None:
+        raise DesignFileError(f"design.{problem[0]}: {problem[1]}")
     name = spec.get("name") or "design"
     return DesignConstants(str(name), stations, k, _noise_from(record), int(axes), force, position,
                            _prototype(design.get("section")), _volts_per_count(predicted))

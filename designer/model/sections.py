@@ -262,6 +262,16 @@ def unbuildable(g: Geometry) -> tuple[str, str] | None:
     return None
 
 
+def stations_before_load(stations, x_min: float) -> tuple[str, str] | None:
+    """``("stations", reason)`` when the last station is not before the operating region, which
+    starts at ``x_min``: a bridge at or past the load reads no moment of it, and the estimator's
+    ``V_i = k_i F (x - d_i)`` (docs/model.md §3) no longer holds; None otherwise."""
+    if stations[-1] < x_min:
+        return None
+    return "stations", (f"the last station ({_mm(stations[-1])}) must lie before the operating region, which "
+                        f"starts at {_mm(x_min)}")
+
+
 def features_apart(stations, length, l_f, feature: str) -> tuple[str, str] | None:
     """The first station whose feature (of length ``l_f`` along the beam: a pocket, a hole, or the
     gauge on a plain surface) crosses the clamp face or the free end, or overlaps its neighbour's,

@@ -214,3 +214,28 @@ def test_bad_design_for_calibration_exits_2(tmp_path, capsys):
     assert "predicted.sensitivity" in capsys.readouterr().err
     assert main(["simulate-readings", str(tmp_path / "missing.json"), "-o", str(tmp_path / "r.csv")]) == 2
     assert not (tmp_path / "r.csv").exists()
+
+
+@pytest.mark.parametrize("command", ["plan", "simulate-readings", "calibrate"])
+def test_a_station_in_the_load_region_is_refused_by_every_calibration_command(tmp_path, capsys, command):
+    """Prototype B (stations 20, 60, 100 mm; loads from 150 mm, Noh et al. 2025 Table 1) with its
+    last station moved to 160 mm, inside the operating region: a load between the stations leaves
+    the outer bridge no moment, so V_i = k_i F (x - d_i) (MODEL.md section 3) fails there. plot
+    refused it; plan, simulate-readings and calibrate --design planned and simulated readings of
+    the impossible sensor (exit 0). Now each says what plot says, exit 2, nothing written."""
+    rec = record("b")
+    rec["design"]["stations"][-1] = 0.160
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(rec))
+    readings = tmp_path / "readings.csv"
+    readings.write_text(_csv(B_HEADER, "20,200,0.1,0.2,0.3"))
+    args = {"plan": ["plan", str(path)],
+            "simulate-readings": ["simulate-readings", str(path), "-o", str(tmp_path / "r.csv")],
+            "calibrate": ["calibrate", str(readings), "--design", str(path), "-o", str(tmp_path / "c.json")]}[command]
+    assert main(args) == 2
+    message = ("design.stations: the last station (160 mm) must lie before the operating region, which starts "
+               "at 150 mm")
+    assert message in capsys.readouterr().err
+    assert main(["plot", str(path), "-o", str(tmp_path / "plots")]) == 2
+    assert message in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["design.json", "readings.csv"])

@@ -59,9 +59,9 @@ class SensorData:
         if len(stations) < 2 or any(b <= a for a, b in zip(stations, stations[1:])):
             raise DesignFileError(f"design.stations: {list(stations)!r} must be at least 2 positions "
                                   "increasing from the clamp outwards")
-        if not stations[-1] < x_min:
-            raise DesignFileError(f"design.stations: the last station ({stations[-1] * 1e3:g} mm) must lie "
-                                  f"before the operating region, which starts at {x_min * 1e3:g} mm")
+        problem = model.stations_before_load(stations, x_min)
+        if problem is not None:
+            raise DesignFileError(f"design.{problem[0]}: {problem[1]}")
         k = _numbers(_key(pred, "sensitivity", "predicted"), "predicted.sensitivity")
         axes = body.get("axes", 1)
         if axes not in (1, 2):
