@@ -168,10 +168,32 @@ def validate(record, source: str = "design.json") -> None:
     axes = design.get("axes", 1)
     if axes not in (1, 2):
         raise DesignFileError(f"design.axes: {axes!r} is not allowed; must be one of [1, 2]")
+    _repeats_the_spec(design, spec)
     adjustment = _adjustment(design)
     if adjustment is not None and len(adjustment.gauge_strain) != len(stations):
         raise DesignFileError(f"design.adjustment.gauge_strain: {len(adjustment.gauge_strain)} factors for "
                               f"{len(stations)} stations; it needs one per station")
+
+
+def _repeats_the_spec(design: dict, spec: dict) -> None:
+    """The design block's ``bridge``, ``axes`` and ``gauge`` repeat the spec's, and commands read one
+    copy or the other (the 3-D check the design's gauge, the model the spec's): a value the spec
+    does not hold (a hand edit of one copy) is refused, naming it, rather than read by some
+    commands and passed over by others."""
+    for key in ("bridge", "axes"):
+        if design.get(key) is not None and key in spec and design[key] != spec[key]:
+            raise DesignFileError(f"design.{key}: {design[key]!r} differs from spec.{key} ({spec[key]!r}); the "
+                                  f"design block repeats the spec's {key}: give both the same")
+    gauge, given = design.get("gauge"), spec.get("gauge")
+    if gauge is None or given is None:
+        return
+    if not isinstance(gauge, dict):
+        raise DesignFileError(f"design.gauge: {gauge!r} must be an object (the spec's gauge, repeated)")
+    for key, value in gauge.items():
+        theirs = given.get(key) if isinstance(given, dict) else (given if key == "name" else value)
+        if value != theirs:
+            raise DesignFileError(f"design.gauge.{key}: {value!r} differs from spec.gauge.{key} ({theirs!r}); the "
+                                  "design block repeats the spec's gauge: give both the same")
 
 
 def _adjustment(design: dict):

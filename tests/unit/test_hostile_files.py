@@ -127,6 +127,37 @@ def test_impossible_design_json_fields_are_bad_input(probe_record, tmp_path, cap
     assert not (tmp_path / "x.step").exists()
 
 
+@pytest.mark.parametrize("path, value, message", [
+    (("design", "bridge"), "third", "design.bridge: 'third' differs from spec.bridge ('half')"),
+    (("design", "bridge"), "full", "design.bridge: 'full' differs from spec.bridge ('half')"),
+    (("design", "axes"), 2, "design.axes: 2 differs from spec.axes (1)"),
+    (("design", "gauge", "grid_length"), 0.002, "design.gauge.grid_length: 0.002 differs from spec.gauge.grid_length"),
+])
+@pytest.mark.parametrize("command", [["verify", "-o", "v.out"], ["export", "--step", "x.step"], ["plan"],
+                                     ["plot", "-o", "plots.out"], ["simulate-readings", "-o", "r.csv"]])
+def test_a_design_block_that_disagrees_with_its_spec_is_bad_input(probe_record, tmp_path, capsys, path, value,
+                                                                   message, command):
+    """design.json's design block repeats the spec's bridge, axes and gauge, and commands read one
+    copy or the other (verify, export and plot the design's gauge; plan and the model the spec's).
+    A hand edit of one copy was read by some commands and passed over by others (a bridge
+    'third' planned, exported, plotted and simulated as the spec's half bridge, exit 0); now
+    every command refuses it naming the key, with nothing written."""
+    import json
+
+    record = json.loads(probe_record.read_text())
+    node = record
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    bad = tmp_path / "design.json"
+    bad.write_text(json.dumps(record))
+    argv = [command[0], str(bad), *[str(tmp_path / a) if "." in a else a for a in command[1:]]]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and "give both the same" in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["design.json"]
+
+
 def test_a_design_noise_beyond_any_reading_is_bad_input(tmp_path, capsys):
     """predicted.noise_voltage of 1e300 V overflowed plan and was written into readings by
     simulate-readings: every command that uses sigma_V refuses it, naming the key, the value
