@@ -12,9 +12,9 @@ shape-function gradients written out from the barycentric ones) straight into on
 3 x 3 blocks, handed on as CSR; the held components are eliminated in place (row and column
 zeroed, diagonal kept), so no free-block copy of the matrix is made. The preconditioner's
 linear level is factorised only while that is small (EXACT_COARSE); past it one multigrid cycle
-keeps its memory in proportion to the mesh. A thin wide plate is
-solved directly instead: its linear coarse level locks in bending (hundreds of iterations),
-while its nearly two-dimensional sparsity makes the factorisation small.
+keeps its memory in proportion to the mesh. A thin wide plate is solved directly instead: its
+linear coarse level locks in bending (hundreds of iterations), while its nearly
+two-dimensional sparsity makes the factorisation small.
 
 Every solution, iterative or direct, is checked against the system: its true relative residual
 must be at most RESIDUAL_LIMIT, whatever the solver reports.
@@ -249,8 +249,9 @@ def _sliver_dofs(points: np.ndarray, tets: np.ndarray, element_dofs: np.ndarray,
 def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: Problem,
                   slivers: np.ndarray) -> tuple[np.ndarray, int]:
     """Conjugate gradients, preconditioned by damped Jacobi on P2 around a solve of the Galerkin
-    P1 problem on the mesh's vertices (exact, or one multigrid cycle: ``_coarse_solver``); the dofs of ``slivers`` (``_sliver_dofs``) are
-    also solved exactly, next to the Jacobi steps (a symmetric multiplicative cycle)."""
+    P1 problem on the mesh's vertices (exact, or one multigrid cycle: ``_coarse_solver``); the
+    dofs of ``slivers`` (``_sliver_dofs``) are also solved exactly, next to the Jacobi steps (a
+    symmetric multiplicative cycle)."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
