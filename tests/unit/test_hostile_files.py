@@ -99,6 +99,21 @@ def test_no_command_writes_over_its_own_input(probe_record, tmp_path, capsys):
     assert (design.read_bytes(), readings.read_bytes()) == before
 
 
+def _edited(record_file, folder, path, value, command) -> list[str]:
+    """``command`` (its output files named relative to ``folder``) on a copy of ``record_file`` in
+    ``folder`` with the value at ``path`` set to ``value``."""
+    import json
+
+    record = json.loads(record_file.read_text())
+    node = record
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    bad = folder / "design.json"
+    bad.write_text(json.dumps(record))
+    return [command[0], str(bad), *[str(folder / a) if "." in a else a for a in command[1:]]]
+
+
 @pytest.mark.parametrize("path, value, message", [
     (("version",), 99, "version: 99 is not a design.json this fpdesign reads; it reads version 1"),
     (("design", "material_properties", "fatigue"), "abc",
@@ -110,18 +125,11 @@ def test_no_command_writes_over_its_own_input(probe_record, tmp_path, capsys):
 def test_impossible_design_json_fields_are_bad_input(probe_record, tmp_path, capsys, path, value, message, command):
     import json
 
-    record = json.loads(probe_record.read_text())
-    if path == ("design", "section", "width") and record["design"]["section"]["kind"] != "rectangle":
+    if path == ("design", "section", "width") and json.loads(probe_record.read_text())["design"]["section"]["kind"] \
+            != "rectangle":
         path = ("design", "section", "diameter")
         message = message.replace("width", "diameter")
-    node = record
-    for key in path[:-1]:
-        node = node[key]
-    node[path[-1]] = value
-    bad = tmp_path / "design.json"
-    bad.write_text(json.dumps(record))
-    argv = [command[0], str(bad), *[str(tmp_path / a) if a.endswith(".step") else a for a in command[1:]]]
-    assert main(argv) == 2
+    assert main(_edited(probe_record, tmp_path, path, value, command)) == 2
     err = capsys.readouterr().err
     assert message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "x.step").exists()
@@ -142,17 +150,7 @@ def test_a_design_block_that_disagrees_with_its_spec_is_bad_input(probe_record, 
     A hand edit of one copy was read by some commands and passed over by others (a bridge
     'third' planned, exported, plotted and simulated as the spec's half bridge, exit 0); now
     every command refuses it naming the key, with nothing written."""
-    import json
-
-    record = json.loads(probe_record.read_text())
-    node = record
-    for key in path[:-1]:
-        node = node[key]
-    node[path[-1]] = value
-    bad = tmp_path / "design.json"
-    bad.write_text(json.dumps(record))
-    argv = [command[0], str(bad), *[str(tmp_path / a) if "." in a else a for a in command[1:]]]
-    assert main(argv) == 2
+    assert main(_edited(probe_record, tmp_path, path, value, command)) == 2
     err = capsys.readouterr().err
     assert message in err and "give both the same" in err and len(err.strip().splitlines()) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == ["design.json"]
