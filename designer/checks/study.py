@@ -63,6 +63,7 @@ class Case:
     pocket_length: float = POCKET_LENGTH      # pocket: l_p along the beam ...
     pocket_width: float = POCKET_WIDTH        # ... w_p across it (a flat runs across the bar)
     corner_radius: float = CORNER_RADIUS      # ... and the end mill's corner radius at its floor
+    gap: float = FAR_GAP                      # between the two features, end to end, in section sizes
 
     @property
     def section(self) -> str:
@@ -84,7 +85,7 @@ class Case:
 
     def stations(self) -> tuple[float, float]:
         near = self.clamp_clearance + self.feature_length / 2
-        return near, near + self.feature_length + FAR_GAP * max(self.size, self.width)
+        return near, near + self.feature_length + self.gap * max(self.size, self.width)
 
     def spec_text(self) -> str:
         """A spec with this case as its fixed ``design:`` block."""

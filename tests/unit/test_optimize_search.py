@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -627,15 +628,20 @@ def test_a_family_whose_bounds_leave_no_room_is_not_searched_and_the_others_are(
 
 def test_stations_that_fit_no_section_before_the_load_are_bad_input_without_a_row_search(monkeypatch):
     # load at 8-15 mm: two stations with 8.9 mm pockets need 5 + 2 x 8.9 + 2 + 5 = 29.8 mm before
-    # it (docs/model.md section 1), whatever the section. No bar gives a design there, and the
-    # tubes' every stock row was solved for a least-infeasible design (2117 solves, a minute) to
-    # report what the geometry says before any solve.
+    # it (docs/model.md section 1), whatever the section. Tubes alone give no design there (every
+    # tube is a stock row), and their every stock row was solved for a least-infeasible design
+    # (2117 solves, a minute) to report what the geometry says before any solve.
     from designer.search import stocked
 
     rows = []
     monkeypatch.setattr(stocked, "search_stock", lambda *a, **k: rows.append(a) or None)
-    spec = parse_spec_text("load: {force: [1 N, 10 N], position: [8 mm, 15 mm]}\n"
-                           "electronics: {excitation: 5 V, gain: 100, noise: 1 mV}\n")
-    with pytest.raises(SpecError, match=r"^load.position: no room for 2 gauge stations .* at least 29.8 mm"):
-        search.optimize(spec)
+    text = ("load: {force: [1 N, 10 N], position: [8 mm, 15 mm]}\n"
+            "electronics: {excitation: 5 V, gain: 100, noise: 1 mV}\n")
+    room = r"no room for 2 gauge stations .* at least 29.8 mm"
+    with pytest.raises(SpecError, match=rf"^load.position: {room}"):
+        search.optimize(parse_spec_text(text + "search: {sections: [tube]}\n"))
     assert rows == []
+    # where a bar gives a (least-infeasible) design, the spec is reported infeasible with the same
+    # reason first among what would resolve it, and still no stock row is solved
+    found = search.optimize(parse_spec_text(text))
+    assert found.status == "infeasible" and re.match(room, found.messages[1]) and rows == []
