@@ -11,6 +11,8 @@ over the isolated pair's: the share by which the neighbour changes what a gauge 
 hand (about 10 minutes on 2 cores):
 
     python benchmarks/feature_gap_study.py [--gaps 0.05 0.1 0.2 0.3 0.5 1] [--mesh coarse]
+
+Its figures: benchmarks/feature_gap_study.md.
 """
 
 from __future__ import annotations
