@@ -121,7 +121,7 @@ def _edited(record_file, folder, path, value, command) -> list[str]:
     (("design", "material_properties", "poisson"), -5, "design.material_properties.poisson: -5 must be a number"),
     (("design", "section", "width"), 1e300, "design.section.width: 1e+300 must be at most 100"),
 ])
-@pytest.mark.parametrize("command", [["verify"], ["export", "--step", "x.step"], ["plan"], ["simulate"]])
+@pytest.mark.parametrize("command", [["verify", "-o", "v.out"], ["export", "--step", "x.step"], ["plan"], ["simulate"]])
 def test_impossible_design_json_fields_are_bad_input(probe_record, tmp_path, capsys, path, value, message, command):
     import json
 
