@@ -42,7 +42,9 @@ def reference_search(spec, family: Family, material, levels: int = 9) -> Evaluat
         return None
     which = np.repeat(np.arange(len(grids)), [len(g) for g in grids])
     f, viol = _evaluate(problem, mat, x)
-    order = np.lexsort((f, viol > 0))[:POLISH_STARTS]
+    # the best grid points: those that meet every limit by objective, then the least violating
+    # (a start at the lowest objective of a grid that meets nothing is its most infeasible corner)
+    order = np.lexsort((np.where(viol > 0, viol, f), viol > 0))[:POLISH_STARTS]
     checked, polished = [], []
 
     def check(candidate, k):
