@@ -12,7 +12,7 @@ the peak stress ratio and the mesh-convergence changes.
                                       [--suite NAME ...] [--out benchmarks/bench_verify.md] [--work DIR]
 
 ``--suite`` adds specs of the bench suite (``fpdesign bench``'s, seed 0) by name, such as
-035-kilonewton, a 787 mm bar of 87 mm whose check is the largest the suite asks for.
+035-kilonewton, a 789 mm bar of Ø87 mm whose check is the largest the suite asks for.
 """
 
 from __future__ import annotations
@@ -70,18 +70,17 @@ def _env() -> dict:
     return env
 
 
-def make_design(name: str, work: Path) -> Path:
-    """The example's design.json (made once and reused)."""
+def make_design(name: str, work: Path, suite: dict) -> Path:
+    """The example's, or the bench suite's spec's (``suite``: name -> spec text), design.json (made
+    once and reused)."""
     out = work / name
     design = out / "design.json"
     if design.is_file():
         return design
     example = ROOT / "examples" / f"{name}.yaml"
-    if name not in EXAMPLES:       # a spec of the bench suite, written beside its design
-        from designer.bench import generate_suite
-
+    if name in suite:       # a spec of the bench suite, written beside its design
         example = work / f"{name}.yaml"
-        example.write_text(next(s.text for s in generate_suite(SUITE_COUNT) if s.name == name), encoding="utf-8")
+        example.write_text(suite[name], encoding="utf-8")
     if name in FIXED:
         cmd = ["evaluate", str(example), "-o", str(out), "--no-plots"]
     else:
@@ -102,10 +101,10 @@ def measure(design: Path, mesh: str, out: Path) -> tuple[int, float, float, floa
     return int(code), float(seconds), float(kb) / 1024, float(tree_kb) / 1024
 
 
-def bench(names, mesh: str, repeat: int, work: Path) -> list[dict]:
+def bench(names, mesh: str, repeat: int, work: Path, suite: dict) -> list[dict]:
     rows = []
     for name in names:
-        design = make_design(name, work)
+        design = make_design(name, work, suite)
         times, peaks, trees, code = [], [], [], 0
         out = work / f"{name}-verify"
         report = out / "verify.json"
@@ -171,19 +170,21 @@ def main(argv=None) -> int:
     unknown = sorted(set(names) - set(EXAMPLES))
     if unknown:
         parser.error(f"unknown example(s): {', '.join(unknown)}")
+    suite = {}
     if args.suite:
         from designer.bench import generate_suite
 
-        known = [s.name for s in generate_suite(SUITE_COUNT)]
+        known = {s.name: s.text for s in generate_suite(SUITE_COUNT)}
         unknown = sorted(set(args.suite) - set(known))
         if unknown:
             parser.error(f"unknown suite spec(s): {', '.join(unknown)}; the suite's are {', '.join(known)}")
+        suite = {name: known[name] for name in args.suite}
         names += args.suite
     start = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="bench-verify-") as tmp:
         work = Path(args.work) if args.work else Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
-        text = table(bench(names, args.mesh, max(1, args.repeat), work), args.mesh, max(1, args.repeat))
+        text = table(bench(names, args.mesh, max(1, args.repeat), work, suite), args.mesh, max(1, args.repeat))
     print(text)
     print(f"benchmark took {time.perf_counter() - start:.0f} s", file=sys.stderr)
     if args.out:

@@ -54,7 +54,7 @@ def main(argv=None) -> int:
     parser.add_argument("--only", nargs="*", default=None, help=f"cases (of {', '.join(CASES)})")
     args = parser.parse_args(argv)
     names = args.only or list(CASES)
-    print(f"| case | gap (sizes) | station 1: 3-D/model over the isolated pair's | station 2 |")
+    print("| case | gap (sizes) | station 1: 3-D/model over the isolated pair's | station 2 |")
     print("|---|---:|---:|---:|")
     start = time.perf_counter()
     for name in names:
