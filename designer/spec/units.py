@@ -118,7 +118,8 @@ def _parse_text(text: str, dimension: str, si_unit: str, example: str, key: str)
         raise SpecError(f"{key}: {shown!r} cannot be read as a quantity; expected {example}") from exc
     if str(quantity.units) == "dimensionless" and not dimension:
         return float(quantity.magnitude)
-    counted = [what for name, what in _COUNTED.items() if name in dict(quantity.to_base_units().unit_items())]
+    base = dict(quantity.to_base_units().unit_items())
+    counted = [what for name, what in _COUNTED.items() if name in base]
     if counted:
         # pint takes an angle or a count for a plain number: '2 rad' would be a gain of 2,
         # '60 rpm' a frequency of 2 pi Hz, '100 rad/s' one of 100 Hz
