@@ -15,6 +15,7 @@ from dataclasses import dataclass, replace
 
 from designer.checks.clamp_study import near_station
 from designer.model import corrections
+from designer.model.domain import NEAR_STATION
 
 
 def monomials(n: int, degree: int) -> list[tuple]:
@@ -199,8 +200,7 @@ NEAR_CLAMP = "clamp_ratio"
 # A near-clamp fit (``fit_near_clamp``) is a decay in the first station's (its gauge grid's
 # centre's) distance from the clamp face, which the clamp ratio alone does not bound: a flat short
 # for its bar puts the grid nearer the clamp than any study row's did, where the decay is steepest.
-# Its domain bounds that distance from below too.
-NEAR_STATION = corrections.NEAR_STATION
+# Its domain bounds that distance from below too (``NEAR_STATION``).
 TARGETS = {"strain": "strain_far", "extra_length": "extra_length", "stress": "stress_ratio"}
 
 

@@ -30,6 +30,8 @@ import time
 from dataclasses import dataclass, fields
 from pathlib import Path
 
+from designer.model.domain import LP_GRID_BOX
+
 MATERIAL = "6061-T6"
 GAUGE = "BF350-3AA"
 GAUGE_LENGTH = 6.9e-3    # BF350-3AA's backing and grid (materials/gauges.yaml)
@@ -64,6 +66,7 @@ class Case:
     pocket_width: float = POCKET_WIDTH        # ... w_p across it (a flat runs across the bar)
     corner_radius: float = CORNER_RADIUS      # ... and the end mill's corner radius at its floor
     gap: float = FAR_GAP                      # between the two features, end to end, in section sizes
+    grid_length: float = GRID_LENGTH          # the gauge's grid (BF350-3AA's, or shorter on the same backing)
 
     @property
     def section(self) -> str:
@@ -102,7 +105,9 @@ class Case:
         return (f"name: study-{self.family}\n"
                 f"load: {{force: [{FORCE / 10:g} N, {FORCE:g} N], position: [{mm(x - 1e-3)}, {mm(x)}]}}\n"
                 "electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}\n"
-                f"gauge: {GAUGE}\nbridge: half\n"
+                + (f"gauge: {GAUGE}\n" if self.grid_length == GRID_LENGTH
+                   else f"gauge: {{name: {GAUGE}, grid_length: {mm(self.grid_length)}}}\n")
+                + "bridge: half\n"
                 f"limits: {{max_pocket_fraction: 0.49, min_wall: 0.3 mm, load_clearance: 0 mm, "
                 f"clamp_clearance: {mm(min(self.clamp_clearance, CLAMP_CLEARANCE))}}}\n"
                 f"design:\n  material: {MATERIAL}\n  section: {section}\n  stations: [{mm(near)}, {mm(far)}]\n"
@@ -114,25 +119,26 @@ class Case:
 # Halton sequence (so that every parameter varies on its own, unlike a product grid whose pocket
 # length is fixed), wide enough to hold the designs the optimiser chooses for the examples and
 # the bench suite. ``lp_grid`` is l_p over the gauge's grid length (2.4-4 across the catalogue's
-# gauges with the spec's pocket margin); ``notch`` is sqrt(p / r), Peterson's variable. Each
-# group is (family, box, number of Halton points); a family may have several boxes (slots in
-# narrow bars, and in wide ones, whose bars are costlier to mesh).
+# gauges with the spec's pocket margin; designs are kept under its top, ``domain.LP_GRID_BOX``);
+# ``notch`` is sqrt(p / r), Peterson's variable. Each group is (family, box, number of Halton
+# points); a family may have several boxes (slots in narrow bars, and in wide ones, whose bars are
+# costlier to mesh).
 POCKET_BOXES = {
     "rectangle-pocket": {"depth_ratio": (0.08, 0.32), "length_ratio": (1.0, 5.0),
-                         "pocket_width_ratio": (0.45, 0.88), "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
+                         "pocket_width_ratio": (0.45, 0.88), "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX},
     "round-pocket": {"depth_ratio": (0.1, 0.35), "length_ratio": (0.4, 2.6), "notch_ratio": (1.55, 7.0),
-                     "lp_grid": (2.4, 4.0)},
+                     "lp_grid": LP_GRID_BOX},
     "tube-pocket": {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.2, 0.42), "length_ratio": (0.25, 1.8),
-                    "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)},
+                    "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX},
 }
 WIDE_SLOTS = {**POCKET_BOXES["rectangle-pocket"], "pocket_width_ratio": (0.2, 0.47)}
 # Large sections carry a gauge-sized pocket that is short for them (weigh bars, kilonewton lugs).
 SHORT_SLOTS = {"depth_ratio": (0.05, 0.32), "length_ratio": (0.3, 1.05), "pocket_width_ratio": (0.2, 0.88),
-               "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
+               "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX}
 SHORT_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.2, 0.45), "notch_ratio": (1.55, 7.0),
-                     "lp_grid": (2.4, 4.0)}
+                     "lp_grid": LP_GRID_BOX}
 SHORT_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.15, 0.5),
-                    "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
+                    "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX}
 POCKET_GROUPS = (("rectangle-pocket", POCKET_BOXES["rectangle-pocket"], 40),
                  ("round-pocket", POCKET_BOXES["round-pocket"], 44),
                  ("tube-pocket", POCKET_BOXES["tube-pocket"], 48),
@@ -144,9 +150,9 @@ POCKET_GROUPS = (("rectangle-pocket", POCKET_BOXES["rectangle-pocket"], 40),
 # feature's clamp-side end ``clamp_ratio`` section sizes from the clamp face instead of
 # POCKET_CLEARANCE, down to NEAR_CLAMP_CLEARANCE.
 NEAR_CLAMP_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.2, 2.0), "notch_ratio": (1.55, 7.0),
-                          "lp_grid": (2.4, 4.0), "clamp_ratio": (0.1, 1.0)}
+                          "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 1.0)}
 NEAR_CLAMP_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.15, 1.8),
-                         "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0), "clamp_ratio": (0.1, 1.0)}
+                         "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 1.0)}
 NEAR_CLAMP_SLOTS = {**POCKET_BOXES["rectangle-pocket"], "pocket_width_ratio": (0.2, 0.88), "clamp_ratio": (0.1, 1.0)}
 NEAR_CLAMP_GROUPS = (("round-pocket", NEAR_CLAMP_ROUND_FLATS, 32),
                      ("tube-pocket", NEAR_CLAMP_TUBE_FLATS, 24),
@@ -156,14 +162,14 @@ NEAR_CLAMP_GROUPS = (("round-pocket", NEAR_CLAMP_ROUND_FLATS, 32),
 # through a dip: Halton points beyond the main tube group's (the fourth element: points skipped),
 # so that their depths, walls and radii are new ones too.
 MID_TUBE_FLATS = {"depth_ratio": (0.3, 0.9), "wall_ratio": (0.12, 0.42), "length_ratio": (0.5, 1.1),
-                  "notch_ratio": (1.55, 7.0), "lp_grid": (2.4, 4.0)}
+                  "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX}
 MID_TUBE_GROUPS = (("tube-pocket", MID_TUBE_FLATS, 40, 48),)
 # Round flats short for their bar and near the clamp (a kilonewton lug's Ø90 mm bar under a 3 mm
 # gauge's 28 mm flat, 0.14 D from the clamp face): their gauge grid's centre a quarter to half a
 # diameter out, nearer than the NEAR_CLAMP_GROUPS' longer flats put it, where the clamp's decay is
 # steep.
 NEAR_CLAMP_SHORT_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.28, 0.55), "notch_ratio": (1.55, 7.0),
-                                "lp_grid": (2.4, 4.0), "clamp_ratio": (0.1, 0.3)}
+                                "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 0.3)}
 NEAR_CLAMP_SHORT_GROUPS = (("round-pocket", NEAR_CLAMP_SHORT_ROUND_FLATS, 20),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare

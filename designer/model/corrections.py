@@ -20,7 +20,7 @@ shipped as ``materials/corrections.yaml``:
 
 A fit is a polynomial in its family's parameters, smooth so that IPOPT keeps exact
 derivatives, and valid over the box of the study (its ``domain``): designs are kept inside it
-by limits (``model.limits``). The parameters are computed here, once, for the study and for the
+by limits (``model.domain``, ``model.limits``). The parameters are computed here, once, for the study and for the
 model alike.
 """
 
@@ -150,21 +150,6 @@ def station_width_ratios(g: Geometry) -> tuple:
     """Each station's distance from the clamp face over the section's width (b, or D): the clamp
     fit's variable. The clamp's restraint spreads about one width along the beam."""
     return tuple(d / g.breadth for d in g.stations)
-
-
-# The domain bound of the first station's feature's distance from the clamp face in section sizes
-# (``clamp_ratios``): the study put no feature nearer the clamp than its fits' ``clamp_ratio``.
-NEAR_CLAMP_BOUND = "clamp_ratio_1"
-
-
-# The domain bound of the first station's (gauge grid centre's) distance from the clamp face in
-# section sizes (``station_ratios``), which the near-clamp fits' decays are fitted over.
-NEAR_STATION = "station_ratio"
-
-
-def station_bound_name(i: int) -> str:
-    """The domain bound of station ``i``'s (0-based) distance from the clamp over the width."""
-    return f"station_width_ratio_{i + 1}"
 
 
 def width_amplitude(peak, w0, w, ops):
@@ -539,61 +524,3 @@ class Widened:
     @property
     def reduced_spans(self) -> tuple:
         return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
-
-
-def domain_box(fam: str, table: Corrections) -> dict:
-    """``{parameter: (low, high)}``: where every fit of family ``fam`` holds (where fits share a
-    parameter, inside all of their ranges); the first station's clamp ratio as ``NEAR_CLAMP_BOUND``."""
-    box = {}
-    for quantity in ("strain", "extra_length", "stress", "near_clamp"):
-        fit = table.fit(fam, quantity)
-        for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
-            if name == CLAMP_NEAR:      # the same bound as the first feature's clamp ratio's
-                continue
-            name = NEAR_CLAMP_BOUND if name == "clamp_ratio" else name
-            old_lo, old_hi = box.get(name, (lo, hi))
-            box[name] = (max(lo, old_lo), min(hi, old_hi))
-    return box
-
-
-def least_pocket_length(g: Geometry, table: Corrections):
-    """The shortest pocket (slot or flat) of ``g``'s section that its family's fits hold for: the
-    domain's least ``length_ratio`` times the section size and, where the fits read the gauge grid's
-    gap to the flat's ends (``grid_gap_decays``), the gap their largest decays allow; 0 without
-    fits or without a pocket (a number, an array or a casadi expression, as ``g``'s sizes)."""
-    if g.feature != "pocket":
-        return 0.0
-    box = domain_box(family(g), table)
-    size, ops = g.size, ops_for(g.size)
-    out = 0.0
-    lo = box.get("length_ratio", (-math.inf, math.inf))[0]
-    if math.isfinite(lo) and lo > 0:
-        out = ops.fmax(out, lo * size)
-    for name, rate in GAP_RATES.items():    # exp(-k (l - l_grid) / (2 size)) <= high
-        high = box.get(name, (-math.inf, math.inf))[1]
-        if 0 < high < 1:
-            out = ops.fmax(out, g.grid_length + 2 * size * math.log(1 / high) / rate)
-    return out
-
-
-def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
-    """``(name, value, low, high)`` for every parameter a fit of ``g``'s family uses: the design must
-    stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
-    first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``)."""
-    # a fit's clamp_ratio bounds the first station's (the others are further out)
-    values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0], NEAR_STATION: station_ratios(g)[0]}
-    box = domain_box(family(g), table)
-    out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
-    clamp = clamp_fit(table)
-    if clamp is not None:
-        for name, (lo, hi) in clamp.domain.items():
-            if name == "station_width_ratio":
-                out += [(station_bound_name(i), u, lo, hi) for i, u in enumerate(station_width_ratios(g))]
-            elif all(name != o[0] for o in out):
-                out.append((name, values[name], lo, hi))
-    stiffness = stiffness_fit(table)
-    if stiffness is not None:
-        values["slenderness"] = g.length / g.size
-        out += [(name, values[name], lo, hi) for name, (lo, hi) in stiffness.domain.items()
-                if all(name != o[0] for o in out)]
-    return out

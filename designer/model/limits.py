@@ -132,12 +132,12 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
     distance from the clamp over the width is left out where the clamp clearance already keeps
     every station far enough out for the widest section the spec allows: an idle constraint
     only makes the optimiser's path harder."""
-    from designer.model import corrections
+    from designer.model import corrections, domain
 
     table = corrections.load() if table is None else table
-    stations = {corrections.station_bound_name(i): d for i, d in enumerate(g.stations)}
+    stations = {domain.station_bound_name(i): d for i, d in enumerate(g.stations)}
     out = []
-    for name, value, lo, hi in corrections.domain_bounds(g, table):
+    for name, value, lo, hi in domain.domain_bounds(g, table):
         if name in stations and math.isfinite(lo) and not math.isfinite(hi):
             if spec is not None and _clamp_room(g, spec) >= lo * _widest(g, spec):
                 continue
@@ -145,11 +145,14 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
             out.append(Limit(f"domain_{name}_min", stations[name], lo * g.breadth, upper=False, scale=1e-3,
                              unit="m"))
             continue
-        if name == corrections.NEAR_STATION:
+        if name == domain.LP_GRID and spec is not None and not _is_number(g.feature_length) \
+                and _longest_pocket(g, spec, table) <= hi * g.grid_length:
+            continue    # idle in the search: no section the spec allows needs a pocket that long
+        if name == domain.NEAR_STATION:
             # d_1 >= lo h (or D), linear in the sizes
             out.append(Limit(f"domain_{name}_min", g.stations[0], lo * g.size, upper=False, scale=1e-3, unit="m"))
             continue
-        if name == corrections.NEAR_CLAMP_BOUND:
+        if name == domain.NEAR_CLAMP_BOUND:
             # d_1 - l_f/2 >= lo h (or D), linear in the sizes
             start = g.stations[0] - g.feature_length / 2
             out.append(Limit(f"domain_{name}_min", start, lo * g.size, upper=False, scale=1e-3, unit="m"))
@@ -172,6 +175,20 @@ def _clamp_room(g: Geometry, spec) -> float:
             least = min(least, float(g.feature_length))
         return spec.limits.clamp_clearance + least / 2
     return spec.limits.clamp_clearance + float(g.feature_length) / 2 if _is_number(g.feature_length) else 0.0
+
+
+def _longest_pocket(g: Geometry, spec, table) -> float:
+    """The longest pocket the search may give ``g``'s family under the spec: the rule's, or what the
+    corrections need on the largest section the spec allows (``domain.least_pocket_length`` grows
+    with the size), with the search's smooth maximum's and rounding's excess."""
+    from dataclasses import replace
+
+    from designer.model import domain
+
+    largest = spec.limits.height[1] if g.section == "rectangle" else min(spec.limits.width[1], spec.limits.height[1])
+    big = replace(g, **({"height": largest} if g.section == "rectangle" else {"diameter": largest}))
+    rule = smallest_feature_length(spec, "pocket")
+    return max(rule, float(domain.least_pocket_length(big, table))) + 0.01 * rule + 1e-5
 
 
 def _widest(g: Geometry, spec) -> float:

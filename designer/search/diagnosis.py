@@ -88,8 +88,31 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = {float(v.limit) * mm:.4g} mm; "
                    f"allow at least {float(v.value) * mm:.4g} mm, or enlarge limits.width/limits.height")
+    if "domain_lp_grid_max" in violated:
+        out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
     if "natural_frequency" in violated:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
                    f"lower it to {float(v.value):.4g} Hz or shorten the beam")
     return out
+
+
+def _long_pockets(spec, limit, g) -> str:
+    """Why the pockets are more gauge grids long than the pocket study's, and what would shorten
+    them: the gauge's backing and margins (the spec's rule), or the length the corrections need on
+    a large section (a flat at least 0.4 D long on a round bar, D on a tube)."""
+    from designer.model.domain import LP_GRID_BOX
+
+    mm, most = 1e3, LP_GRID_BOX[1]
+    rule, grid = spec.pocket_size()[0], g.grid_length
+    head = (f"domain_lp_grid_max: its pockets would be {float(limit.value):.3g} gauge grids long "
+            f"({g.pocket_length * mm:.4g} mm over the gauge's {grid * mm:.3g} mm grid), where the 3-D corrections "
+            f"were studied up to {most:g} (docs/model.md §7)")
+    if rule > most * grid:
+        margin = max(0.0, (most * grid - spec.gauge.length) / 2)
+        return (head + f"; the gauge's {spec.gauge.length * mm:.3g} mm backing and limits.pocket_margin alone make "
+                f"them {rule * mm:.4g} mm: a pocket_margin of at most {margin * mm:.3g} mm, a gauge with a longer "
+                "grid for its backing, or search.feature: none (or hole on a rectangle) would be inside")
+    return (head + f"; a flat is made at least 0.4 D long on a round bar, D on a tube: a gauge with a grid of at "
+            f"least {g.pocket_length * mm / most:.3g} mm, search.feature: none (or hole on a rectangle), or a "
+            "smaller section would be inside")

@@ -18,7 +18,7 @@ import numpy as np
 from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
-from designer.model import corrections, tolerance
+from designer.model import corrections, domain, tolerance
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
 from designer.result.evaluation import Design, Evaluation
@@ -221,12 +221,12 @@ POCKET_SMOOTHING = 0.01
 
 def pocket_as_needed(g: Geometry, least: float, step: float = 0.0) -> Geometry:
     """``g`` with its pocket ``least`` long (the spec's rule: the gauge's backing and margins), or
-    longer where the feature corrections hold only for a longer one (``corrections.
-    least_pocket_length``: a flat on a tube at least the tube's diameter long); with ``step``, that
+    longer where the feature corrections hold only for a longer one (``domain.least_pocket_length``:
+    a flat on a tube at least the tube's diameter long); with ``step``, that
     longer length rounded up to it (a design's sizes are on the 0.01 mm grid; the rule's is kept)."""
     if g.feature != "pocket":
         return g
-    need = corrections.least_pocket_length(g, corrections.load())
+    need = domain.least_pocket_length(g, corrections.load())
     # a smooth maximum, never below either (IPOPT stalls at a kink of max(): the bench suite's
     # 011-loose-limits slot, 4.9 % above COBYLA's): at most POCKET_SMOOTHING x the rule above it
     width = POCKET_SMOOTHING * least

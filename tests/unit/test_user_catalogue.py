@@ -108,19 +108,43 @@ def test_a_spec_without_a_catalogue_puts_the_shipped_one_back(tmp_path, examples
     assert "6082-T6" not in plain.search.materials
 
 
+STOCK_ROUND = ("search: {materials: [6082-T6], sections: [round], stock: metric}\n"
+               "targets: {force_error: 1 %, position_error: 1 mm}")
+
+
+def _half_mm_margins(path: Path) -> Path:
+    height = "  height: [3 mm, 16 mm]\n"
+    path.write_text(path.read_text().replace(height, height + "  pocket_margin: 0.5 mm\n"))
+    return path
+
+
 def test_a_user_stock_table_gives_the_section(tmp_path):
     """With ``stock: metric`` the user's 6082-T6 is cut from its own table's round bar: the
-    reported diameter is one of the table's rows (8, 10, 12, 16, 20 mm)."""
+    reported diameter is one of the table's rows (8, 10, 12, 16, 20 mm). (Pocket margins of 0.5 mm:
+    with the default 1 mm, KFGS-2's 6.4 mm backing makes a pocket 4.2 of its 2 mm grids long, more
+    than the pocket study's 4, the next test.)"""
     from designer.search import optimize
     from designer.spec.reader import load_spec
 
-    spec = load_spec(_spec(tmp_path, rest="search: {materials: [6082-T6], sections: [round], stock: metric}\n"
-                                          "targets: {force_error: 1 %, position_error: 1 mm}"))
+    spec = load_spec(_half_mm_margins(_spec(tmp_path, rest=STOCK_ROUND)))
     found = optimize(spec)
     best = found.best
     assert best is not None and best.feasible
     assert best.design.stock.table == "shop-6082-round"
     assert round(best.design.geometry.diameter * 1e3, 6) in (8, 10, 12, 16, 20)
+
+
+def test_a_gauge_whose_backing_makes_long_pockets_is_told_the_margin_that_fits(tmp_path):
+    """KFGS-2-120 (2 mm grid, 6.4 mm backing) with the default 1 mm pocket margins: every pocket is
+    8.4 mm = 4.2 grid lengths, beyond the pocket study's 4 (docs/model.md §7), on any section. No
+    design; the message names the margin that fits: (4 x 2 - 6.4) / 2 = 0.8 mm."""
+    from designer.search import optimize
+    from designer.spec.reader import load_spec
+
+    found = optimize(load_spec(_spec(tmp_path, rest=STOCK_ROUND)))
+    assert not found.success
+    said = next(m for m in found.messages if m.startswith("domain_lp_grid_max:"))
+    assert "4.2 gauge grids long" in said and "a pocket_margin of at most 0.8 mm" in said
 
 
 BAD = {

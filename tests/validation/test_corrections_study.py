@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from designer.checks import clamp_study, fits, study
-from designer.model import corrections
+from designer.model import corrections, domain
 
 STUDY = Path(corrections.__file__).resolve().parents[2] / "materials" / "corrections_study.csv"
 
@@ -22,7 +22,7 @@ def _rows():
 
 def _inside(fit, row) -> bool:
     if "clamp_ratio" in row and "length_ratio" in row:     # the near station's distance (a near-clamp fit's)
-        row = {corrections.NEAR_STATION: clamp_study.near_station(row), **row}
+        row = {domain.NEAR_STATION: clamp_study.near_station(row), **row}
     return all(name in row and lo <= row[name] <= hi for name, (lo, hi) in fit.domain.items())
 
 
