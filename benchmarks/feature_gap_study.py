@@ -38,12 +38,7 @@ ISOLATED = study.FAR_GAP
 
 def ratios(case: study.Case, gap: float, mesh: str) -> tuple[float, ...]:
     """The 3-D/model gauge-strain ratios of ``case``'s two stations with ``gap`` between features."""
-    from designer.checks.fea import verify_design
-    from designer.result.pipeline import evaluate_fixed
-    from designer.spec.reader import parse_spec_text
-
-    record = evaluate_fixed(parse_spec_text(dataclasses.replace(case, gap=gap).spec_text())).record
-    return tuple(verify_design(record, mesh=mesh).ratios)
+    return study.model_ratios(dataclasses.replace(case, gap=gap), mesh)
 
 
 def main(argv=None) -> int:

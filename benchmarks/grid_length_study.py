@@ -28,7 +28,6 @@ import argparse
 import dataclasses
 import sys
 import time
-from pathlib import Path
 
 from designer.checks import study
 
@@ -68,15 +67,6 @@ def _cases(box: dict, family: str, count: int):
     return out
 
 
-def ratios(case: study.Case, mesh: str) -> tuple[float, ...]:
-    """Both stations' 3-D/model gauge-strain ratios of ``case``."""
-    from designer.checks.fea import verify_design
-    from designer.result.pipeline import evaluate_fixed
-    from designer.spec.reader import parse_spec_text
-
-    return tuple(verify_design(evaluate_fixed(parse_spec_text(case.spec_text())).record, mesh=mesh).ratios)
-
-
 # The bench suite's 035-kilonewton as it was designed before the limit (benchmarks/bench_verify.py's
 # large-round-bar: a Ø87.26 mm bar, shallow flats 34.91 mm long 0.10 D from the clamp, at the corner
 # of the round flats' fits), under its own 3.18 mm grid (11 grid lengths) and under one 8.72 mm long
@@ -90,8 +80,7 @@ def corner(mesh: str) -> None:
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
-    from bench_verify import LARGE_SPEC
+    from bench_verify import LARGE_SPEC     # (beside this script)
 
     print("\n| corner design | grid (mm) | pocket / grid | 3-D/model by station |")
     print("|---|---:|---:|---|")
@@ -119,9 +108,9 @@ def main(argv=None) -> int:
     start, seen = time.perf_counter(), []
     for label, family, box in GROUPS:
         for case, lp in _cases(box, family, args.points):
-            native = ratios(case, args.mesh)
+            native = study.model_ratios(case, args.mesh)
             short = dataclasses.replace(case, grid_length=case.pocket_length / lp)
-            swapped = ratios(short, args.mesh)
+            swapped = study.model_ratios(short, args.mesh)
             change = [s / n - 1 for s, n in zip(swapped, native)]
             depth = case.depth / (case.wall if family == "tube-pocket" else case.size)
             print(f"| {label} | {case.size * 1e3:.2f} | {case.pocket_length * 1e3:.2f} | {depth:.3f} | "

@@ -17,7 +17,7 @@ import argparse
 import sys
 import time
 
-from grid_length_study import _cases, ratios
+from grid_length_study import _cases
 
 from designer.checks import study
 
@@ -33,7 +33,7 @@ def main(argv=None) -> int:
     print("|---:|---:|---:|---:|---:|---:|---|")
     start = time.perf_counter()
     for case, _ in _cases(BOX, "rectangle-pocket", args.points):
-        near, far = ratios(case, args.mesh)
+        near, far = study.model_ratios(case, args.mesh)
         print(f"| {case.size * 1e3:.2f} | {case.width * 1e3:.2f} | {case.pocket_length * 1e3:.2f} | "
               f"{case.pocket_length / case.size:.3f} | {case.depth / case.size:.3f} | "
               f"{case.pocket_width / case.width:.3f} | {near:.4f}, {far:.4f} |", flush=True)

@@ -354,6 +354,17 @@ def case_parameters(case: Case) -> dict:
                                .evaluation.design.geometry)
 
 
+def model_ratios(case: Case, mesh: str = "normal") -> tuple[float, ...]:
+    """Each station's 3-D/model gauge-strain ratio of a case, the model with the shipped corrections
+    (``run_case``'s figures are over the plain model)."""
+    from designer.checks.fea import verify_design
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    record = evaluate_fixed(parse_spec_text(case.spec_text(), source=case.family)).record
+    return tuple(verify_design(record, mesh=mesh).ratios)
+
+
 def run_case(case: Case, mesh: str = "normal") -> Row:
     """The 3-D check of one case and its dimensionless figures."""
     from designer import model

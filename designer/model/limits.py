@@ -180,7 +180,8 @@ def _clamp_room(g: Geometry, spec) -> float:
 def _longest_pocket(g: Geometry, spec, table) -> float:
     """The longest pocket the search may give ``g``'s family under the spec: the rule's, or what the
     corrections need on the largest section the spec allows (``domain.least_pocket_length`` grows
-    with the size), with the search's smooth maximum's and rounding's excess."""
+    with the size), with room for the search's excess over that: its smooth maximum adds at most
+    half of ``search.problem.POCKET_SMOOTHING`` (0.01) of the rule, rounding up one 0.01 mm step."""
     from dataclasses import replace
 
     from designer.model import domain

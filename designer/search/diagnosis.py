@@ -100,8 +100,9 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
 def _long_pockets(spec, limit, g) -> str:
     """Why the pockets are more gauge grids long than the pocket study's, and what would shorten
     them: the gauge's backing and margins (the spec's rule), or the length the corrections need on
-    a large section (a flat at least 0.4 D long on a round bar, D on a tube)."""
-    from designer.model.domain import LP_GRID_BOX
+    a large section (their domain's least ``length_ratio`` times its size)."""
+    from designer.model import corrections
+    from designer.model.domain import LP_GRID_BOX, domain_box
 
     mm, most = 1e3, LP_GRID_BOX[1]
     rule, grid = spec.pocket_size()[0], g.grid_length
@@ -113,6 +114,7 @@ def _long_pockets(spec, limit, g) -> str:
         return (head + f"; the gauge's {spec.gauge.length * mm:.3g} mm backing and limits.pocket_margin alone make "
                 f"them {rule * mm:.4g} mm: a pocket_margin of at most {margin * mm:.3g} mm, a gauge with a longer "
                 "grid for its backing, or search.feature: none (or hole on a rectangle) would be inside")
-    return (head + f"; a flat is made at least 0.4 D long on a round bar, D on a tube: a gauge with a grid of at "
-            f"least {g.pocket_length * mm / most:.3g} mm, search.feature: none (or hole on a rectangle), or a "
-            "smaller section would be inside")
+    least = domain_box(corrections.family(g), corrections.load()).get("length_ratio", (0.0,))[0]
+    return (head + f"; the corrections need a pocket at least {least:.2g} times the section's size long on this "
+            f"section (docs/model.md §1): a gauge with a grid of at least {g.pocket_length * mm / most:.3g} mm, "
+            "search.feature: none (or hole on a rectangle), or a smaller section would be inside")
