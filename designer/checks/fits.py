@@ -105,6 +105,12 @@ def _share_of_length(*others: str) -> Terms:
 # over the gap between them, a slow decay growing with depth and a fast one.
 FLAT_GAP = Terms(("depth_ratio", "gap_slow", "gap_fast"),
                  ((0, 0, 0), (1, 0, 0), (2, 0, 0), (0, 1, 0), (1, 1, 0), (0, 0, 1)))
+# A slot's gauge strain: the slot's ends reaching the grid (the slow grid-gap decay), as much as
+# the side walls carry the load past the slot (their product), the side walls' own share of it,
+# and the depth over the slot's share of the width. Deep slots of one to two heights, narrow in a
+# wide bar, read up to 6 % above a quadratic in depth, length and side walls (study.MID_SLOT_GROUPS).
+SLOT_GAP = Terms(("depth_ratio", "side_wall_ratio", "pocket_width_ratio", "gap_slow"),
+                 ((0, 0, 0, 0), (0, 1, 0, 1), (0, 2, 0, 0), (1, 0, 1, 0), (0, 0, 0, 2)))
 # K_t of a slot: Neuber's shape on the depth and the slot's share of the width, with the depth's
 # own quadratic (a shallow slot's peak over a nominal that is nearly the plain bar's) and the
 # length's (a short slot's ends interact).
@@ -125,10 +131,11 @@ FIT_FORMS = {
     "rectangle-pocket": {"strain": [("depth_ratio", "length_ratio"), ("depth_ratio", "grid_ratio"),
                                     ("depth_ratio", "length_ratio", "pocket_width_ratio"),
                                     ("depth_ratio", "length_ratio", "width_ratio"),
-                                    ("depth_ratio", "length_ratio", "side_wall_ratio")],
+                                    ("depth_ratio", "length_ratio", "side_wall_ratio"), SLOT_GAP],
                          "extra_length": [("depth_ratio", "length_ratio"),
                                           ("depth_ratio", "length_ratio", "pocket_width_ratio"),
                                           ("length_ratio", "pocket_width_ratio", "width_ratio"),
+                                          ("depth_ratio", "length_ratio", "side_wall_ratio"),
                                           _share_of_length("pocket_width_ratio"),
                                           _share_of_length("depth_ratio", "pocket_width_ratio"),
                                           _share_of_length("depth_ratio", "pocket_width_ratio", "clamp_near")],
