@@ -114,14 +114,17 @@ def table(rows: list[dict], mesh: str) -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--mesh", default="normal", choices=tuple(fea.MESH_LEVELS))
-    parser.add_argument("--out", default=str(ROOT / "benchmarks" / "fea_table.md"))
+    parser.add_argument("--out", default=None,
+                        help="Markdown file to write [benchmarks/fea_table.md for the whole table; none with --only, "
+                             "which would leave it with only those rows]")
     parser.add_argument("--only", nargs="*", default=None, help="run only these cases (names as in the table)")
     args = parser.parse_args(argv)
     names = args.only or list(CASES)
     text = table(run(names, args.mesh), args.mesh)
     print(text)
-    if args.out:
-        atomic_write_text(args.out, text)
+    out = args.out or (None if args.only else str(ROOT / "benchmarks" / "fea_table.md"))
+    if out:
+        atomic_write_text(out, text)
     return 0
 
 
