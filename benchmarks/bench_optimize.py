@@ -6,7 +6,7 @@ families, after start-up, in this process) with the shipped feature corrections
 same machine load, their ratio, the objective against the exhaustive reference search
 (reference.reference_best: a dense grid polished by scipy, no casadi), and the start-up time of
 the command (`fpdesign --help` and the imports an optimise run needs), measured separately.
-Run by hand:  python benchmarks/bench_optimize.py [--repeat 5]
+Run by hand:  python benchmarks/bench_optimize.py [--repeat 5] [--only NAME ...]
 """
 
 from __future__ import annotations
@@ -42,6 +42,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--levels", type=int, default=7, help="grid levels of the reference search")
+    parser.add_argument("--only", nargs="*", default=None, choices=NAMES, help="only these examples")
     args = parser.parse_args()
 
     from designer.model import corrections
@@ -58,7 +59,7 @@ def main() -> None:
     print(f"{'example':24} {'candidates':>10} {'median s':>9} {'plain s':>8} {'ratio':>6} {'objective':>11} "
           f"{'reference':>11} {'gap':>8}  chosen")
     ratios = []
-    for name in NAMES:
+    for name in args.only or NAMES:
         spec = load_spec(EXAMPLES / f"{name}.yaml")
         run(spec, shipped)  # warm: casadi and IPOPT loaded, as after start-up
         run(spec, plain)
