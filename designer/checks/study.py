@@ -171,7 +171,7 @@ MID_TUBE_GROUPS = (("tube-pocket", MID_TUBE_FLATS, 40, 48),)
 NEAR_CLAMP_SHORT_ROUND_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.28, 0.55), "notch_ratio": (1.55, 7.0),
                                 "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 0.3)}
 NEAR_CLAMP_SHORT_GROUPS = (("round-pocket", NEAR_CLAMP_SHORT_ROUND_FLATS, 20),)
-# Slots of one to two bar heights (a 5.5 mm wide pocket in a bar 8-25 mm wide and 5-11 mm high):
+# Slots of one to two bar heights (a 5.5 mm wide pocket in a bar 6-26 mm wide and 4-13 mm high):
 # deep slots of this length, narrow in a wide bar, read up to 6 % above a fit of the main groups,
 # where few of their points were (benchmarks/short_slot_check.md). Halton points beyond the first
 # 40 that the rectangle's other groups take.
