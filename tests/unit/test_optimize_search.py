@@ -109,21 +109,22 @@ def test_a_group_of_materials_proved_infeasible_is_infeasible_in_each():
 
 def test_a_family_tries_first_the_start_that_served_its_last_material():
     # The probe's rectangles: from the first usual start (sections at 35 % of their range) IPOPT
-    # ends every material in a local infeasibility verdict, from the second it succeeds. Once a
+    # ends most materials in a local infeasibility verdict, from the second it succeeds. Once a
     # material has succeeded from the second, the next ones start there: one solve each instead
-    # of two, and the same designs (reference: each material solved from the usual order alone).
+    # of two for at least three of them (five measured), and the same designs (reference: each
+    # material solved from the usual order alone).
     spec = load_spec(EXAMPLES / "probe.yaml")
     fam = search.Family("rectangle", spec.search.feature)
     found = search.optimize(spec)
     problem = search.FamilyProblem(spec, fam)
     rects = [c for c in found.candidates if c.family == fam]
-    order = [c.material for c in rects]
-    later = [c for c in rects if c.material != spec.search.materials[0]]
-    assert later and all(c.solves[0].message == "Solve_Succeeded" for c in later), order
-    for cand in later[:3]:
+    helped = []
+    for cand in rects[1:]:
         alone = search.solve_candidate(problem, catalogue.material(cand.material), "ipopt")
-        assert alone.solves[0].message == "Infeasible_Problem_Detected"
-        assert cand.evaluation.objective == pytest.approx(alone.evaluation.objective, rel=model.TIE_TOLERANCE)
+        if alone.solves[0].message == "Infeasible_Problem_Detected" and cand.solves[0].message == "Solve_Succeeded":
+            helped.append(cand.material)
+            assert cand.evaluation.objective == pytest.approx(alone.evaluation.objective, rel=model.TIE_TOLERANCE)
+    assert len(helped) >= 3, [c.material for c in rects]
 
 def test_with_no_feasible_family_every_candidate_is_solved_on_its_own(monkeypatch):
     # When nothing is feasible, the least-infeasible design (and the diagnosis built on it) must
@@ -481,8 +482,11 @@ def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaire
     # Candidates whose first answer, before rounding, is more than CONTENDER_BAND above the best
     # design found before them, and which rounding breaks, are outranked instead of repaired.
     # Reference: the same search repairing every candidate (outrank=False): the same reported
-    # design, each outranked candidate's repaired design no better than its bound, and fewer IPOPT
-    # runs. At nominal sizes, and under the examples' own ISO 2768-m, whose corners the NLP holds
+    # design, each outranked candidate's repaired design still more than CONTENDER_BAND above the
+    # best (it could have been neither chosen nor a contender), and fewer IPOPT runs. The first
+    # answer is not a bound on every repair: the gripper finger's 304 rectangle under ISO 2768-m
+    # answers 0.991, meeting its limits to IPOPT's tolerance only, and a wider grid around it finds
+    # 0.959 (the best design is 0.401). At nominal sizes, and under the examples' own ISO 2768-m, whose corners the NLP holds
     # as the check builds them (before, the answers on a flat missed a corner by up to 2e-5 in
     # the check, so none was outranked under a tolerance class).
     from designer.search.run import CONTENDER_BAND
@@ -500,7 +504,7 @@ def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaire
     for c in skipped:
         assert c.continuous.objective > capped.best.objective * (1 + CONTENDER_BAND)
         other = repaired[(c.material, c.family)].evaluation
-        assert other is None or other.objective >= c.continuous.objective * (1 - 1e-9)
+        assert other is None or other.objective > capped.best.objective * (1 + CONTENDER_BAND)
         assert c.record()["continuous_objective"] == c.continuous.objective
     assert capped.solver["solves"] < full.solver["solves"]
 
