@@ -51,11 +51,9 @@ def _cases(box: dict, family: str, count: int):
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
-    names = list(box)
     out = []
-    for point in study.halton(SKIP + 20 * count, len(names) + 1)[SKIP:]:
-        u = {k: t if k == "notch_ratio" else lo + t * (hi - lo) for k, t, (lo, hi) in zip(names, point, box.values())}
-        case = study.pocket_case(family, u, box)
+    for point in study.halton(SKIP + 20 * count, len(box) + 1)[SKIP:]:
+        case = study.pocket_case(family, study.box_point(box, point), box)
         if case is None:
             continue
         ev = evaluate_fixed(parse_spec_text(case.spec_text())).evaluation

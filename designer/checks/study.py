@@ -230,15 +230,18 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
     return case if l_p - 2 * case.corner_radius >= GAUGE_LENGTH else None
 
 
+def box_point(box: dict, point) -> dict:
+    """A point of ``[0, 1)^n`` as ``box``'s parameters, each coordinate on its range but
+    ``notch_ratio``'s, which ``pocket_case`` spans (coordinates beyond the box's are left out)."""
+    return {k: t if k == "notch_ratio" else lo + t * (hi - lo) for k, t, (lo, hi) in zip(box, point, box.values())}
+
+
 def group_cases(groups) -> list[Case]:
     """The cases of pocket groups ``(family, box, number of Halton points[, points skipped])``."""
     out = []
     for fam, box, count, *skip in groups:
-        names = list(box)
-        for point in halton(count + sum(skip), len(names))[sum(skip):]:
-            u = {k: t if k == "notch_ratio" else lo + t * (hi - lo)
-                 for k, t, (lo, hi) in zip(names, point, box.values())}
-            case = pocket_case(fam, u, box)
+        for point in halton(count + sum(skip), len(box))[sum(skip):]:
+            case = pocket_case(fam, box_point(box, point), box)
             if case is not None:
                 out.append(case)
     return out
