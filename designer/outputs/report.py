@@ -403,17 +403,18 @@ def candidate_order(record: dict) -> str:
             "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
             "the first is the reported design.")
     if any(c.get("status") == "outranked" for c in record.get("candidates", [])):
-        text += (" Outranked: its optimum before rounding (≥, a bound on every size of the 0.01 mm grid or "
-                 "of stock) already ranks below the chosen design, so it was not rounded or no stock size "
-                 "was solved; it is listed at that bound.")
+        text += (" Outranked: its answer before rounding (IPOPT's optimum of continuous sizes, not a bound: "
+                 "a design on the 0.01 mm grid or of stock may be a little better or worse, or may not exist) "
+                 "already ranked it out of contention, so it was not rounded or no stock size was solved; "
+                 "it is listed at that answer.")
     return text
 
 
 def _objective_cell(c: dict) -> str:
-    """A candidate's objective; for one outranked, the bound its optimum before rounding sets."""
+    """A candidate's objective; for one outranked, its answer before rounding."""
     value = c.get("objective")
     if value is None and c.get("status") == "outranked" and c.get("continuous_objective") is not None:
-        return f"≥ {c['continuous_objective']:.4g}"
+        return f"{c['continuous_objective']:.4g} before rounding"
     return "–" if value is None or not math.isfinite(value) else f"{value:.4g}"
 
 

@@ -43,8 +43,8 @@ class Candidate:
     @property
     def status(self) -> str:
         """optimal | infeasible | failed (no answer could be evaluated); outranked: on stock, no
-        row solved (the continuous optimum, a bound on every row, ranks below the chosen stock
-        design), or not rounded (``unrounded``: its answer before rounding already ranked far
+        row solved (the continuous optimum, IPOPT's bound on every row, ranks below the chosen
+        stock design), or not rounded (``unrounded``: its answer before rounding already ranked far
         below); on stock also infeasible when there is no row to try."""
         if self.outranked:
             return "outranked"
@@ -308,8 +308,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     order = {id(ev): i for i, ev in enumerate(feasible)}
 
     def cand_key(c):
-        # an outranked candidate stands at its continuous optimum, the bound on its designs: before
-        # the first design above it, never before the chosen one (a stock search's outranked flag
+        # an outranked candidate stands at its answer before rounding (no bound on its designs,
+        # docs/model.md section 5): before the first design above it, never before the chosen one (a stock search's outranked flag
         # comes from its rows' bounds, which are tighter than the continuous one)
         if c.outranked:
             bound = c.continuous.objective

@@ -51,7 +51,10 @@ def _on_stock(spec, problems: dict, candidates: list, stocked: list, prune_infea
     bars_continuous = prune_infeasible and spec.search.stock == "none"
     for i in order:
         cand = candidates[i]
-        if cand.outranked:  # by its continuous answer already (``solve_candidate``'s cap): a bound on every row
+        if cand.outranked:  # by its continuous answer already (``solve_candidate``'s cap): no row is solved,
+            rows, note = stock_rows(problems[cand.family], catalogue.material(cand.material, "search.materials"))
+            if not rows:    # but a material with no stock of this shape at all is said to have none
+                out[i] = replace(cand, outranked=False, unrounded=False, stock_note=note)
             continue
         if (math.isfinite(cap) or bars_continuous) and (cand.evaluation is None or not cand.evaluation.feasible):
             # no design of continuous sizes met every limit, so no stock size (a subset) can

@@ -16,6 +16,7 @@ import pytest
 
 from designer.spec import catalogue
 from designer.result import designfile
+from designer.outputs import report
 from designer import model, search
 from designer.result.record import search_record
 from designer.search import reference
@@ -507,6 +508,14 @@ def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaire
         assert other is None or other.objective > capped.best.objective * (1 + CONTENDER_BAND)
         assert c.record()["continuous_objective"] == c.continuous.objective
     assert capped.solver["solves"] < full.solver["solves"]
+    # so the report lists each at its answer "before rounding", never as a bound ("≥") on its designs
+    text = report.markdown(search_record(spec, capped))
+    assert "≥" not in text
+    assert all(f"| {c.continuous.objective:.4g} before rounding |" in text for c in skipped)
+    if name == "gripper-finger":   # the 304 rectangle repairs below its answer: no bound
+        below = [c for c in skipped if (r := repaired[(c.material, c.family)].evaluation) is not None
+                 and r.feasible and r.objective < c.continuous.objective]
+        assert [(c.material, c.family.section) for c in below] == [("304", "rectangle")]
 
 
 def test_a_design_judged_again_under_the_same_spec_is_not_analysed_again(monkeypatch):
@@ -535,9 +544,9 @@ def test_a_design_judged_again_under_the_same_spec_is_not_analysed_again(monkeyp
     assert fresh.predicted() == again.predicted() and fresh.tolerance == again.tolerance
 
 
-def test_an_outranked_candidate_is_listed_at_its_bound_and_the_chart_and_fronts_follow():
+def test_an_outranked_candidate_is_listed_at_its_answer_and_the_chart_and_fronts_follow():
     # An outranked candidate (not rounded: its optimum before rounding was already more than 5 %
-    # above the best) is listed at that optimum, the bound on its designs: after the designs that
+    # above the best) is listed at that answer: after the designs that
     # meet every limit below it, before the first above it (never before the chosen design). The
     # fronts draw the first 4 materials of that list and the candidates chart keeps it. Reference:
     # the gripper finger's previous release, which rounded every one of these candidates: its
@@ -563,7 +572,7 @@ def test_an_outranked_candidate_is_listed_at_its_bound_and_the_chart_and_fronts_
     record = json.loads(json.dumps(search_record(spec, out)))
     rows = chart._candidate_rows(record, SensorData.from_design(record))
     assert [(r["material"], r["section"]) for r in rows] == [(c["material"], c["section"]) for c in record["candidates"]]
-    ax = chart.plot_candidates(record).axes[0]   # each outranked one drawn as a bar to its bound
+    ax = chart.plot_candidates(record).axes[0]   # each outranked one drawn as a bar to its answer
     widths = [p.get_width() for p in ax.patches]
     assert all(any(w == pytest.approx(listed[i].continuous.objective, rel=1e-12) for w in widths) for i in outranked)
 

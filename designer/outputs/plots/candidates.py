@@ -36,7 +36,7 @@ def plot_candidates(design: Mapping, ax=None):
     for yi, row, value, bound in zip(y, rows, values, bounds):
         colour = C_STATUS.get(row["status"], "#7f7f7f")
         infeasible = row["status"] in ("infeasible", "failed")
-        if bound is not None:  # outranked: a faint bar to the bound its optimum before rounding sets
+        if bound is not None:  # outranked: a faint bar to its answer before rounding (no bound on its designs)
             ax.barh(yi, bound - bottom, left=bottom, height=0.7, color=colour, alpha=0.35, edgecolor=colour,
                     linewidth=0.6, zorder=3)
             ax.text(bound, yi, "  " + _missing_text(row, scale), va="center", fontsize=8, color="#555555", zorder=4)
@@ -70,7 +70,8 @@ def plot_candidates(design: Mapping, ax=None):
 
     statuses = list(dict.fromkeys(r["status"] for r in rows))
     handles = [Patch(facecolor=C_STATUS.get(st, "#7f7f7f"), alpha=0.45 if st in ("infeasible", "failed") else 0.85,
-                     hatch="xx" if st in ("infeasible", "failed") else None, label=st) for st in statuses]
+                     hatch="xx" if st in ("infeasible", "failed") else None, label=STATUS_LEGEND.get(st, st))
+               for st in statuses]
     handles.append(Patch(facecolor="white", edgecolor="black", linewidth=2.2, label="chosen design"))
     if kind == "error":
         from matplotlib.lines import Line2D
@@ -88,17 +89,23 @@ def plot_candidates(design: Mapping, ax=None):
     return fig
 
 
+# An outranked candidate's bar ends at its answer before rounding: IPOPT's local optimum of
+# continuous sizes, which no design of the 0.01 mm grid or of stock is sure to reach or beat
+# (docs/model.md section 5), so the legend says what the bar is.
+STATUS_LEGEND = {"outranked": "outranked: drawn at its\nanswer before rounding"}
+
+
 def _bounded(row: Mapping) -> bool:
-    """An outranked candidate with the bound its optimum before rounding sets."""
+    """An outranked candidate with its answer before rounding."""
     return row.get("status") == "outranked" and row.get("objective") is None and row.get("bound") is not None
 
 
 def _missing_text(row: Mapping, scale: float) -> str:
-    """What a candidate without a design shows: outranked (with the bound its optimum before
-    rounding sets), no stock size that meets every limit, a family the limits leave no size
+    """What a candidate without a design shows: outranked (with its answer before rounding, which
+    no rounded or stock design is sure to reach or beat), no stock size that meets every limit, a family the limits leave no size
     (not searched), or no design at all."""
     if _bounded(row):
-        return f"≥ {fmt_number(row['bound'] * scale, 4)}  outranked (its optimum before rounding)"
+        return f"{fmt_number(row['bound'] * scale, 4)} before rounding: outranked"
     if row.get("no_stock"):
         return "no stock size (report.md says why)"
     if row.get("not_searched"):
