@@ -19,6 +19,10 @@ whose gauge-strain ratios agree with the normal mesh's within 0.1 % on the suite
 
     python benchmarks/grid_length_study.py [--points 6] [--mesh coarse]
 
+With ``--tubes``, tube flats alone (away from the clamp and near it, from one diameter long), 4-8
+grid lengths long under the short grid, at Halton points beyond the first run's: the evidence for
+a tube's flat being allowed 8 grids (``domain.LP_GRID_TOP``; about 10 minutes for 18 flats).
+
 Its figures: benchmarks/grid_length_study.md.
 """
 
@@ -40,26 +44,32 @@ GROUPS = (
     ("slot, short for its bar", "rectangle-pocket", study.SHORT_SLOTS),
     ("tube flat", "tube-pocket", {**study.POCKET_BOXES["tube-pocket"], "length_ratio": (1.0, 1.8)}),
 )
+TUBE_GROUPS = (
+    ("tube flat", "tube-pocket", {**study.POCKET_BOXES["tube-pocket"], "length_ratio": (1.0, 1.8)}),
+    ("tube flat near the clamp", "tube-pocket", {**study.NEAR_CLAMP_TUBE_FLATS, "length_ratio": (1.0, 1.8)}),
+)
 SKIP = 300          # Halton points the study's own groups may have used
+TUBE_SKIP = 600     # ... and the first run's
 LP_RANGE = (4.0, 10.0)
+TUBE_LP_RANGE = (4.0, 8.0)
 BANDS = ((4.0, 6.0), (6.0, 8.0), (8.0, 10.0))
 
 
-def _cases(box: dict, family: str, count: int):
+def _cases(box: dict, family: str, count: int, skip: int = SKIP, lp_range: tuple = LP_RANGE):
     """Up to ``count`` (case, lp) of ``box`` inside every domain limit at the study's grid; ``lp``
     the pocket's length in grids under the short grid, from one more Halton coordinate."""
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
     out = []
-    for point in study.halton(SKIP + 20 * count, len(box) + 1)[SKIP:]:
+    for point in study.halton(skip + 20 * count, len(box) + 1)[skip:]:
         case = study.pocket_case(family, study.box_point(box, point), box)
         if case is None:
             continue
         ev = evaluate_fixed(parse_spec_text(case.spec_text())).evaluation
         if any(v.name.startswith("domain_") for v in ev.violations):
             continue
-        out.append((case, LP_RANGE[0] + point[-1] * (LP_RANGE[1] - LP_RANGE[0])))
+        out.append((case, lp_range[0] + point[-1] * (lp_range[1] - lp_range[0])))
         if len(out) == count:
             break
     return out
@@ -96,16 +106,18 @@ def main(argv=None) -> int:
     parser.add_argument("--points", type=int, default=6, help="cases per group [6]")
     parser.add_argument("--mesh", default="coarse", choices=("coarse", "normal", "fine"))
     parser.add_argument("--corner-only", action="store_true", help="only the corner design (CORNER_GRIDS)")
+    parser.add_argument("--tubes", action="store_true", help="tube flats alone, 4-8 grid lengths (TUBE_GROUPS)")
     args = parser.parse_args(argv)
     if args.corner_only:
         corner(args.mesh)
         return 0
+    groups, skip, lp_range = (TUBE_GROUPS, TUBE_SKIP, TUBE_LP_RANGE) if args.tubes else (GROUPS, SKIP, LP_RANGE)
     print("| group | section (mm) | pocket (mm) | depth/size | length/size | 3 mm grid: lp, near, far | "
           "short grid: lp, near, far | change near, far |")
     print("|---|---:|---:|---:|---:|---|---|---|")
     start, seen = time.perf_counter(), []
-    for label, family, box in GROUPS:
-        for case, lp in _cases(box, family, args.points):
+    for label, family, box in groups:
+        for case, lp in _cases(box, family, args.points, skip, lp_range):
             native = study.model_ratios(case, args.mesh)
             short = dataclasses.replace(case, grid_length=case.pocket_length / lp)
             swapped = study.model_ratios(short, args.mesh)
@@ -119,7 +131,7 @@ def main(argv=None) -> int:
     print("\n| group | pockets (grid lengths) | cases | largest \\|3-D/model - 1\\| "
           "| largest \\|change\\| from the 3 mm grid |")
     print("|---|---|---:|---:|---:|")
-    for label, *_ in GROUPS:
+    for label, *_ in groups:
         mine = [s for s in seen if s[0] == label]
         if not mine:
             continue
@@ -131,7 +143,8 @@ def main(argv=None) -> int:
                 worst = max(abs(r - 1) for s in band for r in s[4])
                 moved = max(abs(c) for s in band for c in s[5])
                 print(f"| {label} | {lo:g}-{hi:g} | {len(band)} | {worst * 100:.2f} % | {moved * 100:.2f} % |")
-    corner(args.mesh)
+    if not args.tubes:
+        corner(args.mesh)
     print(f"study took {time.perf_counter() - start:.0f} s", file=sys.stderr)
     return 0
 

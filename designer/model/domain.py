@@ -33,9 +33,17 @@ def station_bound_name(i: int) -> str:
 # their ranges, yet no study point is like it. A shorter grid on the same pocket reads -1.5 % to
 # +0.7 % of what the study's grid reads, 4 to 10 grid lengths long, and at the round flats' corner
 # that tips the model's error over the 3-D check's 2 % (benchmarks/grid_length_study.md). Designs
-# keep under the box's top.
+# keep under the box's top; a tube's flat, from one diameter long, under LP_GRID_TOP's: its
+# gauge strain is nearly level along the flat, and a shorter grid on the same flat, 4-8 grid
+# lengths long, reads within 0.4 % of the study's grid (benchmarks/grid_length_study.md).
 LP_GRID = "lp_grid"
 LP_GRID_BOX = (2.4, 4.0)
+LP_GRID_TOP = {"tube-pocket": 8.0}
+
+
+def lp_grid_top(fam: str) -> float:
+    """The most gauge grids a pocket of family ``fam`` may be long (``domain_lp_grid_max``)."""
+    return LP_GRID_TOP.get(fam, LP_GRID_BOX[1])
 
 
 def domain_box(fam: str, table: Corrections) -> dict:
@@ -83,7 +91,7 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     box = domain_box(family(g), table)
     out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
     if g.feature == "pocket" and box and g.grid_length > 0:
-        out.append((LP_GRID, g.feature_length / g.grid_length, -math.inf, LP_GRID_BOX[1]))
+        out.append((LP_GRID, g.feature_length / g.grid_length, -math.inf, lp_grid_top(family(g))))
     clamp = clamp_fit(table)
     if clamp is not None:
         for name, (lo, hi) in clamp.domain.items():

@@ -102,9 +102,9 @@ def _long_pockets(spec, limit, g) -> str:
     them: the gauge's backing and margins (the spec's rule), or the length the corrections need on
     a large section (their domain's least ``length_ratio`` times its size)."""
     from designer.model import corrections
-    from designer.model.domain import LP_GRID_BOX, domain_box
+    from designer.model.domain import domain_box, lp_grid_top
 
-    mm, most = 1e3, LP_GRID_BOX[1]
+    mm, most = 1e3, lp_grid_top(corrections.family(g))
     rule, grid = spec.pocket_size()[0], g.grid_length
     head = (f"domain_lp_grid_max: its pockets would be {float(limit.value):.3g} gauge grids long "
             f"({g.pocket_length * mm:.4g} mm over the gauge's {grid * mm:.3g} mm grid), where the 3-D corrections "
