@@ -309,8 +309,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
 
     def cand_key(c):
         # an outranked candidate stands at its answer before rounding (no bound on its designs,
-        # docs/model.md section 5): before the first design above it, never before the chosen one (a stock search's outranked flag
-        # comes from its rows' bounds, which are tighter than the continuous one)
+        # docs/model.md section 5): before the first design above it, never before the chosen one
+        # (a stock search's outranked flag comes from its rows' bounds, tighter than the continuous one)
         if c.outranked:
             bound = c.continuous.objective
             if not feasible:
