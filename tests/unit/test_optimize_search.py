@@ -636,7 +636,7 @@ def test_a_family_whose_bounds_leave_no_room_is_not_searched_and_the_others_are(
     from designer.outputs.plots.candidates import plot_candidates
 
     texts = [t.get_text() for t in plot_candidates(search_record(spec, found)).axes[0].texts]
-    assert texts.count("  not searched: the limits leave it no size") == 2
+    assert texts.count("not searched: the limits leave it no size") == 2
     # with no family left, the spec itself is the problem (exit 2), as before
     with pytest.raises(SpecError, match="no room for diameter"):
         search.optimize(parse_spec_text(WIDE_ONLY.format(sections="[round, tube]")))

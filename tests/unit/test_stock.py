@@ -312,7 +312,7 @@ def test_no_reported_design_or_candidate_has_a_bore_without_tube_stock():
     # the candidates chart: those tubes have no stock size; an outranked tube shows its answer
     # before rounding, which is no bound on its stock designs (no "≥")
     texts = [t.get_text() for t in plot_candidates(record).axes[0].texts]
-    assert texts.count("  no stock size (report.md says why)") == len(no_tube)
+    assert texts.count("no stock size (report.md says why)") == len(no_tube)
     answers = [c.continuous.objective for c in tubes if c.outranked]
     assert answers and all(any(f"{b:.4g} before rounding: outranked" in t for t in texts) for b in answers)
     assert not any("≥" in t for t in texts)

@@ -39,10 +39,10 @@ def plot_candidates(design: Mapping, ax=None):
         if bound is not None:  # outranked: a faint bar to its answer before rounding (no bound on its designs)
             ax.barh(yi, bound - bottom, left=bottom, height=0.7, color=colour, alpha=0.35, edgecolor=colour,
                     linewidth=0.6, zorder=3)
-            ax.text(bound, yi, "  " + _missing_text(row, scale), va="center", fontsize=8, color="#555555", zorder=4)
+            _label(ax, bound, yi, _missing_text(row, scale), color="#555555")
             continue
         if value is None:
-            ax.text(bottom if log else 0.0, yi, "  " + _missing_text(row, scale), va="center", fontsize=8, color=colour)
+            _label(ax, bottom if log else 0.0, yi, _missing_text(row, scale), color=colour)
             continue
         ax.barh(yi, value - bottom, left=bottom, height=0.7, color=colour, alpha=0.45 if infeasible else 0.85,
                 hatch="xx" if infeasible else None, edgecolor="black" if row["chosen"] else colour,
@@ -52,8 +52,7 @@ def plot_candidates(design: Mapping, ax=None):
         detail = ", ".join(d for d in detail if d)
         text = fmt_number(value, 4) + (f"  ({detail})" if detail and kind == "error" else "") + \
             ("   ◀ chosen" if row["chosen"] else "")
-        ax.text(value, yi, "  " + text, va="center", fontsize=8,
-                fontweight="bold" if row["chosen"] else "normal", zorder=4)
+        _label(ax, value, yi, text, fontweight="bold" if row["chosen"] else "normal")
     ax.set_yticks(y, [_candidate_label(r) for r in rows], fontsize=8.5)
     for tick, row in zip(ax.get_yticklabels(), rows):
         if row["chosen"]:
@@ -88,6 +87,15 @@ def plot_candidates(design: Mapping, ax=None):
         ax.set_title(f"The evaluated design: {s.name} (no search, no other candidates)", fontsize=10.5)
     return fig
 
+
+# Each bar's label a little right of the bar's end, on a faint white ground above the grid and the
+# e = 1 line it may cross.
+LABEL_BOX = {"boxstyle": "square,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.85}
+
+
+def _label(ax, x: float, y: float, text: str, **style) -> None:
+    ax.annotate(text, (x, y), xytext=(5, 0), textcoords="offset points", va="center", fontsize=8, zorder=6,
+                bbox=LABEL_BOX, **style)
 
 # An outranked candidate's bar ends at its answer before rounding: IPOPT's local optimum of
 # continuous sizes, which no design of the 0.01 mm grid or of stock is sure to reach or beat
