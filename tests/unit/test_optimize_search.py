@@ -487,8 +487,8 @@ def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaire
     # best (it could have been neither chosen nor a contender), and fewer IPOPT runs. The first
     # answer is not a bound on every repair: the gripper finger's 304 rectangle under ISO 2768-m
     # answers 0.991, meeting its limits to IPOPT's tolerance only, and a wider grid around it finds
-    # 0.959 (the best design is 0.401). At nominal sizes, and under the examples' own ISO 2768-m, whose corners the NLP holds
-    # as the check builds them (before, the answers on a flat missed a corner by up to 2e-5 in
+    # 0.959 (the best design is 0.401). At nominal sizes, and under the examples' own ISO 2768-m,
+    # whose corners the NLP holds as the check builds them (before, the answers on a flat missed a corner by up to 2e-5 in
     # the check, so none was outranked under a tolerance class).
     from designer.search.run import CONTENDER_BAND
 

@@ -97,6 +97,7 @@ def _label(ax, x: float, y: float, text: str, **style) -> None:
     ax.annotate(text, (x, y), xytext=(5, 0), textcoords="offset points", va="center", fontsize=8, zorder=6,
                 bbox=LABEL_BOX, **style)
 
+
 # An outranked candidate's bar ends at its answer before rounding: IPOPT's local optimum of
 # continuous sizes, which no design of the 0.01 mm grid or of stock is sure to reach or beat
 # (docs/model.md section 5), so the legend says what the bar is.
