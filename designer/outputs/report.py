@@ -378,11 +378,13 @@ def markdown(record: dict) -> str:
                   f"{solver.get('evaluations', 0)} model evaluations" +
                   (f"; fallbacks: {', '.join(solver['fallbacks'])}" if solver.get("fallbacks") else "")]
     lines += ["", "## Model", "",
-              "Euler–Bernoulli beam theory and closed-form section properties (MODEL.md); noise is Gaussian "
+              "Euler–Bernoulli beam theory and closed-form section properties, with factors fitted to 3-D "
+              "finite-element results for the features and the clamp (docs/model.md §7); noise is Gaussian "
               "and independent per channel; errors are 1σ by linear propagation (the mean absolute error is "
-              "√(2/π)·σ ≈ 0.80 σ). Loads are perpendicular point loads; the deflection must stay small "
+              "√(2/π)·σ ≈ 0.80 σ), of the noise alone or, with an environment, of the error budget "
+              "(docs/model.md §13). Loads are perpendicular point loads; the deflection must stay small "
               "(below 10 % of the length) for the linear model to hold.", ""]
-    for name, title in (("model_picture", "3-D model"), ("drawing", "Drawing")):
+    for name, title in (("model_png", "3-D model"), ("drawing_png", "Drawing")):
         if record.get("files", {}).get(name):
             lines += [f"## {title}", "", f"![{title}]({record['files'][name]})", ""]
     for name in ("operating-region", "error-maps", "voltage-isolines", "candidates",

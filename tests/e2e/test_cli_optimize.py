@@ -136,6 +136,12 @@ def test_verify_reports_a_design_that_fails_in_3d(tmp_path, capsys):
     assert [r["round"] for r in record["verify_rounds"]] == [0] and "adjustment" not in record["design"]
     assert "3-D check" in " ".join(record["messages"]) and "FAILS" in text
     assert (out / "verify.md").exists() and (out / "surface-strain.png").exists()
+    # design.json lists every file of the folder, so that a later run without --verify removes
+    # them all (previous_outputs) rather than leave a 3-D check of another design beside it
+    listed = {name for value in record["files"].values() for name in (value if isinstance(value, list) else [value])}
+    assert listed | {"design.json"} == {p.name for p in out.iterdir()}
+    assert main(["optimize", str(spec), "-o", str(out), "--no-plots", "--no-cad", "--quiet"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["design.json", "report.md"]
 
 
 def test_infeasible_design_with_cad_still_writes_design_json(tmp_path, capsys):
@@ -248,6 +254,10 @@ def test_the_whole_job_writes_every_output_and_draws_the_plots_as_the_plot_comma
     assert files["plots"] == sorted(f"{name}.png" for name in PLOT_NAMES)
     listed = {files[k] for k in ("step", "model_png", "drawing_svg", "drawing_png", "report")}
     assert sorted(p.name for p in out.iterdir()) == sorted(listed | set(files["plots"]) | {"design.json"})
+    # the report shows the model picture and the drawing beside the plots
+    report = (out / "report.md").read_text(encoding="utf-8")
+    for picture in [files["model_png"], files["drawing_png"], *files["plots"]]:
+        assert f"]({picture})" in report, picture
     again = tmp_path / "again"
     assert main(["plot", str(out / "design.json"), "-o", str(again)]) == 0
     for name in PLOT_NAMES[:4]:
