@@ -48,6 +48,8 @@ def main(argv: list[str] | None = None) -> int:
     from designer import interrupt
 
     restore = interrupt.install()
+    stdout = sys.stdout
+    sys.stdout = _StandardOutput(stdout)
     try:
         try:
             args = build_parser().parse_args(argv)
@@ -84,7 +86,38 @@ def main(argv: list[str] | None = None) -> int:
     except interrupt.Terminated:
         return _stopped(signal.SIGTERM)
     finally:
+        sys.stdout = stdout
         restore()
+
+
+class _StandardOutput:
+    """``sys.stdout`` whose write errors name it: a summary redirected to a full disk reads
+    "cannot write standard output: No space left on device" rather than an output of no name
+    (the command's files are written by then). A closed pipe's error passes as it is."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text):
+        try:
+            return self._stream.write(text)
+        except OSError as exc:
+            raise _named(exc)
+
+    def flush(self):
+        try:
+            return self._stream.flush()
+        except OSError as exc:
+            raise _named(exc)
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def _named(exc: OSError) -> OSError:
+    if exc.filename is None and not isinstance(exc, BrokenPipeError):
+        exc.filename = "standard output"
+    return exc
 
 
 def run() -> None:

@@ -51,6 +51,19 @@ def test_a_device_is_written_not_replaced(tmp_path, capsys):
         assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
 
 
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="needs /dev/full, a device that is always full")
+def test_a_full_standard_output_is_named_and_the_folder_is_whole(tmp_path):
+    # the summary printed to a full disk (here /dev/full) after the files are written: exit 2 with
+    # one line naming standard output, and the folder as design.json lists it
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run([sys.executable, "-m", "designer.cli", "evaluate", str(EXAMPLES / "prototype-b.yaml"),
+                               "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"], cwd=tmp_path, stdout=full,
+                              stderr=subprocess.PIPE, text=True, timeout=300)
+    assert proc.returncode == 2
+    assert proc.stderr.strip() == "fpdesign: error: cannot write standard output: No space left on device"
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["design.json", "report.md"]
+
+
 def test_an_output_below_a_file_is_bad_input(tmp_path, capsys):
     (tmp_path / "afile").write_text("x")
     assert main(["optimize", str(EXAMPLES / "probe.yaml"), "-o", str(tmp_path / "afile" / "out"), "--no-cad",
