@@ -95,14 +95,14 @@ def derived_parameters(values: dict, clamp_ratio=None, ops=None) -> dict:
 
 
 # How the end effects of a short flat reach its gauge grid: exp(-k g) of the gap g between the
-# grid's end and the flat's, in section sizes, at a slow and a fast rate (per size), chosen by
-# the round flats' strain fit's left-out error (docs/model.md §7). A flat's floor strain rises
-# well above the beam model's as its ends close on the grid (+9 % at g = 0.11 D).
-GAP_RATES = {"gap_slow": 3.7, "gap_fast": 27.0}
+# grid's end and the flat's, in section sizes, at a rate (per size) chosen by the round flats'
+# strain fit's left-out error (docs/model.md §7). A flat's floor strain rises well above the beam
+# model's as its ends close on the grid (+9 % at g = 0.11 D).
+GAP_RATES = {"gap_slow": 3.7}
 
 
 def grid_gap_decays(length_ratio, grid_ratio, ops=None) -> dict:
-    """``{gap_slow, gap_fast}``: ``exp(-k (l_f - l_grid) / (2 size))`` at GAP_RATES."""
+    """``{gap_slow}``: ``exp(-k (l_f - l_grid) / (2 size))`` at GAP_RATES."""
     from designer.model.ops import NUMERIC
 
     gap = (length_ratio - grid_ratio) / 2
