@@ -21,6 +21,7 @@ alone holds about 0.5 GB, which is then free for the solve.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -284,7 +285,8 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float, mesh_adapt: bo
             if again and not faces and not mesh_adapt:
                 break                       # nothing to mesh otherwise: the same failure again
             try:
-                gmsh.model.mesh.generate(3)
+                with _c_output_held():
+                    gmsh.model.mesh.generate(3)
                 points, tets = _tetrahedra()
                 problem = "it left tetrahedra of no volume" if _flat_tetrahedra(points, tets) else None
             except Exception as exc:  # gmsh raises plain Exception
@@ -296,6 +298,33 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float, mesh_adapt: bo
         finally:
             gmsh.finalize()
     raise SolverError(f"gmsh could not mesh the beam ({failure})")
+
+
+@contextmanager
+def _c_output_held():
+    """The process's standard output (file descriptor 1) held in a temporary file for the block,
+    and dropped: gmsh's 3-D mesher prints some messages from C past ``General.Terminal`` (TetGen's
+    "PLC Error: A vertex lies in a segment" while it recovers the boundary of a mesh that then
+    succeeds), which would stand above the check's report as if it had failed. A mesh that does
+    fail says so through gmsh's exception."""
+    import ctypes
+    import os
+    import sys
+    import tempfile
+
+    libc = ctypes.CDLL(None)
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        with tempfile.TemporaryFile() as sink:
+            os.dup2(sink.fileno(), 1)
+            try:
+                yield
+            finally:
+                libc.fflush(None)       # C's buffered output goes to the file, not after it
+                os.dup2(saved, 1)
+    finally:
+        os.close(saved)
 
 
 def _mesh_adapt_flat_faces() -> list:
