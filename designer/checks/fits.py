@@ -184,7 +184,7 @@ FIT_DOMAINS: dict = {
     # above the beam model's strain, and no fit of 10 terms or fewer follows it within 4 %; flats
     # of 0.3-0.4 D (study.NEAR_CLAMP_SHORT_GROUPS, a kilonewton lug's) scatter 2.5 % about the
     # best fit over 0.3 D up (left-out 2.2-2.8 %, no further parameter of the study explains it),
-    # while from 0.4 D the grid-gap form meets the 2 % rule (1.5 %; a quadratic in depth and length
+    # while from 0.4 D the grid-gap form meets the 2 % rule (1.1 %; a quadratic in depth and length
     # 1.9 %, which read 1.02 for the weigh-bar's flat in 3-D: the grid-gap form goes first)
     "round-pocket": {"strain": {"length_ratio": (0.4, math.inf)}},
     # A slot's K_t where its side walls are together at least 0.15 of the bar's height: thinner
