@@ -312,7 +312,10 @@ def _c_output_held():
     import sys
     import tempfile
 
-    libc = ctypes.CDLL(None)
+    try:
+        fflush = ctypes.CDLL(None).fflush
+    except (OSError, TypeError, AttributeError):    # no C library by that name (Windows)
+        fflush = None
     sys.stdout.flush()
     saved = os.dup(1)
     try:
@@ -321,7 +324,8 @@ def _c_output_held():
             try:
                 yield
             finally:
-                libc.fflush(None)       # C's buffered output goes to the file, not after it
+                if fflush is not None:
+                    fflush(None)        # C's buffered output goes to the file, not after it
                 os.dup2(saved, 1)
     finally:
         os.close(saved)
