@@ -179,20 +179,6 @@ NEAR_CLAMP_SHORT_GROUPS = (("round-pocket", NEAR_CLAMP_SHORT_ROUND_FLATS, 20),)
 MID_SLOTS = {"depth_ratio": (0.05, 0.32), "length_ratio": (0.9, 2.0), "pocket_width_ratio": (0.2, 0.88),
              "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX}
 MID_SLOT_GROUPS = (("rectangle-pocket", MID_SLOTS, 48, 40),)
-# Round flats many gauge grids long (a large bar under a small gauge), held out of the fits: each
-# pocket of the box under a grid ``grid_lp`` times shorter than itself (4-8 grids, beyond
-# LP_GRID_BOX's 2.4-4), on the same beam, pocket and backing. They test the round flats' strain
-# fit where no point of the groups above is (a wide grid gap beside a short flat near the clamp):
-# benchmarks/round_flat_holdout.csv, not in ``cases()``. Halton points beyond the first
-# LONG_GRID_SKIP, whose depths, lengths and radii the other round flat groups took.
-LONG_GRID_SKIP = 120
-LONG_GRID_ROUND_FLATS = {**POCKET_BOXES["round-pocket"], "depth_ratio": (0.05, 0.35), "grid_lp": (4.0, 8.0)}
-LONG_GRID_NEAR_CLAMP_ROUND_FLATS = {**NEAR_CLAMP_ROUND_FLATS, "length_ratio": (0.4, 2.0), "grid_lp": (4.0, 8.0)}
-LONG_GRID_NEAR_CLAMP_SHORT_ROUND_FLATS = {**NEAR_CLAMP_SHORT_ROUND_FLATS, "length_ratio": (0.4, 0.6),
-                                          "grid_lp": (4.0, 8.0)}
-LONG_GRID_GROUPS = (("round-pocket", LONG_GRID_ROUND_FLATS, 14, LONG_GRID_SKIP),
-                    ("round-pocket", LONG_GRID_NEAR_CLAMP_ROUND_FLATS, 12, LONG_GRID_SKIP),
-                    ("round-pocket", LONG_GRID_NEAR_CLAMP_SHORT_ROUND_FLATS, 18, LONG_GRID_SKIP))
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -242,7 +228,7 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
             return None
         case = Case(family, diameter=size, wall=wall, depth=depth, clamp_clearance=clearance, pocket_length=l_p,
                     pocket_width=min(POCKET_WIDTH, round(0.9 * chord, 6)), corner_radius=corner)
-    if "grid_lp" in u:    # the same pocket under a shorter grid on the same backing
+    if "grid_lp" in u:    # the same pocket under a grid grid_lp times shorter (benchmarks/round_flat_holdout.py)
         case = dataclasses.replace(case, grid_length=l_p / u["grid_lp"])
     return case if l_p - 2 * case.corner_radius >= GAUGE_LENGTH else None
 
@@ -548,8 +534,6 @@ def main(argv=None) -> int:
     p.add_argument("--short-flats-near-clamp", action="store_true",
                    help="only the round flats short for their bar near the clamp (NEAR_CLAMP_SHORT_GROUPS)")
     p.add_argument("--mid-slots", action="store_true", help="only the slots of one to two heights (MID_SLOT_GROUPS)")
-    p.add_argument("--long-grid-flats", action="store_true",
-                   help="only the round flats 4-8 gauge grids long, held out of the fits (LONG_GRID_GROUPS)")
     p.add_argument("--fit", type=Path, metavar="CSV", help="fit this study table instead of running the study")
     p.add_argument("--refresh", action="store_true",
                    help="solve the table's (-o) extra lengths again from its 3-D deflections with today's beam model "
@@ -597,7 +581,6 @@ def main(argv=None) -> int:
               else group_cases(MID_TUBE_GROUPS) if args.tube_flats
               else group_cases(NEAR_CLAMP_SHORT_GROUPS) if args.short_flats_near_clamp
               else group_cases(MID_SLOT_GROUPS) if args.mid_slots
-              else group_cases(LONG_GRID_GROUPS) if args.long_grid_flats
               else cases(args.family))
     for case in chosen:
         try:
