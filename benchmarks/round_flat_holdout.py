@@ -41,7 +41,7 @@ def errors(path: Path) -> list[tuple[dict, float]]:
     from designer.model import corrections
 
     fit = corrections.load().fit("round-pocket", "strain")
-    return [(r, float(fit(r)) - r["strain_far"]) for r in fits.with_nearness(study.read_csv(path))]
+    return [(r, fits.judged_error("strain", r, float(fit(r)))) for r in fits.with_nearness(study.read_csv(path))]
 
 
 def main(argv=None) -> int:

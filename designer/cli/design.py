@@ -286,10 +286,7 @@ def _optimize(args, child) -> int:
         if result.verification is not None:
             from designer.checks import fea
 
-            # listed as ``verify_report``: ``report`` is report.md's, and a file design.json does not
-            # list is left behind as stale by a later run into the same folder
-            writers.append(lambda scratch: {("verify_report" if k == "report" else k): v
-                                            for k, v in fea.write_outputs(result.verification, scratch).items()})
+            writers.append(lambda scratch: fea.write_outputs(result.verification, scratch))
         # the fronts are computed while the CAD model builds in a child process
         fronts = (lambda: tradeoff_fronts(spec, result, progress)) if not args.no_plots else None
         write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,

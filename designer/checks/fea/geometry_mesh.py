@@ -285,7 +285,7 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float, mesh_adapt: bo
             if again and not faces and not mesh_adapt:
                 break                       # nothing to mesh otherwise: the same failure again
             try:
-                with _c_output_held():
+                with _c_output_dropped():
                     gmsh.model.mesh.generate(3)
                 points, tets = _tetrahedra()
                 problem = "it left tetrahedra of no volume" if _flat_tetrahedra(points, tets) else None
@@ -301,16 +301,15 @@ def mesh_quarter(step_path: Path, pb: Problem, refinement: float, mesh_adapt: bo
 
 
 @contextmanager
-def _c_output_held():
-    """The process's standard output (file descriptor 1) held in a temporary file for the block,
-    and dropped: gmsh's 3-D mesher prints some messages from C past ``General.Terminal`` (TetGen's
+def _c_output_dropped():
+    """The process's standard output (file descriptor 1) sent to the null device for the block:
+    gmsh's 3-D mesher prints some messages from C past ``General.Terminal`` (TetGen's
     "PLC Error: A vertex lies in a segment" while it recovers the boundary of a mesh that then
     succeeds), which would stand above the check's report as if it had failed. A mesh that does
     fail says so through gmsh's exception."""
     import ctypes
     import os
     import sys
-    import tempfile
 
     try:
         fflush = ctypes.CDLL(None).fflush
@@ -318,16 +317,17 @@ def _c_output_held():
         fflush = None
     sys.stdout.flush()
     saved = os.dup(1)
+    null = os.open(os.devnull, os.O_WRONLY)
     try:
-        with tempfile.TemporaryFile() as sink:
-            os.dup2(sink.fileno(), 1)
-            try:
-                yield
-            finally:
-                if fflush is not None:
-                    fflush(None)        # C's buffered output goes to the file, not after it
-                os.dup2(saved, 1)
+        os.dup2(null, 1)
+        try:
+            yield
+        finally:
+            if fflush is not None:
+                fflush(None)        # C's buffered output goes to the null device, not after it
+            os.dup2(saved, 1)
     finally:
+        os.close(null)
         os.close(saved)
 
 

@@ -391,13 +391,15 @@ def _fmt(value: float, unit: str) -> str:
 
 
 def write_outputs(result: VerifyResult, out_dir: Path) -> dict[str, Path]:
-    """``verify.md``, ``verify.json`` and ``surface-strain.png`` in ``out_dir``, all or nothing."""
+    """``verify.md``, ``verify.json`` and ``surface-strain.png`` in ``out_dir``, all or nothing; their
+    names under the keys design.json's ``files`` lists them by (``verify_report``: ``report`` is
+    report.md's)."""
     from designer.outputs.files import atomic_write_json, atomic_write_text, staged_directory
 
     out_dir = Path(out_dir)
-    names = {"report": "verify.md", "json": "verify.json", "plot": "surface-strain.png"}
+    names = {"verify_report": "verify.md", "json": "verify.json", "plot": "surface-strain.png"}
     with staged_directory(out_dir) as scratch:
-        atomic_write_text(scratch / names["report"], report_markdown(result))
+        atomic_write_text(scratch / names["verify_report"], report_markdown(result))
         atomic_write_json(scratch / names["json"], result.as_dict())
         fig = plot_surface_strain(result)
         fig.savefig(scratch / names["plot"], dpi=130)
