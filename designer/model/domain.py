@@ -21,6 +21,27 @@ NEAR_CLAMP_BOUND = "clamp_ratio_1"
 NEAR_STATION = "station_ratio"
 
 
+# A plain rectangular bar's first station near the clamp (``rectangle-none``): the clamp face's own
+# restraint lowers the gauge strain over about the larger of the bar's height and width, beyond
+# what the clamp fit (``ClampFit``: the plate effect of a wide bar, studied on bars 2-16 times as
+# wide as high, 3 mm high) gives. A tall bar's station 0.3 heights out reads 2.4 % under the
+# model, a square bar's 5 %, a 2:1 bar's 0.5 widths out 1 % (benchmarks/plain_clamp_check.md).
+# The first station stays at least PLAIN_STATION_MIN times ``plain_clamp_scale`` from the clamp
+# face, where the 3-D check reads the model within the clamp fit's left-out error.
+PLAIN_STATION = "plain_station"
+PLAIN_STATION_MIN = 0.65
+# The scale is min(max(b, h), cap h): from a 4:1 bar out the clamp fit holds from a quarter width
+# (its own domain), so the bound is not to grow with a wide plate's width.
+PLAIN_STATION_CAP = 3.0
+
+
+def plain_clamp_scale(g: Geometry):
+    """``min(max(b, h), PLAIN_STATION_CAP h)`` of a rectangular bar: what its first plain station's
+    distance from the clamp face is measured in (``PLAIN_STATION``)."""
+    ops = ops_for(g.width)
+    return ops.fmin(ops.fmax(g.width, g.height), PLAIN_STATION_CAP * g.height)
+
+
 def station_bound_name(i: int) -> str:
     """The domain bound of station ``i``'s (0-based) distance from the clamp over the width."""
     return f"station_width_ratio_{i + 1}"
@@ -99,6 +120,8 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
                 out += [(station_bound_name(i), u, lo, hi) for i, u in enumerate(station_width_ratios(g))]
             elif all(name != o[0] for o in out):
                 out.append((name, values[name], lo, hi))
+    if family(g) == "rectangle-none" and clamp is not None:
+        out.append((PLAIN_STATION, g.stations[0] / plain_clamp_scale(g), PLAIN_STATION_MIN, math.inf))
     stiffness = stiffness_fit(table)
     if stiffness is not None:
         values["slenderness"] = g.length / g.size

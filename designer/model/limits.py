@@ -152,6 +152,11 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
             # d_1 >= lo h (or D), linear in the sizes
             out.append(Limit(f"domain_{name}_min", g.stations[0], lo * g.size, upper=False, scale=1e-3, unit="m"))
             continue
+        if name == domain.PLAIN_STATION:
+            # d_1 >= lo min(max(b, h), cap h)
+            out.append(Limit(f"domain_{name}_min", g.stations[0], lo * domain.plain_clamp_scale(g), upper=False,
+                             scale=1e-3, unit="m"))
+            continue
         if name == domain.NEAR_CLAMP_BOUND:
             # d_1 - l_f/2 >= lo h (or D), linear in the sizes
             start = g.stations[0] - g.feature_length / 2

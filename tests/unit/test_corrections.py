@@ -347,3 +347,47 @@ def test_the_search_gives_no_flat_longer_than_the_study_and_says_why():
     said = next(m for m in found.messages if m.startswith("domain_lp_grid_max:"))
     assert f"{lp_grid:.3g} gauge grids long" in said
     assert f"a grid of at least {g.pocket_length * 1e3 / most:.3g} mm" in said
+
+
+PLAIN_BAR_SPEC = """\
+name: plain-bar
+load: {force: [1 N, 10 N], position: [400 mm, 600 mm]}
+electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
+gauge: BF350-3AA
+bridge: half
+limits: {fatigue: false}
+design:
+  material: 2024-T3
+  section: {kind: rectangle, width: WIDTH mm, height: 24 mm}
+  stations: [STATION mm, 300 mm]
+  feature: {kind: none}
+  length: 600 mm
+"""
+
+
+@pytest.mark.parametrize("width, scale", [(3.6, 24.0), (24.0, 24.0), (48.0, 48.0), (96.0, 72.0)])
+def test_a_plain_rectangular_bars_first_station_keeps_out_of_the_clamps_reach(width, scale):
+    """The shipped table keeps a plain rectangular bar's first gauge centre 0.65 of
+    min(max(b, h), 3 h) from the clamp face: the 3-D series of benchmarks/plain_clamp_check.md
+    reads the model within 0.6 % from there out, a 24 mm high bar 3.6 mm wide 2.4 % under it at
+    0.3 heights (7.2 mm) and a 48 mm wide one 7.5 % under there; from a 4:1 bar out the
+    clamp fit's own quarter width governs, so the scale stops at 3 h."""
+    def limit(station):
+        text = PLAIN_BAR_SPEC.replace("WIDTH", f"{width}").replace("STATION", f"{station}")
+        spec, design, a = _analysis(text, corrections.load())
+        names = {lim.name: lim for lim in model.limits(design.geometry, a, design.material_params(spec), spec)}
+        return names["domain_plain_station_min"]
+
+    near = limit(7.2)
+    assert float(near.limit) == pytest.approx(0.65 * scale * 1e-3, rel=1e-9)
+    assert float(near.normalised) > 0                        # broken: 0.3 heights out
+    assert float(limit(0.66 * scale).normalised) < 0         # just beyond the bound: met
+
+
+def test_only_a_plain_rectangular_bar_has_the_plain_station_bound():
+    spec, design, a = _analysis(ROUND_SPEC.replace("STATION", "60 mm"), corrections.load())
+    names = {lim.name for lim in model.limits(design.geometry, a, design.material_params(spec), spec)}
+    assert "domain_station_ratio_min" in names and "domain_plain_station_min" not in names
+    spec, design, a = _analysis(HOLE_SPEC, corrections.load())
+    names = {lim.name for lim in model.limits(design.geometry, a, design.material_params(spec), spec)}
+    assert "domain_plain_station_min" not in names
