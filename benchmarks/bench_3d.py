@@ -24,7 +24,7 @@ DEFLECTION_TOLERANCE = 0.03
 STRESS_TOLERANCE = 0.10
 
 
-def designs(count: int, seed: int):
+def designs(count: int, seed: int, refused: list):
     """(name, kind, record) for the examples and the generated specs that have a feasible optimum."""
     from designer import bench
     from designer.errors import FpdError
@@ -44,6 +44,7 @@ def designs(count: int, seed: int):
             result = design(item.spec, DesignOptions(tradeoff=False))
         except FpdError as exc:  # a generated spec the product refuses (no size to try): no design to check
             print(f"{item.name}: no design: {str(exc).splitlines()[0]}", flush=True)
+            refused.append(item.name)
             continue
         if result.status == "optimal":
             yield item.name, item.kind, result.record
@@ -78,8 +79,9 @@ def holds(r: dict) -> bool:
             and abs(r["stress"] - 1) <= STRESS_TOLERANCE and not r["failed"])
 
 
-def markdown(rows: list[dict], mesh: str) -> str:
-    lines = [f"3-D check (`verify --mesh {mesh}`) of the designs fpdesign reports (optimize without --verify).",
+def markdown(rows: list[dict], mesh: str, suite: str = "", refused=()) -> str:
+    lines = [f"3-D check (`verify --mesh {mesh}`) of the designs fpdesign reports (optimize without --verify)"
+             + (f": the examples and {suite}" if suite else "") + ".",
              f"Tolerances: gauge strain ±{STRAIN_TOLERANCE:.0%}, deflection ±{DEFLECTION_TOLERANCE:.0%}, "
              f"peak stress ±{STRESS_TOLERANCE:.0%}.", "",
              "| spec | kind | design | gauge strain 3-D/model | deflection | peak stress (where) | limits broken in 3-D "
@@ -97,6 +99,9 @@ def markdown(rows: list[dict], mesh: str) -> str:
     meet = sum("error" not in r and not r["failed"] for r in rows)
     lines += ["", f"{meet} of {len(rows)} designs meet in 3-D every limit the model says they meet; {n} of them also "
               "agree with the model within the tolerances."]
+    if refused:
+        lines += ["", f"Generated specs the product refuses as input (no size to try: their message names why), "
+                  f"so with no design to check: {', '.join(refused)}."]
     return "\n".join(lines) + "\n"
 
 
@@ -108,7 +113,8 @@ def main(argv=None) -> int:
     p.add_argument("-o", "--output", type=Path, help="also write the table as markdown")
     args = p.parse_args(argv)
     rows = []
-    for name, kind, record in designs(args.count, args.seed):
+    refused = []
+    for name, kind, record in designs(args.count, args.seed, refused):
         try:
             rows.append(row(name, kind, record, args.mesh))
         except Exception as exc:  # noqa: BLE001 - a benchmark reports every failure
@@ -122,7 +128,8 @@ def main(argv=None) -> int:
               f"deflection {r['deflection']:.3f}  stress {r['stress']:.2f}  "
               f"{'holds' if holds(r) else 'breaks ' + ', '.join(r['failed']) if r['failed'] else 'meets every limit, outside the tolerances'}",
               flush=True)
-    text = markdown(rows, args.mesh)
+    text = markdown(rows, args.mesh, f"the feasible specs of the bench suite's {args.count} generated with seed {args.seed}",
+                    refused)
     print(text)
     if args.output:
         args.output.write_text(text, encoding="utf-8")
