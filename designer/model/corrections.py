@@ -127,7 +127,10 @@ def hole_edge(hole_ratio, ops=None):
     from designer.model.ops import NUMERIC
 
     ops = ops or NUMERIC
-    return ops.log(1 + ops.exp(HOLE_EDGE_RATE * (hole_ratio - HOLE_EDGE_AT))) / HOLE_EDGE_RATE
+    z = HOLE_EDGE_RATE * (hole_ratio - HOLE_EDGE_AT)
+    # log(1 + e^z) as max(z, 0) + log(1 + e^-|z|): the same, without e^z overflowing on a wild
+    # trial point of a global search (a hole 24 heights across)
+    return (ops.fmax(z, 0) + ops.log(1 + ops.exp(-ops.fabs(z)))) / HOLE_EDGE_RATE
 
 
 # The parameters ``derived_parameters`` computes from the others (the study's table leaves them out).

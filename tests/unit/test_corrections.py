@@ -391,3 +391,17 @@ def test_only_a_plain_rectangular_bar_has_the_plain_station_bound():
     spec, design, a = _analysis(HOLE_SPEC, corrections.load())
     names = {lim.name for lim in model.limits(design.geometry, a, design.material_params(spec), spec)}
     assert "domain_plain_station_min" not in names
+
+
+def test_the_hole_edge_hinge_is_softplus_and_finite_on_a_wild_trial_point():
+    """``hole_edge`` = log(1 + e^z)/k, z = k (d/h - d_0): the closed form where e^z is finite, and
+    its asymptote d/h - d_0 on a trial point of a global search 50 heights across (e^1485
+    overflowed to inf, with a RuntimeWarning in the search's output)."""
+    import warnings
+
+    k, d0 = corrections.HOLE_EDGE_RATE, corrections.HOLE_EDGE_AT
+    ratios = np.array([0.2, 0.45, 0.5, 0.55, 0.9])
+    assert corrections.hole_edge(ratios) == pytest.approx(np.log(1 + np.exp(k * (ratios - d0))) / k, rel=1e-12)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert corrections.hole_edge(np.array([50.0]))[0] == pytest.approx(50.0 - d0, rel=1e-15)
