@@ -191,7 +191,7 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
             # the section held on its grid too, the stations solved again: a size step can move a
             # target more than the stations' rounding makes up (the held-out suite's 009-tight-
             # limits: its force error 0.3 % per 0.01 mm of diameter, met again 0.05 mm further in)
-            both = _on_the_grid(problem, params, material, s2, solves, held={i: depth / MM})
+            both = _on_the_grid(problem, params, material, s2, solves, hold={i: depth / MM})
             if both is not None and both[1].feasible:
                 found.append(both)
         if found and close(found[-1][1]):
@@ -202,19 +202,19 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
     return next(f for f in found if f[1] is best)
 
 
-def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list, held: dict | None = None):
+def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: list, hold: dict | None = None):
     """``(Solve, Evaluation)``: the best checked design with the section sizes on the 0.01 mm grid
     near the answer and the other variables solved again with them held; None when no such design
     meets every limit (or, under the error objective, misses only the targets). The sizes start
     from each combination of rounding down and up; from the best of those, a step of 0.01 mm up
     or down in one size at a time is taken while it gives a better design (at most
     GRID_STEPS steps): the rounded sizes' best neighbour need not be the grid's best point (the
-    bench suite's 029-long-beam: 0.12 % better two steps away). ``held`` (``{index: value}``, in
+    bench suite's 029-long-beam: 0.12 % better two steps away). ``hold`` (``{index: value}``, in
     the NLP's units) holds more variables at those values throughout (the depth on its grid)."""
     index = [i for i, name in enumerate(problem.names) if name in SECTION_VARIABLES]
     choices = [[v / MM for v in floor_ceil(float(s.x[i]) * MM)] for i in index]
     tried: dict = {}
-    also = dict(held or {})
+    also = dict(hold or {})
 
     def solve_held(combo):
         key = tuple(round(v / GRID_MM) for v in combo)
