@@ -128,8 +128,8 @@ def main(argv=None) -> int:
               f"deflection {r['deflection']:.3f}  stress {r['stress']:.2f}  "
               f"{'holds' if holds(r) else 'breaks ' + ', '.join(r['failed']) if r['failed'] else 'meets every limit, outside the tolerances'}",
               flush=True)
-    text = markdown(rows, args.mesh, f"the feasible specs of the bench suite's {args.count} generated with seed {args.seed}",
-                    refused)
+    suite = f"the feasible specs of the bench suite's {args.count} generated with seed {args.seed}"
+    text = markdown(rows, args.mesh, suite, refused)
     print(text)
     if args.output:
         args.output.write_text(text, encoding="utf-8")

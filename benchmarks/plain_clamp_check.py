@@ -49,7 +49,7 @@ def cases() -> list[study.Case]:
             add(h, w, u * h)
     for h, widths, ratios in AROUND:
         for w in widths:
-            scale = min(max(w, 1.0), domain.PLAIN_STATION_CAP) * h
+            scale = float(domain.plain_clamp_scale(w * h, h))
             for u in ratios:
                 add(h, w, u * scale)
     return out
@@ -59,10 +59,9 @@ def inside(case: study.Case) -> bool:
     """Whether the case's first station is inside the domain (the plain-station bound and the clamp
     fit's quarter width)."""
     d = case.stations()[0]
-    b, h = case.width, case.height
-    scale = min(max(b, h), domain.PLAIN_STATION_CAP * h)
+    scale = float(domain.plain_clamp_scale(case.width, case.height))
     lowest = corrections.clamp_fit(corrections.load()).domain["station_width_ratio"][0]
-    return d >= domain.PLAIN_STATION_MIN * scale - 1e-12 and d >= lowest * b - 1e-12
+    return d >= domain.PLAIN_STATION_MIN * scale - 1e-12 and d >= lowest * case.width - 1e-12
 
 
 def main(argv=None) -> int:
@@ -78,7 +77,7 @@ def main(argv=None) -> int:
     for case in cases():
         near, far = study.model_ratios(case, args.mesh)
         d, b, h = case.stations()[0], case.width, case.height
-        scale = min(max(b, h), domain.PLAIN_STATION_CAP * h)
+        scale = float(domain.plain_clamp_scale(b, h))
         ok = inside(case)
         line = (f"| {h / MM:.0f} | {b / h:.2f} | {d / MM:.2f} | {d / h:.3f} | {d / scale:.3f} | "
                 f"{near:.4f}, {far:.4f} | {'yes' if ok else 'no'} |")

@@ -35,11 +35,11 @@ PLAIN_STATION_MIN = 0.65
 PLAIN_STATION_CAP = 3.0
 
 
-def plain_clamp_scale(g: Geometry):
+def plain_clamp_scale(width, height):
     """``min(max(b, h), PLAIN_STATION_CAP h)`` of a rectangular bar: what its first plain station's
     distance from the clamp face is measured in (``PLAIN_STATION``)."""
-    ops = ops_for(g.width)
-    return ops.fmin(ops.fmax(g.width, g.height), PLAIN_STATION_CAP * g.height)
+    ops = ops_for(width)
+    return ops.fmin(ops.fmax(width, height), PLAIN_STATION_CAP * height)
 
 
 def station_bound_name(i: int) -> str:
@@ -121,7 +121,7 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
             elif all(name != o[0] for o in out):
                 out.append((name, values[name], lo, hi))
     if family(g) == "rectangle-none" and clamp is not None:
-        out.append((PLAIN_STATION, g.stations[0] / plain_clamp_scale(g), PLAIN_STATION_MIN, math.inf))
+        out.append((PLAIN_STATION, g.stations[0] / plain_clamp_scale(g.width, g.height), PLAIN_STATION_MIN, math.inf))
     stiffness = stiffness_fit(table)
     if stiffness is not None:
         values["slenderness"] = g.length / g.size

@@ -154,8 +154,8 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
             continue
         if name == domain.PLAIN_STATION:
             # d_1 >= lo min(max(b, h), cap h)
-            out.append(Limit(f"domain_{name}_min", g.stations[0], lo * domain.plain_clamp_scale(g), upper=False,
-                             scale=1e-3, unit="m"))
+            out.append(Limit(f"domain_{name}_min", g.stations[0], lo * domain.plain_clamp_scale(g.width, g.height),
+                             upper=False, scale=1e-3, unit="m"))
             continue
         if name == domain.NEAR_CLAMP_BOUND:
             # d_1 - l_f/2 >= lo h (or D), linear in the sizes
