@@ -57,7 +57,8 @@ def test_a_tube_whose_flats_are_many_gauge_grids_long_holds_in_3d():
     _holds_in_3d(result, spec)
 
 
-def _holds_in_3d(result, spec) -> None:
+def _holds_in_3d(result, spec):
+    """The checks above on ``result``'s design; its 3-D check returned."""
     from designer.checks.fea import verify_design
     from designer.model import corrections
 
@@ -69,10 +70,12 @@ def _holds_in_3d(result, spec) -> None:
     assert all(abs(r - 1) <= STRAIN for r in v.ratios), v.ratios
     assert 1 - SAFE_DEFLECTION <= v.deflection_fea / v.deflection_model <= 1 + DEFLECTION
     # the peak at the pockets' or flats' ends against the model's K_t x nominal stress, down to
-    # what the K_t fit's shift and its left-out error allow
+    # what the K_t fit's shift and its left-out error allow (a plain bar has no feature)
     kt = corrections.load().fit(corrections.family(result.evaluation.design.geometry), "stress")
-    lowest = 1 / ((1 + kt.margin) * (1 + kt.loo_max))
-    assert lowest <= v.stress_feature_fea / v.stress_feature_model <= 1 + STRESS
+    if kt is not None:
+        lowest = 1 / ((1 + kt.margin) * (1 + kt.loo_max))
+        assert lowest <= v.stress_feature_fea / v.stress_feature_model <= 1 + STRESS
+    return v
 
 
 # A long beam under a light load, its deflection the objective: a blade 3.5 mm wide (the gauge's
@@ -97,7 +100,6 @@ objective: deflection
 
 @pytest.mark.slow
 def test_a_tall_plain_bar_holds_in_3d_with_its_first_station_near_the_clamp():
-    from designer.checks.fea import verify_design
     from designer.model import domain
     from designer.result.pipeline import DesignOptions, design
     from designer.spec.reader import parse_spec_text
@@ -109,7 +111,7 @@ def test_a_tall_plain_bar_holds_in_3d_with_its_first_station_near_the_clamp():
     assert g.height > 5 * g.width     # the case in point: a blade bent about its strong axis
     # the bound is what places the first station (the search wants it at the clamp clearance)
     assert g.stations[0] == pytest.approx(domain.PLAIN_STATION_MIN * g.height, abs=1e-5)
-    v = verify_design(result.record, mesh="coarse")
-    assert [c.name for c in v.limits if not c.satisfied] == []
+    v = _holds_in_3d(result, spec)
+    # closer than the 2 % agreement: inside the bound the series reads the model within 0.52 %
     assert all(abs(r - 1) <= 0.01 for r in v.ratios), v.ratios
     assert abs(v.deflection_fea / v.deflection_model - 1) <= DEFLECTION
