@@ -76,8 +76,30 @@ def _generate(index: int, kind: str, seed: int) -> SuiteSpec:
         if made is not None:
             raw, expected = made
             text = _yaml(raw, kind)
-            return SuiteSpec(name, kind, text, _parse(text, name), expected)
+            spec = _parse(text, name)
+            if _has_sizes(spec):
+                return SuiteSpec(name, kind, text, spec, expected)
     raise FpdError(f"could not generate a {kind} spec from seed {seed}")  # pragma: no cover
+
+
+def _has_sizes(spec) -> bool:
+    """Whether some family of the spec has a size to try: a tube only comes from stock, and a
+    draw's section limits may leave none of its materials' tubes (the product refuses such a spec,
+    ``search.sections: tube leaves no size to try``). The product's own rule (``stock_rows``)."""
+    from designer.search.problem import FamilyProblem, families
+    from designer.search.stock import stock_system, stock_rows
+
+    try:
+        every = families(spec)
+    except SpecError:
+        return False
+    for fam in every:
+        if stock_system(spec, fam) == "none":
+            return True
+        problem = FamilyProblem(spec, fam)
+        if any(stock_rows(problem, catalogue.material(m))[0] for m in spec.search.materials):
+            return True
+    return False
 
 
 def _parse(text: str, name: str):
