@@ -116,8 +116,11 @@ class Evaluation:
 
     @property
     def worst_violation(self) -> float:
-        """The largest normalised violation, 0 for a feasible design."""
-        return max([0.0] + [float(lim.normalised) for lim in self.judged])
+        """The largest normalised violation, 0 for a feasible design (one whose limits are met to
+        within ``FEASIBILITY_TOLERANCE``: a rounding residue of 1e-16 is not a violation)."""
+        if self.feasible:
+            return 0.0
+        return max(float(lim.normalised) for lim in self.judged)
 
     @property
     def large_deflection(self) -> bool:

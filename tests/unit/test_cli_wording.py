@@ -153,3 +153,16 @@ def test_a_solve_that_meets_an_invalid_number_leaves_standard_error_quiet(capfd)
     fam.ipopt = lambda stage="primary": loud
     fam.solve_ipopt(params, fam.starts()[0])
     assert "Failed to calculate multipliers" in capfd.readouterr().err   # the same solve does reach it
+
+
+def test_a_design_that_meets_every_limit_to_rounding_shows_no_violation():
+    # The weigh-bar's runners-up read "worst violation 8.67e-16" beside "optimal": a limit met to
+    # within FEASIBILITY_TOLERANCE (1e-9) is met, and the table says "none" for it.
+    from designer.model.limits import Limit
+    from designer.result.evaluation import Evaluation
+
+    met = Evaluation(None, None, (Limit("deflection", 1.97e-3 * (1 + 8.67e-16), 1.97e-3),), 0.3986, 0.9)
+    assert met.feasible and met.worst_violation == 0.0
+    assert report._violation({"worst_violation": met.worst_violation}) == "none"
+    broken = Evaluation(None, None, (Limit("deflection", 1.97e-3 * 1.01, 1.97e-3),), 0.3986, 0.9)
+    assert not broken.feasible and broken.worst_violation == pytest.approx(0.01)
