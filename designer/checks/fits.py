@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 from designer.checks.clamp_study import near_station
 from designer.model import corrections
@@ -120,6 +121,10 @@ SLOT_GAP = Terms(("depth_ratio", "side_wall_ratio", "pocket_width_ratio", "gap_s
 # length's (a short slot's ends interact).
 SLOT_KT = Terms(("notch_ratio", "depth_ratio", "pocket_width_ratio", "length_ratio"),
                 ((0, 0, 0, 0), (1, 0, 0, 0), (1, 1, 0, 0), (1, 0, 1, 0), (0, 1, 0, 0), (0, 2, 0, 0), (0, 0, 0, 2)))
+# ... and Neuber's slope lowered near the clamp, as a hole's K_t is: a slot 0.36 heights from the
+# clamp face in a 5:1 bar reads K_t 1.33 where SLOT_KT gives 1.70 (study.NEAR_CLAMP_WIDE_SLOTS).
+SLOT_KT_CLAMP = Terms(SLOT_KT.variables + ("clamp_near",),
+                      tuple(e + (0,) for e in SLOT_KT.exponents) + ((1, 0, 0, 0, 1),))
 # K_t of a hole: the peak moves from the outer fibre (a small hole) to the hole's edge (d/h over
 # about 0.6), and a rigid clamp close by lowers it.
 HOLE_KT = Terms(("hole_ratio", "clamp_near"), ((0, 0), (0, 2), (2, 1), (3, 1), (2, 2)))
@@ -143,7 +148,7 @@ FIT_FORMS = {
                                           _share_of_length("pocket_width_ratio"),
                                           _share_of_length("depth_ratio", "pocket_width_ratio"),
                                           _share_of_length("depth_ratio", "pocket_width_ratio", "clamp_near")],
-                         "stress": [NEUBER, _neuber("pocket_width_ratio"), _neuber("clamp_near"), SLOT_KT,
+                         "stress": [NEUBER, _neuber("pocket_width_ratio"), _neuber("clamp_near"), SLOT_KT, SLOT_KT_CLAMP,
                                     ("notch_ratio", "depth_ratio"),
                                     ("notch_ratio", "depth_ratio", "pocket_width_ratio"),
                                     ("notch_ratio", "depth_ratio", "clamp_near")]},
@@ -384,9 +389,10 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
         if clamp.loo_max <= FIT_ACCEPT["strain"]:
             fits.setdefault("plain", {})["clamp"] = clamp
         report.append(("plain", "clamp", "sech", clamp))
-    for fam, candidates in NEAR_CLAMP_FORMS.items():
+    for fam, candidates in {**NEAR_CLAMP_FORMS, **CLAMP_SHARE_FORMS}.items():
         mine = [r for r in rows if r["family"] == fam]
-        near = fit_near_clamp(mine, candidates, clamp, edge=fam in EDGE_FAMILIES)
+        near = (fit_clamp_share(mine, candidates, clamp) if fam in CLAMP_SHARE_FORMS
+                else fit_near_clamp(mine, candidates, clamp, edge=fam in EDGE_FAMILIES))
         if near is not None:
             report.append((fam, "near_clamp", len(near.poly.exponents), near))
             # as a rough gauge-strain factor ships (its left-out error is room under the
@@ -404,7 +410,26 @@ NEAR_CLAMP_FORMS = {
     "tube-none": [(), ("wall_ratio",)],
     "round-pocket": [(), ("depth_ratio",), ("depth_ratio", "length_ratio")],
     "tube-pocket": [(), ("depth_ratio",), ("wall_ratio",), ("depth_ratio", "wall_ratio")],
-    "rectangle-pocket": [(), ("depth_ratio",), ("width_ratio",), ("depth_ratio", "width_ratio")],
+}
+# A slot near the clamp of a wide bar (``corrections.ClampShareFit``): its floor sees a share of the
+# plain bar's loss to the clamp's plate effect (``clamp_drop``, ClampFit's). With the bar's own loss
+# (ClampFit alone) a slot's near station read up to 9 % above the model in the study, with none at
+# all up to 5 % (a deep slot in a 10:1 bar reads its far station's strain 0.24 widths from the clamp
+# face, where the plain bar loses 7 %); a decay in section sizes (DecayFit) misses it by 5.8 % (the
+# plate effect spreads over the bar's width, not its height). The share, tried from the fewest
+# terms up: a slot's depth (its floor nearer the neutral axis, its side walls taking the clamp's
+# restraint), its share of the bar's width (a slot across most of it is a thinner plain bar), its
+# length (its floor further from its clamp-side end) and the station's nearness to the clamp face.
+_SHARE_VARIABLES = ("clamp_drop", "station_near", "depth_ratio", "pocket_width_ratio", "length_ratio")
+CLAMP_SHARE_FORMS = {
+    "rectangle-pocket": [
+        Terms(_SHARE_VARIABLES, ((1, 0, 0, 0, 0), (1, 0, 1, 0, 0))),
+        Terms(_SHARE_VARIABLES, ((1, 0, 0, 0, 0), (1, 0, 1, 0, 0), (1, 0, 0, 1, 0))),
+        Terms(_SHARE_VARIABLES, ((1, 0, 0, 0, 0), (1, 0, 1, 0, 0), (1, 0, 0, 1, 0), (1, 0, 0, 0, 1))),
+        Terms(_SHARE_VARIABLES, ((1, 0, 2, 0, 0), (1, 0, 0, 1, 0), (1, 0, 0, 0, 1), (1, 1, 0, 0, 0))),
+        Terms(_SHARE_VARIABLES, ((1, 0, 0, 0, 0), (1, 0, 1, 0, 0), (1, 0, 2, 0, 0), (1, 0, 0, 1, 0), (1, 0, 0, 0, 1),
+                                 (1, 1, 0, 0, 0))),
+    ],
 }
 DECAY_RATES = tuple(1.0 * 1.1 ** k for k in range(36))    # 1 to 28 per size
 EDGE_FAMILIES = ("tube-none",)      # also tried as a shell's edge layer (EdgeFit)
@@ -416,6 +441,45 @@ def near_clamp_target(row: dict, clamp) -> float:
     u = near_station(row) / w     # in widths
     c = float(clamp(w, u)) if clamp is not None else 1.0
     return row["strain_near"] / row["strain_far"] / c
+
+
+def share_rows(rows: list[dict], clamp) -> list[dict]:
+    """A family's study rows near the clamp with ``ClampShareFit``'s station variables of their near
+    station: the plain bar's loss to the clamp there (``clamp_drop``) and its feature's nearness to
+    the clamp face (``station_near``, the row's ``clamp_near``)."""
+    from designer.model.corrections import CLAMP_DROP, CLAMP_NEAR, STATION_NEAR
+
+    out = []
+    for r in rows:
+        if "clamp_ratio" in r and math.isfinite(r.get("strain_near", math.nan)):
+            w = r.get("width_ratio", 1.0)
+            drop = 1 - float(clamp(w, near_station(r) / w)) if clamp is not None else 0.0
+            out.append({**r, CLAMP_DROP: drop, STATION_NEAR: r[CLAMP_NEAR]})
+    return out
+
+
+def fit_clamp_share(rows: list[dict], candidates, clamp):
+    """The ClampShareFit of a family's near-station strains: of the candidate forms (Terms, each
+    term holding ``clamp_drop`` or ``station_near``), the one of fewest terms that meets
+    FIT_ACCEPT, else the fewest within PARSIMONY of the best. None without rows near the clamp."""
+    from designer.model.corrections import STATION_VARIABLES, ClampShareFit
+
+    rows = share_rows(rows, clamp)
+    if not rows or min(r["clamp_ratio"] for r in rows) >= 1.0:
+        return None
+    tried = []
+    for terms in candidates:
+        if 2 * len(terms.exponents) <= len(rows):
+            tried.append(fit_terms(rows, terms, lambda r: near_clamp_target(r, clamp) - 1)[0])
+    if not tried:
+        return None
+    tried.sort(key=lambda f: len(f.exponents))
+    meets = [f for f in tried if f.loo_max <= FIT_ACCEPT["strain"]]
+    least = min(f.loo_max for f in tried)
+    poly = meets[0] if meets else next(f for f in tried if f.loo_max <= PARSIMONY * least)
+    domain = {k: v for k, v in poly.domain.items() if k not in STATION_VARIABLES}
+    domain[NEAR_CLAMP] = (min(r["clamp_ratio"] for r in rows), math.inf)
+    return ClampShareFit(replace(poly, domain=domain), domain)
 
 
 def fit_near_clamp(rows: list[dict], candidates, clamp, edge: bool = False):
@@ -476,3 +540,28 @@ def _edge_fits(rows: list[dict], clamp, near: dict) -> list:
         domain = {"wall_ratio": poly.domain["wall_ratio"], **near}
         out.append(EdgeFit(k0, poly, domain))
     return out
+
+
+def write_table(rows: list[dict], study: Path, path: Path) -> list[str]:
+    """Fit the study's ``rows`` (read from ``study``, with the plain bars' stiffness series beside
+    it) and write the table to ``path`` as YAML: one line per form tried, saying which shipped."""
+    import yaml
+
+    from designer.checks import stiffness_study
+    from designer.model.corrections import to_dict
+
+    meshes = sorted({(r["family"], r.get("mesh", "?")) for r in rows})
+    source = (f"fpdesign's 3-D check over the parametric study {study.name} (python -m designer.checks.study; "
+              + ", ".join(f"{fam}: {mesh} mesh" for fam, mesh in meshes) + ")")
+    stiffness = study.parent / stiffness_study.TABLE
+    stiffness_rows = stiffness_study.read_csv(stiffness) if stiffness.exists() else None
+    if stiffness_rows:
+        source += f"; the plain bars' stiffness series {stiffness_study.TABLE} (python -m designer.checks.stiffness_study)"
+    table, report = fit_table(rows, source=source, stiffness_rows=stiffness_rows)
+    path.write_text(yaml.safe_dump(to_dict(table), sort_keys=False, width=110, default_flow_style=None),
+                    encoding="utf-8")
+    return [f"{fam:17s} {quantity:13s} {degree}{' terms' if isinstance(degree, int) else ''}: rms {f.rms:.4f}, "
+            f"leave-one-out max {f.loo_max:.4f}{'' if fam == 'plain' else ' over ' + ', '.join(f.variables)}"
+            f"{f', shifted {f.margin:.4f} to the safe side' if getattr(f, 'margin', 0) else ''}"
+            f"{'  shipped' if table.fit(fam, quantity) is f else ''}"
+            for fam, quantity, degree, f in report]     # degree: the number of terms
