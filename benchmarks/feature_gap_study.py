@@ -34,11 +34,33 @@ CASES = {
     "rectangle hole": study.Case("rectangle-hole", width=12.7e-3, height=12.7e-3, hole=6e-3, clamp_clearance=12.7e-3),
 }
 ISOLATED = study.FAR_GAP
+# Slots in bars wider than high (``--wide``): the study's 5.5 mm slot in bars WIDE_HEIGHT high and
+# WIDE_WIDTHS wide, WIDE_DEPTHS of the height deep; gaps in heights (``Case.gap`` is in the larger
+# of the height and the width).
+WIDE_HEIGHT = 5e-3
+WIDE_WIDTHS = (8e-3, 12e-3, 18e-3, 26e-3, 40e-3)
+WIDE_DEPTHS = (0.15, 0.3)
+WIDE_GAPS = (0.5, 1.0, 1.5, 2.0, 3.0)
 
 
 def ratios(case: study.Case, gap: float, mesh: str) -> tuple[float, ...]:
     """The 3-D/model gauge-strain ratios of ``case``'s two stations with ``gap`` between features."""
     return study.model_ratios(dataclasses.replace(case, gap=gap), mesh)
+
+
+def wide(mesh: str) -> None:
+    """The table of slots in wide bars: each station's ratio over the isolated pair's, by gap."""
+    print("| b × h (mm) | depth / h | gap (heights) | station 1 | station 2 |")
+    print("|---|---:|---:|---:|---:|")
+    for b in WIDE_WIDTHS:
+        for depth in WIDE_DEPTHS:
+            case = study.Case("rectangle-pocket", width=b, height=WIDE_HEIGHT, depth=depth * WIDE_HEIGHT,
+                              clamp_clearance=max(b, WIDE_HEIGHT))
+            alone = ratios(case, ISOLATED, mesh)
+            for gap in WIDE_GAPS:
+                near = ratios(case, gap * WIDE_HEIGHT / max(b, WIDE_HEIGHT), mesh)
+                print(f"| {b * 1e3:g} × {WIDE_HEIGHT * 1e3:g} | {depth:g} | {gap:g} | {near[0] / alone[0]:.4f} | "
+                      f"{near[1] / alone[1]:.4f} |", flush=True)
 
 
 def main(argv=None) -> int:
@@ -47,7 +69,13 @@ def main(argv=None) -> int:
                         help="gaps between the features, in section sizes")
     parser.add_argument("--mesh", default="coarse", choices=("coarse", "normal", "fine"))
     parser.add_argument("--only", nargs="*", default=None, help=f"cases (of {', '.join(CASES)})")
+    parser.add_argument("--wide", action="store_true", help="only the slots in bars wider than high, gaps in heights")
     args = parser.parse_args(argv)
+    if args.wide:
+        start = time.perf_counter()
+        wide(args.mesh)
+        print(f"study took {time.perf_counter() - start:.0f} s", file=sys.stderr)
+        return 0
     names = args.only or list(CASES)
     print("| case | gap (sizes) | station 1: 3-D/model over the isolated pair's | station 2 |")
     print("|---|---:|---:|---:|")

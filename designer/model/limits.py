@@ -25,6 +25,11 @@ HOLE_GAP = 0.5
 # 0.8 % (benchmarks/feature_gap_study.py; the corrections' fits are of features 4 sizes apart).
 # Flats on tubes, made at least a diameter long, read within 0.2 % at any gap: no limit.
 POCKET_GAP = 0.5
+# ... and slots at least this many bar widths apart too: past a slot the load flows back from its
+# side walls over about the bar's width, so in a wide bar neighbours half a height apart read each
+# other (slots 1.1 heights wide, 0.5 heights apart: -0.9 % in a 3.6:1 bar, -1.7 % in a 5.2:1 bar,
+# -2.8 % in an 8:1 bar; a quarter width apart, 3.6-8:1 bars within 0.7 %: benchmarks/feature_gap_study.py --wide).
+SLOT_WIDTH_GAP = 0.25
 
 
 @dataclass(frozen=True)
@@ -108,6 +113,9 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         gap = HOLE_GAP if g.feature == "hole" else POCKET_GAP
         out += [Limit(f"{g.feature}_gap_{i + 1}", d[i + 1] - d[i] - l_f, gap * g.size, upper=False, scale=mm,
                       unit="m") for i in range(len(d) - 1)]
+        if g.feature == "pocket" and g.section == "rectangle":
+            out += [Limit(f"slot_width_gap_{i + 1}", d[i + 1] - d[i] - l_f, SLOT_WIDTH_GAP * g.width, upper=False,
+                          scale=mm, unit="m") for i in range(len(d) - 1)]
     if lim.max_deflection is not None:
         room = corrections.deflection_allowance(g, table)
         out.append(Limit("deflection", a.deflection, lim.max_deflection / (1 + room), unit="m",

@@ -204,6 +204,38 @@ def test_neighbouring_flats_read_as_isolated_ones_only_half_a_diameter_apart():
     assert apart_limit["satisfied"]
 
 
+@pytest.mark.slow
+def test_neighbouring_slots_in_a_wide_bar_read_as_isolated_ones_a_quarter_width_apart():
+    # Past a slot the load flows back from its side walls over about the bar's width: in an 8:1
+    # bar (40 x 5 mm 6061-T6, the study's 5.5 mm slots 0.75 mm deep; benchmarks/feature_gap_study.py
+    # --wide, coarse mesh) two slots half a height apart, which pocket_gap_i allows, read 2.8 %
+    # under the same pair far apart; a quarter of the width apart (slot_width_gap_i) within 0.7 %.
+    import dataclasses
+
+    from designer.checks import study
+    from designer.checks.fea import verify_design
+    from designer.model.limits import POCKET_GAP, SLOT_WIDTH_GAP
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    b, h = 40e-3, 5e-3
+    pair = study.Case("rectangle-pocket", width=b, height=h, depth=0.15 * h, clamp_clearance=b)
+
+    def judged(gap):     # gap in m; Case.gap is in the bar's width here
+        result = evaluate_fixed(parse_spec_text(dataclasses.replace(pair, gap=gap / b).spec_text(), source="t"))
+        limits = {c["name"]: c for c in result.record["constraints"]}
+        return verify_design(result.record, mesh="coarse").ratios, limits
+
+    alone, _ = judged(study.FAR_GAP * b)
+    close, close_limits = judged(POCKET_GAP * h)
+    apart, apart_limits = judged(SLOT_WIDTH_GAP * b)
+    assert all(c / a < 0.985 for c, a in zip(close, alone))
+    assert all(abs(p / a - 1) < 0.007 for p, a in zip(apart, alone))
+    assert close_limits["pocket_gap_1"]["satisfied"] and not close_limits["slot_width_gap_1"]["satisfied"]
+    assert close_limits["slot_width_gap_1"]["limit"] == pytest.approx(SLOT_WIDTH_GAP * b)
+    assert apart_limits["slot_width_gap_1"]["satisfied"]
+
+
 def test_the_pocket_families_rows_are_of_the_normal_mesh():
     # the table says its mesh per row; the pocket families were run on the normal mesh, with
     # the floor radius resolved (the coarse-mesh rows of the first grid are gone)
