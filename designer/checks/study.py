@@ -187,6 +187,11 @@ MID_SLOT_GROUPS = (("rectangle-pocket", MID_SLOTS, 48, 40),)
 NEAR_CLAMP_WIDE_SLOTS = {"depth_ratio": (0.05, 0.32), "length_ratio": (1.0, 5.0), "pocket_width_ratio": (0.2, 0.47),
                          "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.3, 3.0)}
 NEAR_CLAMP_WIDE_SLOT_GROUPS = (("rectangle-pocket", NEAR_CLAMP_WIDE_SLOTS, 24),)
+# Shallow slots a fifth to a third of a wide bar's width, 1-2.5 heights long, where the optimiser puts
+# them (the bench suites' 25 x 5.6 mm bars) and the fit of the groups above read up to 6.5 % high.
+SHALLOW_NARROW_SLOTS = {"depth_ratio": (0.05, 0.12), "length_ratio": (0.9, 2.5), "pocket_width_ratio": (0.2, 0.3),
+                        "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX}
+SHALLOW_NARROW_SLOT_GROUPS = (("rectangle-pocket", SHALLOW_NARROW_SLOTS, 20),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -262,7 +267,7 @@ def cases(families=None) -> list[Case]:
     """The study's grid, family by family; ``near_clamp_cases`` are the last of their families."""
     mm = 1e-3
     out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS + NEAR_CLAMP_SHORT_GROUPS
-                      + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS)
+                      + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS + SHALLOW_NARROW_SLOT_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -541,6 +546,8 @@ PARTS = {
     "mid-slots": (lambda: group_cases(MID_SLOT_GROUPS), "the slots of one to two heights"),
     "wide-slots-near-clamp": (lambda: group_cases(NEAR_CLAMP_WIDE_SLOT_GROUPS),
                               "the slots in wide bars within a width or two of the clamp"),
+    "shallow-narrow-slots": (lambda: group_cases(SHALLOW_NARROW_SLOT_GROUPS),
+                             "the shallow slots a fifth to a third of a wide bar's width"),
 }
 
 

@@ -9,14 +9,14 @@ import pytest
 
 
 def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
-    """The bench suite's 029-long-beam (seed 0) in 7075-T6 rectangle: IPOPT's answer (17.363 x
-    7.473 mm) rounded to 0.01 mm breaks the fatigue limit at its feature, so the section is held at
-    its neighbouring grid sizes. Reference: a wider search than the method's own, every section
-    within 0.03 mm of the answer on the 0.01 mm grid (7 x 7) with the rest solved again, rounded
-    and checked; the method's design must equal its best within the 0.1 % tie band, meet every
-    limit, sit on the grid, and cost little over the continuous answer (a lower bound). The
-    rounded sizes' own neighbours (17.36-17.37 x 7.47-7.48 mm) give at best 0.715206; the grid's best
-    point, two steps wider, 0.714351."""
+    """The bench suite's 018-long-beam (seed 0) in Ti-6Al-4V rectangle with holes: IPOPT's answer
+    (6.6505 x 8.000 mm) rounded to 0.01 mm breaks the gauge-strain limit, so the section is held at
+    its neighbouring grid sizes with the rest solved again. Reference: a wider search than the
+    method's own, every section within 0.03 mm of the answer on the 0.01 mm grid (7 x 7) with the
+    rest solved again, rounded and checked; the method's design must equal its best within the
+    0.1 % tie band, meet every limit, sit on the grid, and cost little over the continuous answer
+    (a lower bound). The grid's best point: 6.65 x 8.00 mm with the hole and stations solved again,
+    0.456013."""
     from designer.bench.suite import _generate
     from designer.model import TIE_TOLERANCE
     from designer.search import in_nlp_units, material_params
@@ -25,11 +25,11 @@ def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
     from designer.search.run import solve_candidate
     from designer.spec import catalogue
 
-    made = _generate(28, "long-beam", 0)      # the suite's 29th spec, as generate_suite(50, 0) makes it
-    assert made.name == "029-long-beam"
+    made = _generate(17, "long-beam", 0)      # the suite's 18th spec, as generate_suite(50, 0) makes it
+    assert made.name == "018-long-beam"
     spec = made.spec
     problem = FamilyProblem(spec, Family("rectangle", spec.search.feature))
-    material = catalogue.material("7075-T6")
+    material = catalogue.material("Ti-6Al-4V")
     params = material_params(material, spec)
     candidate = solve_candidate(problem, material, "ipopt")
     first = candidate.solves[0]
@@ -55,15 +55,16 @@ def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
     assert np.isfinite(best)
     assert ev.objective <= best * (1 + TIE_TOLERANCE)
     continuous = float(problem.functions(first.x, params)[0])
-    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005   # measured +0.17 %
+    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005   # measured +0.01 %
 
 
 def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
-    """The same answer with both grid searches made to find nothing: the back-off solves again with
+    """The same answer with the grid searches and the depth-held re-solve made to find nothing: the
+    back-off solves again with
     only the broken limit (the slot's least depth) tightened. Reference: the same re-solve with
     every limit tightened by the same margin, the back-off it replaced; tightening one limit
-    leaves more room, so the answer is no worse than that one's, meets every limit, and costs
-    little over the continuous answer (a lower bound)."""
+    leaves more room, so the answer is no worse than that one's, meets every limit, and costs at
+    most 2 % over the continuous answer (a lower bound)."""
     from designer.bench.suite import _generate
     from designer.search import in_nlp_units, material_params
     from designer.search import ongrid, run
@@ -77,6 +78,7 @@ def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
     params = material_params(material, spec)
     monkeypatch.setattr(ongrid, "_on_the_grid", lambda *args, **kwargs: None)
     monkeypatch.setattr(ongrid, "_nearby_on_the_grid", lambda *args: None)
+    monkeypatch.setattr(ongrid, "_depth_held", lambda *args: None)
     candidate = run.solve_candidate(problem, material, "ipopt")
     first = candidate.solves[0]
     broken = round_and_check(problem.design(first.x, material), spec)
@@ -92,7 +94,9 @@ def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
     assert reference.feasible
     assert ev.objective <= reference.objective * (1 + 1e-9)
     continuous = float(problem.functions(first.x, params)[0])
-    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005
+    # the last resort is not cheap (the depth leaves its domain's least value by the margin): the
+    # grid searches above are what keep rounding within the tie band; measured +1.4 %
+    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.02
 
 
 @pytest.mark.parametrize("material", ["17-4PH-H900", "2024-T3"])

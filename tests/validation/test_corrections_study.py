@@ -307,6 +307,18 @@ def test_the_extra_lengths_deflection_weight_is_the_beam_models_slope():
     assert fits.deflection_per_extra(row) == pytest.approx(slope, rel=0.02)
 
 
+def _group_rows(groups, rows):
+    """The study's rows of the cases of pocket ``groups`` (``study.group_cases``), in the groups'
+    order; a case the CAD could not build is not in the table."""
+    out = []
+    for case in study.group_cases(groups):
+        try:
+            out.append(_row_of(case, rows))
+        except LookupError:
+            continue
+    return out
+
+
 def _row_of(case, rows):
     params = study.case_parameters(case)
     for r in rows:
@@ -397,23 +409,19 @@ def test_a_slot_near_the_clamp_sees_a_share_of_the_plain_bar_s_loss():
 def test_slots_near_the_clamp_of_wide_bars_held_out_of_the_share_fit_read_it():
     # study.NEAR_CLAMP_WIDE_SLOTS (24 slots in bars 1.3-11 times as wide as high, their gauge a
     # quarter to two widths from the clamp face) were added after the share's form was chosen on
-    # the others: a fit of that form to the other rows predicts them within 1.2 % (docs/model.md
+    # the others: a fit of that form to the other rows predicts them within 1.4 % (docs/model.md
     # section 7), inside the 2 % rule
     table = corrections.load()
     clamp = corrections.clamp_fit(table)
     shipped = table.fit("rectangle-pocket", "near_clamp")
     form = fits.Terms(shipped.poly.variables, shipped.poly.exponents)
     rows = fits.share_rows([r for r in _rows() if r["family"] == "rectangle-pocket"], clamp)
-    added = [study.case_parameters(c) for c in study.group_cases(study.NEAR_CLAMP_WIDE_SLOT_GROUPS)]
-
-    def is_added(r):
-        return any(all(math.isclose(r.get(k, math.nan), v, rel_tol=1e-5) for k, v in p.items()) for p in added)
-
-    held, rest = [r for r in rows if is_added(r)], [r for r in rows if not is_added(r)]
+    added = _group_rows(study.NEAR_CLAMP_WIDE_SLOT_GROUPS, rows)
+    held, rest = [r for r in rows if any(r is a for a in added)], [r for r in rows if not any(r is a for a in added)]
     assert len(held) == 24
     poly, _ = fits.fit_terms(rest, form, lambda r: fits.near_clamp_target(r, clamp) - 1)
     misses = [abs(1 + poly(r) - fits.near_clamp_target(r, clamp)) for r in held]
-    assert max(misses) <= 0.0125, max(misses)
+    assert max(misses) <= 0.0145, max(misses)
 
 
 def test_a_thin_tube_near_the_clamp_follows_a_shells_edge_layer():
@@ -473,7 +481,8 @@ def _mid_slots(rows):
 
 def test_the_slot_strain_form_predicts_the_mid_slots_it_was_not_fitted_on():
     """docs/model.md §7: the slot strain fit's grid-gap form (``fits.SLOT_GAP``), fitted on the
-    study's slots before its slots of one to two heights were run, predicts those 46 within 3.5 %
+    study's slots before its slots of one to two heights were run (and the groups run after them),
+    predicts those 46 within 3.5 %
     (measured 3.3 %); the quadratic in depth, length and side walls it replaced, fitted on the same
     rows, misses one of them by more than 5 % (measured 6.4 %: a slot 0.24 h deep, one height long,
     0.31 of the bar's width). Reference: the study's 3-D rows (materials/corrections_study.csv)."""
@@ -481,8 +490,9 @@ def test_the_slot_strain_form_predicts_the_mid_slots_it_was_not_fitted_on():
     mid = [row for _, row in _mid_slots(rows)]
     assert len(mid) == 46
     box = fits.FIT_DOMAINS["rectangle-pocket"]["strain"]
+    later = mid + _group_rows(study.NEAR_CLAMP_WIDE_SLOT_GROUPS + study.SHALLOW_NARROW_SLOT_GROUPS, rows)
     earlier = [r for r in rows if r["family"] == "rectangle-pocket" and fits._in_domain(r, box)
-               and not any(r is m for m in mid)]
+               and not any(r is m for m in later)]
     held = [r for r in mid if fits._in_domain(r, box)]
 
     def worst(terms):
@@ -492,6 +502,31 @@ def test_the_slot_strain_form_predicts_the_mid_slots_it_was_not_fitted_on():
     quadratic = fits.Terms(("depth_ratio", "length_ratio", "side_wall_ratio"), tuple(fits.monomials(3, 2)))
     assert worst(fits.SLOT_GAP) <= 0.035
     assert worst(quadratic) > 0.05
+
+
+def test_the_slot_strain_form_predicts_the_shallow_narrow_slots_it_was_not_fitted_on():
+    """docs/model.md §7: 20 shallow slots a fifth to a third of a wide bar's width
+    (``study.SHALLOW_NARROW_SLOTS``, where the optimiser puts slots in wide bars) were run after the
+    other slots. The grid-gap form fitted without them (``fits.SLOT_GAP``) reads them 2.4 % high on
+    average and up to 6.5 %; with the side walls' share a quadratic in the depth
+    (``fits.SLOT_GAP_DEPTH``, shipped) within 2.1 %, 0.1 % on average. Reference: the study's 3-D
+    rows (materials/corrections_study.csv)."""
+    rows = _rows()
+    box = fits.FIT_DOMAINS["rectangle-pocket"]["strain"]
+    slots = [r for r in rows if r["family"] == "rectangle-pocket" and fits._in_domain(r, box)]
+    added = _group_rows(study.SHALLOW_NARROW_SLOT_GROUPS, rows)
+    assert len(added) == 20
+    rest = [r for r in slots if not any(r is a for a in added)]
+
+    def misses(terms):
+        fit, _ = fits.fit_terms(rest, terms, lambda r: r["strain_far"])
+        return [r["strain_far"] / fit(r) - 1 for r in added]
+
+    before, now = misses(fits.SLOT_GAP), misses(fits.SLOT_GAP_DEPTH)
+    assert min(before) < -0.06 and sum(before) / len(before) < -0.02
+    assert max(abs(e) for e in now) <= 0.022 and abs(sum(now) / len(now)) <= 0.005
+    shipped = corrections.load().fit("rectangle-pocket", "strain")
+    assert shipped.exponents == fits.SLOT_GAP_DEPTH.exponents
 
 
 HOLDOUT = Path(__file__).resolve().parents[2] / "benchmarks" / "round_flat_holdout.py"
@@ -553,7 +588,7 @@ def test_a_deep_slot_one_height_long_narrow_in_a_wide_bar_reads_the_model_in_3d(
 def test_a_slot_whose_side_walls_are_thinner_than_the_slot_k_t_fit_holds_for_is_kept_out():
     """docs/model.md §7: the slot's K_t is fitted, and designs kept, where the side walls are
     together at least 0.15 of the height. The study's slot 0.86 of a 6.4 mm bar's width (walls
-    0.14 h together) reads a 3-D K_t of 1.39, 15 % above the fit of the others and 11 % above it
+    0.14 h together) reads a 3-D K_t of 1.39, about 15 % above the fit of the others and 9 % above it
     after its shift to the safe side; it and the study's four other slots
     of one to two heights with walls that thin are outside the fit's domain, and the beam evaluated
     reports ``domain_side_wall_ratio_min``. Reference: the study's 3-D rows."""
@@ -566,6 +601,6 @@ def test_a_slot_whose_side_walls_are_thinner_than_the_slot_k_t_fit_holds_for_is_
     assert len(thin) == 5 and not any(_inside(fit, row) for _, row in thin)
     case, row = min(thin, key=lambda t: fits.judged_error("stress", t[1], fit(t[1])))
     assert row["pocket_width_ratio"] == pytest.approx(0.86, abs=0.005)
-    assert fits.judged_error("stress", row, fit(row)) < -0.10   # the shipped K_t 11 % under the 3-D one
+    assert fits.judged_error("stress", row, fit(row)) < -0.09   # the shipped K_t 9 % under the 3-D one
     ev = evaluate_fixed(parse_spec_text(case.spec_text())).evaluation
     assert "domain_side_wall_ratio_min" in [v.name for v in ev.violations]
