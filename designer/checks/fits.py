@@ -478,10 +478,7 @@ def fit_clamp_share(rows: list[dict], candidates, clamp):
             tried.append(fit_terms(rows, terms, lambda r: near_clamp_target(r, clamp) - 1)[0])
     if not tried:
         return None
-    tried.sort(key=lambda f: len(f.exponents))
-    meets = [f for f in tried if f.loo_max <= FIT_ACCEPT["strain"]]
-    least = min(f.loo_max for f in tried)
-    poly = meets[0] if meets else next(f for f in tried if f.loo_max <= PARSIMONY * least)
+    poly = _fewest_terms([(f, f) for f in tried])
     domain = {k: v for k, v in poly.domain.items() if k not in STATION_VARIABLES}
     domain[NEAR_CLAMP] = (min(r["clamp_ratio"] for r in rows), math.inf)
     return ClampShareFit(replace(poly, domain=domain), domain)
@@ -513,7 +510,14 @@ def fit_near_clamp(rows: list[dict], candidates, clamp, edge: bool = False):
     tried = [(DecayFit(rate, poly, {**poly.domain, **near}), poly) for poly, rate in tried]
     if edge:
         tried += [(f, f.poly) for f in _edge_fits(rows, clamp, near)]
-    tried.sort(key=lambda t: len(t[1].exponents))
+    return _fewest_terms(tried)
+
+
+def _fewest_terms(tried: list):
+    """Of ``(fit, its polynomial)`` pairs, a near-clamp gauge-strain fit's choice: the fit whose
+    polynomial has the fewest terms and meets FIT_ACCEPT, else the fewest within PARSIMONY of the
+    smallest left-out error."""
+    tried = sorted(tried, key=lambda t: len(t[1].exponents))
     meets = [f for f, poly in tried if poly.loo_max <= FIT_ACCEPT["strain"]]
     if meets:
         return meets[0]

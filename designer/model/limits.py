@@ -110,12 +110,11 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
             for i in range(len(d) - 1)]
     if g.feature == "hole" or (g.feature == "pocket" and g.section != "tube"):
         # the web between neighbouring features: the fits are of isolated ones (docs/model.md §7)
-        gap = HOLE_GAP if g.feature == "hole" else POCKET_GAP
-        out += [Limit(f"{g.feature}_gap_{i + 1}", d[i + 1] - d[i] - l_f, gap * g.size, upper=False, scale=mm,
-                      unit="m") for i in range(len(d) - 1)]
+        webs = [(f"{g.feature}_gap", (HOLE_GAP if g.feature == "hole" else POCKET_GAP) * g.size)]
         if g.feature == "pocket" and g.section == "rectangle":
-            out += [Limit(f"slot_width_gap_{i + 1}", d[i + 1] - d[i] - l_f, SLOT_WIDTH_GAP * g.width, upper=False,
-                          scale=mm, unit="m") for i in range(len(d) - 1)]
+            webs.append(("slot_width_gap", SLOT_WIDTH_GAP * g.width))
+        out += [Limit(f"{name}_{i + 1}", d[i + 1] - d[i] - l_f, least, upper=False, scale=mm, unit="m")
+                for name, least in webs for i in range(len(d) - 1)]
     if lim.max_deflection is not None:
         room = corrections.deflection_allowance(g, table)
         out.append(Limit("deflection", a.deflection, lim.max_deflection / (1 + room), unit="m",

@@ -178,7 +178,8 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
     found = []
     step = problem.spec.cad.depth_step
     for depth in sorted(floor_ceil(float(s.x[i]) * MM, step=step), key=lambda d: abs(d / MM - s.x[i])):
-        s2 = problem.solve_ipopt(params, s.x, fixed={i: depth / MM})
+        held = {i: depth / MM}
+        s2 = problem.solve_ipopt(params, s.x, fixed=held)
         solves.append(s2)
         if not s2.success:
             continue
@@ -191,7 +192,7 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
             # the section held on its grid too, the stations solved again: a size step can move a
             # target more than the stations' rounding makes up (the held-out suite's 009-tight-
             # limits: its force error 0.3 % per 0.01 mm of diameter, met again 0.05 mm further in)
-            both = _on_the_grid(problem, params, material, s2, solves, hold={i: depth / MM})
+            both = _on_the_grid(problem, params, material, s2, solves, hold=held)
             if both is not None and both[1].feasible:
                 found.append(both)
         if found and close(found[-1][1]):
@@ -209,12 +210,12 @@ def _on_the_grid(problem: FamilyProblem, params, material, s: Solve, solves: lis
     from each combination of rounding down and up; from the best of those, a step of 0.01 mm up
     or down in one size at a time is taken while it gives a better design (at most
     GRID_STEPS steps): the rounded sizes' best neighbour need not be the grid's best point (the
-    bench suite's 029-long-beam: 0.12 % better two steps away). ``hold`` (``{index: value}``, in
+    bench suite's 029-long-beam under an earlier slot fit: 0.12 % better two steps away). ``hold`` (``{index: value}``, in
     the NLP's units) holds more variables at those values throughout (the depth on its grid)."""
     index = [i for i, name in enumerate(problem.names) if name in SECTION_VARIABLES]
     choices = [[v / MM for v in floor_ceil(float(s.x[i]) * MM)] for i in index]
     tried: dict = {}
-    also = dict(hold or {})
+    also = hold or {}
 
     def solve_held(combo):
         key = tuple(round(v / GRID_MM) for v in combo)

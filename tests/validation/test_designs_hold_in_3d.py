@@ -22,12 +22,10 @@ SAFE_DEFLECTION = 0.06     # how far below the model the extra length's safe-sid
 @pytest.mark.slow
 @pytest.mark.parametrize("example", ["gripper-finger", "probe"])
 def test_the_design_optimize_reports_holds_in_3d(example):
-    from designer.result.pipeline import DesignOptions, design
     from designer.spec.reader import load_spec
 
     spec = load_spec(ROOT / "examples" / f"{example}.yaml")
-    result = design(spec, DesignOptions(tradeoff=False))
-    assert result.status == "optimal"
+    result = _designed(spec)
     _holds_in_3d(result, spec)
 
 
@@ -44,17 +42,24 @@ MEDIUM_TUBE = (ROOT / "examples" / "weigh-bar.yaml").read_text().replace(
 @pytest.mark.slow
 def test_a_tube_whose_flats_are_many_gauge_grids_long_holds_in_3d():
     from designer.model import corrections, domain
-    from designer.result.pipeline import DesignOptions, design
     from designer.spec.reader import parse_spec_text
 
     spec = parse_spec_text(MEDIUM_TUBE, source="medium-tube")
-    result = design(spec, DesignOptions(tradeoff=False))
-    assert result.status == "optimal"
+    result = _designed(spec)
     g = result.evaluation.design.geometry
     assert g.section == "tube" and result.evaluation.design.stock is not None
     lp_grid = g.pocket_length / g.grid_length
     assert domain.LP_GRID_BOX[1] < lp_grid <= domain.lp_grid_top(corrections.family(g)) * (1 + 1e-9)
     _holds_in_3d(result, spec)
+
+
+def _designed(spec):
+    """The design ``optimize`` reports for ``spec`` (without the trade-off fronts): optimal."""
+    from designer.result.pipeline import DesignOptions, design
+
+    result = design(spec, DesignOptions(tradeoff=False))
+    assert result.status == "optimal"
+    return result
 
 
 def _holds_in_3d(result, spec):
@@ -101,12 +106,10 @@ objective: deflection
 @pytest.mark.slow
 def test_a_tall_plain_bar_holds_in_3d_with_its_first_station_near_the_clamp():
     from designer.model import domain
-    from designer.result.pipeline import DesignOptions, design
     from designer.spec.reader import parse_spec_text
 
     spec = parse_spec_text(TALL_BLADE, source="tall-blade")
-    result = design(spec, DesignOptions(tradeoff=False))
-    assert result.status == "optimal"
+    result = _designed(spec)
     g = result.evaluation.design.geometry
     assert g.height > 5 * g.width     # the case in point: a blade bent about its strong axis
     # the bound is what places the first station (the search wants it at the clamp clearance)
@@ -142,12 +145,10 @@ tolerances: {class: none}
 @pytest.mark.slow
 def test_a_slot_near_the_clamp_of_a_wide_bar_holds_in_3d():
     from designer.model import corrections
-    from designer.result.pipeline import DesignOptions, design
     from designer.spec.reader import parse_spec_text
 
     spec = parse_spec_text(WIDE_SLOTTED_BAR, source="wide-slotted-bar")
-    result = design(spec, DesignOptions(tradeoff=False))
-    assert result.status == "optimal"
+    result = _designed(spec)
     g = result.evaluation.design.geometry
     table = corrections.load()
     # the case in point: a bar several times as wide as high, its first slot within a width of the
