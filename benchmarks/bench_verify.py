@@ -144,7 +144,7 @@ def bench(names, mesh: str, repeat: int, work: Path, suite: dict) -> list[dict]:
             r = json.loads(report.read_text())
             stress = r["stress"]
             row.update(ratios=[g["ratio"] for g in r["gauges"]], deflection=r["deflection"]["ratio"],
-                       stress=stress["fea_peak"] / stress["model_max"], where=stress["where"],
+                       stress=stress["fea_peak"] / stress["model_at_peak"], where=stress["where"],
                        change=max(g["mesh_change"] for g in r["gauges"]),
                        deflection_change=r["deflection"]["mesh_change"], stress_change=stress["mesh_change"],
                        meshes=[(m["elements"], m["dofs"], m["cg_iterations"]) for m in r["meshes"]])

@@ -87,7 +87,7 @@ def run(names, mesh: str) -> list[dict]:
         main_run = r.runs[0]
         rows.append({"name": name, "ratios": r.ratios, "stations": [g.station for g in r.gauges],
                      "deflection": r.deflection_fea / r.deflection_model,
-                     "stress": r.stress_peak.value / r.stress_model, "where": r.stress_peak.where,
+                     "stress": r.stress_peak.value / r.stress_model_at_peak, "where": r.stress_peak.where,
                      "change": max(g.mesh_change for g in r.gauges), "stress_change": r.stress_change,
                      "elements": main_run.elements, "dofs": main_run.dofs, "size": main_run.global_size,
                      "detail": main_run.detail_size, "seconds": seconds})

@@ -41,9 +41,9 @@ def _print_summary(result) -> None:
                       f"{g.model_strain * 1e6:.1f}", f"{g.ratio:.3f}")
     table.add_row("free-end deflection (mm)", f"{result.deflection_fea * 1e3:.3f}",
                   f"{result.deflection_model * 1e3:.3f}", f"{result.deflection_fea / result.deflection_model:.3f}")
-    table.add_row("peak stress (MPa)",
-                  f"{result.stress_peak.value / 1e6:.1f}", f"{result.stress_model / 1e6:.1f}",
-                  f"{result.stress_peak.value / result.stress_model:.3f}")
+    table.add_row(f"peak stress (MPa), {result.stress_peak.where}",
+                  f"{result.stress_peak.value / 1e6:.1f}", f"{result.stress_model_at_peak / 1e6:.1f}",
+                  f"{result.stress_peak.value / result.stress_model_at_peak:.3f}")
     console = Console()
     console.print(table)
     for message in result.messages:
