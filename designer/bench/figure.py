@@ -45,8 +45,8 @@ def chart(data: dict, ax=None):
         ax.scatter(p["seconds"], y(p["gap"]), s=22 if missing else 12, color=colours[p["method"]],
                    alpha=0.6 if missing else 0.28, linewidths=1.2 if missing else 0,
                    marker="x" if missing else "o", zorder=1)
-    offsets = _label_offsets([(r["median_seconds"], y(r["p90_gap"])) for r in methods])
-    for r, offset in zip(methods, offsets):
+    labels, bars = [], []
+    for r in methods:
         t, g = r["median_seconds"], r["p90_gap"]
         if t is None or g is None:
             continue
@@ -56,9 +56,8 @@ def chart(data: dict, ax=None):
         default = r["method"] == "ipopt"  # a diamond on top: no other point hides it
         ax.errorbar(t, y(g), xerr=xerr, yerr=yerr, fmt="D" if default else "o", ms=8 if default else 9, color=c,
                     mec="black", mew=1.4 if default else 0.8, elinewidth=1.4, capsize=3, zorder=5 if default else 3)
-        label = r["method"] + (" (default)" if r["method"] == "ipopt" else "")
-        ax.annotate(label, (t, y(g)), xytext=offset, textcoords="offset points", fontsize=9,
-                    fontweight="bold" if r["method"] == "ipopt" else "normal", color=c, zorder=4)
+        labels.append((r["method"] + (" (default)" if default else ""), t, y(g), c, default))
+        bars += [((r["seconds_low"], y(g)), (r["seconds_high"], y(g))), ((t, y(r["median_gap"])), (t, y(g)))]
     front = sorted((r["median_seconds"], y(r["p90_gap"])) for r in methods if r["on_front"])
     if front:
         xs, ys = zip(*front)
@@ -86,29 +85,63 @@ def chart(data: dict, ax=None):
                                                              "p90 gap (bar down to the median gap)"),
                 Line2D([], [], ls="--", color="0.3", label="speed-accuracy front")]
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8.5, frameon=False)
+    _label(ax, labels, bars)
     return fig
 
 
-def _label_offsets(points) -> list:
-    """Text offsets (points) that keep the labels of nearby method points apart: labels of
-    points less than a factor 4 apart in time and at about the same gap (equal, or within a
-    factor 1.6) are stacked."""
-    out = [(7, 7)] * len(points)
-    order = sorted(range(len(points)), key=lambda i: (points[i][1] or 0, points[i][0] or 0))
-    stack = []
-    for i in order:
-        t, g = points[i]
-        if t is None or g is None:
-            continue
-        stack = [j for j in stack if _about(points[j][1], g) and t / points[j][0] < 4]
-        used = {out[j] for j in stack}
-        out[i] = next(o for o in ((7, 7 + 12 * k) for k in range(len(points) + 1)) if o not in used)
-        stack.append(i)
-    return out
+# Method labels: font size (points), marker radius (points) they keep clear of, and the offsets
+# (points from the marker's centre to the label's lower left or lower right corner) tried in turn.
+LABEL_SIZE = 9.0
+MARKER_RADIUS = 6.0
+LABEL_OFFSETS = tuple((dx, dy) for k in range(4) for dy in (7 + 12 * k, -7 - LABEL_SIZE - 12 * k) for dx in (7, -7))
 
 
-def _about(a: float, b: float) -> bool:
-    return a == b or (a > 0 and b > 0 and max(a, b) / min(a, b) < 1.6)
+def _label(ax, labels, bars) -> None:
+    """Each method's name beside its point (the default method's first), at the first of
+    LABEL_OFFSETS where it covers no method's marker, no label placed before it and no error bar;
+    failing that, no marker and no label. ``bars`` are the error bars' ends, data units. Positions
+    are taken after the figure's layout, which the labels are kept out of."""
+    fig = ax.figure
+    if fig.get_layout_engine() is not None:
+        fig.get_layout_engine().execute(fig)
+    scale = fig.dpi / 72.0
+    centres = [ax.transData.transform((t, g)) for _, t, g, _, _ in labels]
+    lines = []
+    for a, b in bars:
+        (x0, y0), (x1, y1) = ax.transData.transform(a), ax.transData.transform(b)
+        lines.append((min(x0, x1) - 1, min(y0, y1) - 1, max(x0, x1) + 1, max(y0, y1) + 1))
+    taken = []
+    for text, t, g, colour, default in sorted(labels, key=lambda item: not item[4]):
+        x0, y0 = ax.transData.transform((t, g))
+        width, height = 0.6 * LABEL_SIZE * len(text) * scale, LABEL_SIZE * scale
+
+        def box(offset):
+            dx, dy = offset
+            left = x0 + dx * scale - (width if dx < 0 else 0.0)
+            return left, y0 + dy * scale, left + width, y0 + dy * scale + height
+
+        def clear(offset, obstacles):
+            b = box(offset)
+            return (not any(_overlaps(b, o) for o in taken + obstacles)
+                    and not any(_covers(b, c, MARKER_RADIUS * scale) for c in centres))
+
+        dx, dy = next((o for o in LABEL_OFFSETS if clear(o, lines)),
+                      next((o for o in LABEL_OFFSETS if clear(o, [])), LABEL_OFFSETS[0]))
+        taken.append(box((dx, dy)))
+        ax.annotate(text, (t, g), xytext=(dx, dy), textcoords="offset points", fontsize=LABEL_SIZE,
+                    ha="right" if dx < 0 else "left", va="bottom", fontweight="bold" if default else "normal",
+                    color=colour, zorder=4, in_layout=False)
+
+
+def _overlaps(a, b) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def _covers(box, centre, radius: float) -> bool:
+    """Whether ``box`` (x0, y0, x1, y1) comes within ``radius`` of ``centre`` (display units)."""
+    nearest_x = min(max(centre[0], box[0]), box[2])
+    nearest_y = min(max(centre[1], box[1]), box[3])
+    return math.hypot(centre[0] - nearest_x, centre[1] - nearest_y) < radius
 
 
 def _tick(v: float) -> str:
