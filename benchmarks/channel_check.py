@@ -1,0 +1,161 @@
+"""How stiff are the wire channels in 3-D? The 3-D check of designs with and without their channels.
+
+The beam model counts a wire channel (docs/model.md §1, ``sections.channel_inertia``) as the
+section less the groove over every span between the clamp face and the features
+(``sections.channel_spans``), by beam theory. The corrections' study measured its features on
+bars of 10-30 mm, where the default channel (at most 1.5 x 0.5 mm) takes a few per cent of the
+section at most; on a miniature bar the same rule gives a channel half a pocket wide and half a
+pocket deep, up to 15 % of the section's second moment. For designs of the bench suite (seed 4)
+and variants of them (other channel sizes, stations further apart), this solves each design
+twice in 3-D (normal mesh), with and without its channels, and prints what the channels add to
+the free-end deflection in 3-D over what the beam model says they add, their share of the
+model's deflection, the whole design's 3-D/model deflection ratio, and the length ``lambda`` by
+which each channel span (from the clamp face and between features, ``lambda/2`` at each end)
+would have to be shorter for beam theory to give the 3-D figure. Run by hand (about 5 minutes):
+
+    python benchmarks/channel_check.py [-o benchmarks/channel_check.md]
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+SEED, COUNT = 4, 50
+# (spec of the suite, what is changed, changes): channel width and depth (m, None: the default),
+# stations (m, None: the design's), and a longer beam with the load further out.
+VARIANTS = {
+    "005-short-beam": [
+        ("as designed", {}),
+        ("load at 12-15 mm", {"far": True}),
+        ("load at 12-15 mm, stations 2, 6 mm", {"far": True, "stations": [2e-3, 6e-3]}),
+        ("load at 12-15 mm, stations 2, 9.5 mm", {"far": True, "stations": [2e-3, 9.5e-3]}),
+        ("load at 12-15 mm, channel 0.25 mm wide", {"far": True, "width": 0.25e-3}),
+        ("load at 12-15 mm, stations 2, 6 mm, channel 0.25 mm wide",
+         {"far": True, "stations": [2e-3, 6e-3], "width": 0.25e-3}),
+        ("load at 12-15 mm, stations 2, 6 mm, channel 0.05 mm deep",
+         {"far": True, "stations": [2e-3, 6e-3], "depth": 0.05e-3}),
+    ],
+    "001-millinewton": [("as designed", {})],
+}
+
+
+def designed() -> dict:
+    """The reported design.json record of each spec of VARIANTS (the suite's optimum)."""
+    from designer import bench
+    from designer.result.pipeline import DesignOptions, design
+
+    out = {}
+    for item in bench.generate_suite(COUNT, SEED):
+        if item.name in VARIANTS:
+            out[item.name] = design(item.spec, DesignOptions(tradeoff=False)).record
+    return out
+
+
+def variant(record: dict, change: dict, channels: bool) -> dict:
+    v = copy.deepcopy(record)
+    cad = v["spec"]["cad"]
+    cad["wire_channels"] = channels
+    if "width" in change:
+        cad["channel_width"] = change["width"]
+    if "depth" in change:
+        cad["channel_depth"] = change["depth"]
+    if change.get("far"):   # the 005-short-beam bar, 1.58 mm across, made 15.5 mm long
+        v["design"]["length"] = 15.5e-3
+        v["spec"]["load"]["position"] = [12e-3, 15e-3]
+    if "stations" in change:
+        v["design"]["stations"] = change["stations"]
+    return v
+
+
+def model_channels(record: dict, shorter: float = 0.0) -> tuple:
+    """(what the channels add to the model's free-end deflection with each span ``shorter``, the
+    model's whole deflection, the channels' share of the second moment, the section's size and
+    width), m."""
+    from designer.model import sections
+    from designer.model.beam import _moment_arm_integral
+    from designer.result.designfile import parse_design
+    from designer.result.evaluation import evaluate
+
+    rec = parse_design(record)
+    spec, design = rec.spec, rec.design
+    ev = evaluate(design, spec)
+    g, sp, E = design.geometry, ev.analysis.props, float(design.material.E)
+    force, x, ell = spec.load.force_max, spec.load.position_max, float(g.length)
+    cut = float(sections.channel_inertia(g))
+    extra = 1 / (E * (float(sp.I) - cut)) - 1 / (E * float(sp.I))
+    total = 0.0
+    for a, b in sections.channel_spans(g):
+        a, b = float(a) + shorter / 2, float(b) - shorter / 2
+        if b > a:
+            total += _moment_arm_integral(b, x, ell) - _moment_arm_integral(a, x, ell)
+    return force * extra * total, float(ev.analysis.deflection), cut / float(sp.I), float(g.size), float(g.width if g.section == "rectangle" else g.diameter)
+
+
+def row(name: str, label: str, record: dict, change: dict) -> dict:
+    from scipy.optimize import brentq
+
+    from designer.checks.fea import verify_design
+
+    t0 = time.perf_counter()
+    with_channels = variant(record, change, True)
+    v = verify_design(with_channels, mesh="normal")
+    bare = verify_design(variant(record, change, False), mesh="normal")
+    fea = v.deflection_fea - bare.deflection_fea
+    beam, whole, share, size, width = model_channels(with_channels)
+    # the shortening for which beam theory gives the 3-D figure (0 where it gives less already)
+    shorter = (brentq(lambda s: model_channels(with_channels, s)[0] - fea, 0.0, float(with_channels["design"]["length"]))
+               if 0 < fea < beam else 0.0)
+    d = with_channels["design"]
+    return {"name": name, "label": label, "design": f"{d['material']} {d['section']['kind']}+{d['feature']['kind']}",
+            "stations": d["stations"], "share": share, "of_deflection": beam / whole, "ratio": fea / beam,
+            "deflection": v.deflection_fea / v.deflection_model, "shorter": shorter, "size": size, "width": width,
+            "seconds": time.perf_counter() - t0}
+
+
+def markdown(rows: list[dict]) -> str:
+    lines = ["Wire channels in 3-D (`python benchmarks/channel_check.py`; normal mesh): each design solved with and "
+             "without its channels. *3-D / beam* is what the channels add to the free-end deflection in 3-D over what "
+             "beam theory (the model) says they add; *lambda* the length by which every channel span would have to be "
+             "shorter (half at each end) for beam theory to give the 3-D figure, in mm, in section sizes "
+             "(the height or diameter) and in widths (the width of the face the channel is cut in).", "",
+             "| spec (bench suite, seed 4) | variant | design | stations (mm) | channels' share of I | of the model's "
+             "deflection | 3-D / beam | whole deflection 3-D / model | lambda (mm) | lambda / size | lambda / width | s |",
+             "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    for r in rows:
+        lines.append(f"| {r['name']} | {r['label']} | {r['design']} | {', '.join(f'{s * 1e3:g}' for s in r['stations'])} | "
+                     f"{r['share']:.1%} | {r['of_deflection']:.1%} | {r['ratio']:.3f} | {r['deflection']:.3f} | "
+                     f"{r['shorter'] * 1e3:.2f} | {r['shorter'] / r['size']:.2f} | {r['shorter'] / r['width']:.2f} | "
+                     f"{r['seconds']:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("-o", "--output", type=Path, help="also write the table as markdown")
+    args = parser.parse_args(argv)
+    records = designed()
+    rows = []
+    for name, variants in VARIANTS.items():
+        for label, change in variants:
+            r = row(name, label, records[name], change)
+            rows.append(r)
+            print(f"{name:16s} {label:58s} share {r['share']:.3f} of defl {r['of_deflection']:.3f} "
+                  f"3-D/beam {r['ratio']:.3f} whole {r['deflection']:.3f} lambda {r['shorter'] * 1e3:.2f} mm", flush=True)
+    text = markdown(rows)
+    print(text)
+    if args.output:
+        from designer.outputs.files import atomic_write_text
+
+        atomic_write_text(args.output, text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
