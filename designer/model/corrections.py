@@ -72,7 +72,7 @@ def _parameters(g: Geometry) -> dict:
     if g.section == "tube":
         out["wall_ratio"] = g.wall / size
     clamp_ratio = clamp_ratios(g)[0] if g.feature != "none" else None
-    return {**out, **derived_parameters(out, clamp_ratio, ops_for(g.stations[0]))}
+    return {**out, **derived_parameters(out, clamp_ratio, ops_for(clamp_ratio, *out.values()))}
 
 
 def derived_parameters(values: dict, clamp_ratio=None, ops=None) -> dict:

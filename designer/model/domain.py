@@ -38,7 +38,7 @@ PLAIN_STATION_CAP = 3.0
 def plain_clamp_scale(width, height):
     """``min(max(b, h), PLAIN_STATION_CAP h)`` of a rectangular bar: what its first plain station's
     distance from the clamp face is measured in (``PLAIN_STATION``)."""
-    ops = ops_for(width)
+    ops = ops_for(width, height)
     return ops.fmin(ops.fmax(width, height), PLAIN_STATION_CAP * height)
 
 

@@ -35,6 +35,7 @@ def casadi_ops() -> Ops:
                casadi.log)
 
 
-def ops_for(value) -> Ops:
-    """The operations for ``value``: casadi's for a casadi expression, numpy's otherwise."""
-    return casadi_ops() if type(value).__module__.startswith("casadi") else NUMERIC
+def ops_for(*values) -> Ops:
+    """The operations for ``values``: casadi's where any of them is a casadi expression (numpy's
+    functions on casadi values are deprecated by casadi), numpy's otherwise."""
+    return casadi_ops() if any(type(v).__module__.startswith("casadi") for v in values) else NUMERIC
