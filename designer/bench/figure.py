@@ -98,13 +98,14 @@ LABEL_OFFSETS = tuple((dx, dy) for k in range(4) for dy in (7 + 12 * k, -7 - LAB
 
 def _label(ax, labels, bars) -> None:
     """Each method's name beside its point (the default method's first), at the first of
-    LABEL_OFFSETS where it covers no method's marker, no label placed before it and no error bar;
-    failing that, no marker and no label. ``bars`` are the error bars' ends, data units. Positions
+    LABEL_OFFSETS where it stays inside the axes and covers no method's marker, no label placed
+    before it and no error bar; failing that, no marker and no label. ``bars`` are the error bars' ends, data units. Positions
     are taken after the figure's layout, which the labels are kept out of."""
     fig = ax.figure
     if fig.get_layout_engine() is not None:
         fig.get_layout_engine().execute(fig)
     scale = fig.dpi / 72.0
+    frame = ax.bbox.extents   # the labels stay inside the axes
     centres = [ax.transData.transform((t, g)) for _, t, g, _, _ in labels]
     lines = []
     for a, b in bars:
@@ -122,7 +123,8 @@ def _label(ax, labels, bars) -> None:
 
         def clear(offset, obstacles):
             b = box(offset)
-            return (not any(_overlaps(b, o) for o in taken + obstacles)
+            return (frame[0] <= b[0] and b[2] <= frame[2] and frame[1] <= b[1] and b[3] <= frame[3]
+                    and not any(_overlaps(b, o) for o in taken + obstacles)
                     and not any(_covers(b, c, MARKER_RADIUS * scale) for c in centres))
 
         dx, dy = next((o for o in LABEL_OFFSETS if clear(o, lines)),
