@@ -74,28 +74,39 @@ def variant(record: dict, change: dict, channels: bool) -> dict:
     return v
 
 
-def model_channels(record: dict, shorter: float = 0.0) -> tuple:
-    """(what the channels add to the model's free-end deflection with each span ``shorter``, the
-    model's whole deflection, the channels' share of the second moment, the section's size and
-    width), m."""
-    from designer.model import sections
-    from designer.model.beam import _moment_arm_integral
-    from designer.result.designfile import parse_design
-    from designer.result.evaluation import evaluate
+class ChannelModel:
+    """The beam model's figures of a design.json ``record``, evaluated once: its whole free-end
+    deflection, the channels' share of the second moment, the section's size and the width of the
+    face the channels are cut in (m), and ``added``: what the channels add to the deflection."""
 
-    rec = parse_design(record)
-    spec, design = rec.spec, rec.design
-    ev = evaluate(design, spec)
-    g, sp, E = design.geometry, ev.analysis.props, float(design.material.E)
-    force, x, ell = spec.load.force_max, spec.load.position_max, float(g.length)
-    cut = float(sections.channel_inertia(g))
-    extra = 1 / (E * (float(sp.I) - cut)) - 1 / (E * float(sp.I))
-    total = 0.0
-    for a, b in sections.channel_spans(g):
-        a, b = float(a) + shorter / 2, float(b) - shorter / 2
-        if b > a:
-            total += _moment_arm_integral(b, x, ell) - _moment_arm_integral(a, x, ell)
-    return force * extra * total, float(ev.analysis.deflection), cut / float(sp.I), float(g.size), float(g.width if g.section == "rectangle" else g.diameter)
+    def __init__(self, record: dict):
+        from designer.model import sections
+        from designer.result.designfile import parse_design
+        from designer.result.evaluation import evaluate
+
+        rec = parse_design(record)
+        spec, design = rec.spec, rec.design
+        ev = evaluate(design, spec)
+        g, sp, E = design.geometry, ev.analysis.props, float(design.material.E)
+        cut = float(sections.channel_inertia(g))
+        self.force, self.x, self.length = spec.load.force_max, spec.load.position_max, float(g.length)
+        self.softening = 1 / (E * (float(sp.I) - cut)) - 1 / (E * float(sp.I))
+        self.spans = [(float(a), float(b)) for a, b in sections.channel_spans(g)]
+        self.deflection, self.share = float(ev.analysis.deflection), cut / float(sp.I)
+        self.size = float(g.size)
+        self.width = float(g.width if g.section == "rectangle" else g.diameter)
+
+    def added(self, shorter: float = 0.0) -> float:
+        """What the channels add to the free-end deflection by beam theory (``model.channel_deflection``)
+        with each span ``shorter`` by ``shorter/2`` at each end, m."""
+        from designer.model.beam import _moment_arm_integral
+
+        total = 0.0
+        for a, b in self.spans:
+            a, b = a + shorter / 2, b - shorter / 2
+            if b > a:
+                total += _moment_arm_integral(b, self.x, self.length) - _moment_arm_integral(a, self.x, self.length)
+        return self.force * self.softening * total
 
 
 def row(name: str, label: str, record: dict, change: dict) -> dict:
@@ -108,15 +119,15 @@ def row(name: str, label: str, record: dict, change: dict) -> dict:
     v = verify_design(with_channels, mesh="normal")
     bare = verify_design(variant(record, change, False), mesh="normal")
     fea = v.deflection_fea - bare.deflection_fea
-    beam, whole, share, size, width = model_channels(with_channels)
+    m = ChannelModel(with_channels)
+    beam = m.added()
     # the shortening for which beam theory gives the 3-D figure (0 where it gives less already)
-    shorter = (brentq(lambda s: model_channels(with_channels, s)[0] - fea, 0.0, float(with_channels["design"]["length"]))
-               if 0 < fea < beam else 0.0)
+    shorter = brentq(lambda s: m.added(s) - fea, 0.0, m.length) if 0 < fea < beam else 0.0
     d = with_channels["design"]
     return {"name": name, "label": label, "design": f"{d['material']} {d['section']['kind']}+{d['feature']['kind']}",
-            "stations": d["stations"], "share": share, "of_deflection": beam / whole, "ratio": fea / beam,
-            "deflection": v.deflection_fea / v.deflection_model, "shorter": shorter, "size": size, "width": width,
-            "seconds": time.perf_counter() - t0}
+            "stations": d["stations"], "share": m.share, "of_deflection": beam / m.deflection, "ratio": fea / beam,
+            "deflection": v.deflection_fea / v.deflection_model, "shorter": shorter, "size": m.size,
+            "width": m.width, "seconds": time.perf_counter() - t0}
 
 
 def markdown(rows: list[dict]) -> str:

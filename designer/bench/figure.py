@@ -99,8 +99,9 @@ LABEL_OFFSETS = tuple((dx, dy) for k in range(4) for dy in (7 + 12 * k, -7 - LAB
 def _label(ax, labels, bars) -> None:
     """Each method's name beside its point (the default method's first), at the first of
     LABEL_OFFSETS where it stays inside the axes and covers no method's marker, no label placed
-    before it and no error bar; failing that, no marker and no label. ``bars`` are the error bars' ends, data units. Positions
-    are taken after the figure's layout, which the labels are kept out of."""
+    before it and no error bar; failing that, no marker and no label. ``bars`` are the error
+    bars' ends, data units. Positions are taken after the figure's layout, which the labels are
+    kept out of."""
     fig = ax.figure
     if fig.get_layout_engine() is not None:
         fig.get_layout_engine().execute(fig)
@@ -127,8 +128,8 @@ def _label(ax, labels, bars) -> None:
                     and not any(_overlaps(b, o) for o in taken + obstacles)
                     and not any(_covers(b, c, MARKER_RADIUS * scale) for c in centres))
 
-        dx, dy = next((o for o in LABEL_OFFSETS if clear(o, lines)),
-                      next((o for o in LABEL_OFFSETS if clear(o, [])), LABEL_OFFSETS[0]))
+        dx, dy = next((o for obstacles in (lines, []) for o in LABEL_OFFSETS if clear(o, obstacles)),
+                      LABEL_OFFSETS[0])
         taken.append(box((dx, dy)))
         ax.annotate(text, (t, g), xytext=(dx, dy), textcoords="offset points", fontsize=LABEL_SIZE,
                     ha="right" if dx < 0 else "left", va="bottom", fontweight="bold" if default else "normal",

@@ -57,6 +57,15 @@ class StressPeak:
     element_size: float = 0.0   # mean length of the mesh edges meeting at the peak, m
     on_floor_radius: bool = False   # on a pocket's floor radius at one of its ends
 
+    @property
+    def at_feature(self) -> bool:
+        """Whether the peak lies at a pocket or a hole (in a feature's zone of ``_where``)."""
+        return self.where.split(" ", 1)[0] in (ZONE_WORDS["pocket"], ZONE_WORDS["hole"])
+
+
+# ``_where``'s first word for a station's zone, by the design's feature.
+ZONE_WORDS = {"pocket": "pocket", "hole": "hole", "none": "gauge"}
+
 
 def _probe_matrix(basis, points: np.ndarray, cells: np.ndarray, derivative: int | None = None):
     """Values (or the derivative along axis ``derivative``) at ``points`` (3, n) lying in or on
@@ -239,8 +248,7 @@ def _where(point: np.ndarray, pb: Problem) -> str:
     margin = pb.depth / 4
     for i, (d, (a, b)) in enumerate(zip(pb.stations, pb.spans)):
         if a - margin <= x <= b + margin:
-            kind = {"pocket": "pocket", "hole": "hole", "none": "gauge"}[pb.feature]
-            return f"{kind} at station {i + 1} ({d * 1e3:.1f} mm)"
+            return f"{ZONE_WORDS[pb.feature]} at station {i + 1} ({d * 1e3:.1f} mm)"
     if x < pb.stations[0]:
         return "between the clamp and the first station"
     return "plain beam"

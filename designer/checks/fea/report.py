@@ -147,7 +147,7 @@ class VerifyResult:
         nominal bending stress of the full section there, the root's scaled by the moment
         ``F (x - s)`` (a plain bar's peak is read half a depth or more from the clamp face, where
         the moment is smaller than at the root)."""
-        if self.stress_peak.where.startswith(("pocket", "hole")):
+        if self.stress_peak.at_feature:
             return self.stress_feature_model
         s = self.stress_peak.location[0]
         return self.stress_root_model * max(self.position - s, 0.0) / self.position
@@ -279,7 +279,7 @@ def with_messages(r: VerifyResult, fatigue: bool, feature: str, seconds: float,
                     f"{RESOLVED_RADIUS_SHARE * r.floor_radius * 1e3:.3g} mm ({RESOLVED_RADIUS_SHARE:g} of the radius): "
                     f"{'even the fine' if fine else 'this'} mesh does not resolve it, so that {change} says little; "
                     f"{advice}")
-    elif feature == "pocket" and peak.where.startswith("pocket"):
+    elif feature == "pocket" and peak.at_feature:
         msgs.append(f"peak-stress convergence: NOT converged: {change}, more than {CONVERGED_STRESS:.0%}; the peak "
                     f"sits at a pocket's floor radius, which {'even the fine' if fine else 'this'} mesh does not "
                     f"resolve: {advice}")
