@@ -1,17 +1,16 @@
 """How stiff are the wire channels in 3-D? The 3-D check of designs with and without their channels.
 
-The beam model counts a wire channel (docs/model.md §1, ``sections.channel_inertia``) as the
-section less the groove over every span between the clamp face and the features
-(``sections.channel_spans``), by beam theory. The corrections' study measured its features on
-bars of 10-30 mm, where the default channel (at most 1.5 x 0.5 mm) takes a few per cent of the
-section at most; on a miniature bar the same rule gives a channel half a pocket wide and half a
-pocket deep, up to 15 % of the section's second moment. For designs of the bench suite (seed 4)
-and variants of them (other channel sizes, stations further apart), this solves each design
-twice in 3-D (normal mesh), with and without its channels, and prints what the channels add to
-the free-end deflection in 3-D over what the beam model says they add, their share of the
-model's deflection, the whole design's 3-D/model deflection ratio, and the length ``lambda`` by
-which each channel span (from the clamp face and between features, ``lambda/2`` at each end)
-would have to be shorter for beam theory to give the 3-D figure. Run by hand (about 5 minutes):
+The beam model counts a wire channel (docs/model.md §4, ``sections.channel_inertia``) as the
+section less the groove over every span between the clamp face and the features, each span
+shortened by ``sections.channel_shortening`` (fitted in benchmarks/channel_study.md). For
+miniature designs of the bench suite (seed 4), where the default channel is a large share of the
+section, and variants of them (other channel sizes, stations further apart), this solves each
+design twice in 3-D (normal mesh), with and without its channels, and prints what the channels
+add to the free-end deflection in 3-D over what beam theory over the whole spans says they add
+and over what the model counts, their share of the model's deflection, the whole design's
+3-D/model deflection ratio, and the length ``lambda`` by which each channel span (from the clamp
+face and between features, ``lambda/2`` at each end) would have to be shorter for beam theory to
+give the 3-D figure, beside the model's. Run by hand (about 5 minutes):
 
     python benchmarks/channel_check.py [-o benchmarks/channel_check.md]
 """
@@ -77,9 +76,12 @@ def variant(record: dict, change: dict, channels: bool) -> dict:
 class ChannelModel:
     """The beam model's figures of a design.json ``record``, evaluated once: its whole free-end
     deflection, the channels' share of the second moment, the section's size and the width of the
-    face the channels are cut in (m), and ``added``: what the channels add to the deflection."""
+    face the channels are cut in (m), ``added``: what the channels add to the deflection by beam
+    theory over the spans where they are cut, and ``model``: what the beam model counts for them
+    (``model.channel_deflection``: the spans shortened by ``sections.channel_shortening``)."""
 
     def __init__(self, record: dict):
+        from designer import model
         from designer.model import sections
         from designer.result.designfile import parse_design
         from designer.result.evaluation import evaluate
@@ -91,14 +93,16 @@ class ChannelModel:
         cut = float(sections.channel_inertia(g))
         self.force, self.x, self.length = spec.load.force_max, spec.load.position_max, float(g.length)
         self.softening = 1 / (E * (float(sp.I) - cut)) - 1 / (E * float(sp.I))
-        self.spans = [(float(a), float(b)) for a, b in sections.channel_spans(g)]
+        self.spans = [(float(a), float(b)) for a, b in sections.channel_spans(g, shortened=False)]
+        self.model = float(model.channel_deflection(g, sp, E, self.force, self.x))
+        self.model_lambda = float(sections.channel_shortening(g))
         self.deflection, self.share = float(ev.analysis.deflection), cut / float(sp.I)
         self.size = float(g.size)
         self.width = float(g.width if g.section == "rectangle" else g.diameter)
 
     def added(self, shorter: float = 0.0) -> float:
-        """What the channels add to the free-end deflection by beam theory (``model.channel_deflection``)
-        with each span ``shorter`` by ``shorter/2`` at each end, m."""
+        """What the channels add to the free-end deflection by beam theory with each span where they
+        are cut ``shorter`` by ``shorter/2`` at each end, m."""
         from designer.model.beam import _moment_arm_integral
 
         total = 0.0
@@ -127,23 +131,27 @@ def row(name: str, label: str, record: dict, change: dict) -> dict:
     return {"name": name, "label": label, "design": f"{d['material']} {d['section']['kind']}+{d['feature']['kind']}",
             "stations": d["stations"], "share": m.share, "of_deflection": beam / m.deflection, "ratio": fea / beam,
             "deflection": v.deflection_fea / v.deflection_model, "shorter": shorter, "size": m.size,
+            "model_ratio": fea / m.model if m.model else float("nan"),
+            "model_shorter": m.model_lambda,
             "width": m.width, "seconds": time.perf_counter() - t0}
 
 
 def markdown(rows: list[dict]) -> str:
     lines = ["Wire channels in 3-D (`python benchmarks/channel_check.py`; normal mesh): each design solved with and "
-             "without its channels. *3-D / beam* is what the channels add to the free-end deflection in 3-D over what "
-             "beam theory (the model) says they add; *lambda* the length by which every channel span would have to be "
-             "shorter (half at each end) for beam theory to give the 3-D figure, in mm, in section sizes "
-             "(the height or diameter) and in widths (the width of the face the channel is cut in).", "",
+             "without its channels. *3-D / beam theory* is what the channels add to the free-end deflection in 3-D "
+             "over what beam theory says they add over the whole spans where they are cut; *3-D / model* the same "
+             "over what the beam model counts (the spans shortened by `sections.channel_shortening`); *lambda* the "
+             "length by which every channel span would have to be shorter (half at each end) for beam theory to give "
+             "the 3-D figure, in mm and in section sizes (the height or diameter), beside the model's.", "",
              "| spec (bench suite, seed 4) | variant | design | stations (mm) | channels' share of I | of the model's "
-             "deflection | 3-D / beam | whole deflection 3-D / model | lambda (mm) | lambda / size | lambda / width | s |",
-             "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+             "deflection | 3-D / beam theory | 3-D / model | whole deflection 3-D / model | lambda (mm) | "
+             "lambda / size | model's lambda (mm) | s |",
+             "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for r in rows:
         lines.append(f"| {r['name']} | {r['label']} | {r['design']} | {', '.join(f'{s * 1e3:g}' for s in r['stations'])} | "
-                     f"{r['share']:.1%} | {r['of_deflection']:.1%} | {r['ratio']:.3f} | {r['deflection']:.3f} | "
-                     f"{r['shorter'] * 1e3:.2f} | {r['shorter'] / r['size']:.2f} | {r['shorter'] / r['width']:.2f} | "
-                     f"{r['seconds']:.0f} |")
+                     f"{r['share']:.1%} | {r['of_deflection']:.1%} | {r['ratio']:.3f} | {r['model_ratio']:.3f} | "
+                     f"{r['deflection']:.3f} | {r['shorter'] * 1e3:.2f} | {r['shorter'] / r['size']:.2f} | "
+                     f"{r['model_shorter'] * 1e3:.2f} | {r['seconds']:.0f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -158,7 +166,7 @@ def main(argv=None) -> int:
             r = row(name, label, records[name], change)
             rows.append(r)
             print(f"{name:16s} {label:58s} share {r['share']:.3f} of defl {r['of_deflection']:.3f} "
-                  f"3-D/beam {r['ratio']:.3f} whole {r['deflection']:.3f} lambda {r['shorter'] * 1e3:.2f} mm", flush=True)
+                  f"3-D/beam {r['ratio']:.3f} 3-D/model {r['model_ratio']:.3f} whole {r['deflection']:.3f} lambda {r['shorter'] * 1e3:.2f} mm", flush=True)
     text = markdown(rows)
     print(text)
     if args.output:

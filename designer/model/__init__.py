@@ -16,8 +16,8 @@ from designer.model.limits import (ACTIVE_TOLERANCE, TARGET_LIMITS, Limit, limit
 from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, SECONDARY, TIE_TOLERANCE, error_ratio, error_terms,
                                       objective, rank, ranks_before, secondary, ties)
 from designer.model.ops import NUMERIC, Ops, casadi_ops
-from designer.model.sections import (Geometry, SectionProperties, feature_length, features_apart, flat_half_angle,
-                                     section_properties, segment_area, segment_inertia_across,
+from designer.model.sections import (Geometry, SectionProperties, default_channel, feature_length, features_apart,
+                                     flat_half_angle, section_properties, segment_area, segment_inertia_across,
                                      segment_inertia_normal, stations_before_load, unbuildable)
 
 __all__ = [name for name in dir() if not name.startswith("_")]

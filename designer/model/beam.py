@@ -34,38 +34,38 @@ def tip_deflection(g: Geometry, sp: SectionProperties, E, force, x):
 
 def channel_deflection(g: Geometry, sp: SectionProperties, E, force, x, ops: Ops = NUMERIC):
     """What the wire channels add to the free-end deflection: ``EI`` falls to ``E (I - I_c)``
-    (``sections.channel_inertia``) over ``sections.channel_spans``, by the same unit-load integral
-    as ``tip_deflection``; 0 without channels."""
-    spans = channel_spans(g)
+    (``sections.channel_inertia``) over ``sections.channel_spans`` (shortened as the 3-D solves
+    find them), by the same unit-load integral as ``tip_deflection``; 0 without channels."""
+    spans = channel_spans(g, ops)
     if not spans:
         return 0.0
     ell = g.length
     extra = 1 / (E * (sp.I - channel_inertia(g, ops))) - 1 / (E * sp.I)
     total = 0.0
     for a, b in spans:
-        a = ops.fmax(a, 0.0)
         total = total + _moment_arm_integral(b, x, ell) - _moment_arm_integral(a, x, ell)
     return force * extra * total
 
 
 def rigidity_segments(g: Geometry, sp: SectionProperties, E: float) -> list[tuple[float, float, float]]:
     """``EI(s)`` as ``(s0, s1, EI)`` segments from the clamp to the free end (numbers): the
-    reduced section over each span of ``Geometry.reduced_spans`` and the wire channels' between
-    them (``sections.channel_spans``), clipped to the beam."""
+    reduced section over each span of ``Geometry.reduced_spans``, the section less its wire
+    channels over ``sections.channel_spans``, the plain section elsewhere; clipped to the beam."""
     ell = float(g.length)
-    EI, EI_s = E * float(sp.I), E * float(sp.I_s)
-    # the channels run over every gap between the clamp and the last feature (channel_spans)
-    EI_c = E * (float(sp.I) - float(channel_inertia(g))) if channel_spans(g) else EI
-    segs, s = [], 0.0
-    for a, b in g.reduced_spans:
-        a, b = max(float(a), 0.0), min(float(b), ell)
-        if a > s:
-            segs.append((s, a, EI_c))
-        if b > a:
-            segs.append((a, b, EI_s))
-        s = b
-    if s < ell:
-        segs.append((s, ell, EI))
+    EI = E * float(sp.I)
+    features = [(float(a), float(b)) for a, b in g.reduced_spans]
+    channels = [(float(a), float(b)) for a, b in channel_spans(g)]
+    EI_c = E * (float(sp.I) - float(channel_inertia(g))) if channels else EI
+    cuts = sorted({0.0, ell, *(min(max(v, 0.0), ell) for span in features + channels for v in span)})
+    segs: list[tuple[float, float, float]] = []
+    for s0, s1 in zip(cuts, cuts[1:]):
+        mid = (s0 + s1) / 2
+        rigidity = (E * float(sp.I_s) if any(a <= mid <= b for a, b in features)
+                    else EI_c if any(a <= mid <= b for a, b in channels) else EI)
+        if segs and segs[-1][2] == rigidity:
+            segs[-1] = (segs[-1][0], s1, rigidity)
+        else:
+            segs.append((s0, s1, rigidity))
     return segs
 
 

@@ -6,6 +6,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from designer.model.ops import NUMERIC, Ops
 
 
@@ -103,19 +105,46 @@ def flat_half_angle(R, depth, ops: Ops = NUMERIC):
 # ----------------------------------------------------------------- wire channels
 
 # The CAD's default wire channel (outputs.cad.beam): 1.5 mm takes four 0.3 mm lead wires side by
-# side, 0.5 mm deep covers one; never more than half the pocket deep, nor wider than half the pocket.
+# side, 0.5 mm deep covers one; never more than half the pocket deep, nor wider than half a flat
+# or 0.4 of a slot: a slot's channel enters through the straight part of its end wall, which the
+# catalogue's end mill (at most 0.6 of the slot's width, outputs.cad.mills) leaves at least that
+# wide. Both are rounded down to CHANNEL_STEP, as the CAD draws them.
 CHANNEL_WIDTH = 1.5e-3
 CHANNEL_DEPTH = 0.5e-3
+CHANNEL_WIDTH_FRACTION = {"rectangle": 0.4, "round": 0.5, "tube": 0.5}
+CHANNEL_STEP = 1e-5
 
 
-def wire_channel(cad, feature: str, depth, pocket_width, ops: Ops = NUMERIC) -> tuple:
+def round_down(value, step: float = CHANNEL_STEP):
+    """``value`` (a number or array) rounded down to ``step``, a hair's tolerance kept."""
+    out = np.floor(np.asarray(value, dtype=float) / step + 1e-9) * step
+    return float(out) if out.ndim == 0 else out
+
+
+def default_channel(section: str, depth, pocket_width, end_mill=None, ops: Ops = NUMERIC) -> tuple:
+    """``(width, depth)`` of the default wire channel of a pocket ``depth`` deep and
+    ``pocket_width`` wide (the CAD's and the model's one rule): ``min(CHANNEL_WIDTH,
+    CHANNEL_WIDTH_FRACTION[section] * w_p)`` wide, and on a slot cut by a given ``end_mill`` no wider than
+    the straight part of its end wall, ``w_p - end_mill``; ``min(CHANNEL_DEPTH, depth / 2)`` deep;
+    both rounded down to CHANNEL_STEP. For a casadi ``depth`` (the optimiser's graph) the depth is
+    not rounded: the search sees a smooth channel at most one step deeper than the one built, and
+    every reported design is evaluated with the built one."""
+    width = min(CHANNEL_WIDTH, CHANNEL_WIDTH_FRACTION[section] * pocket_width)
+    if end_mill is not None and section == "rectangle":
+        width = min(width, pocket_width - end_mill)
+    deep = ops.fmin(CHANNEL_DEPTH, depth / 2)
+    return round_down(width), (round_down(deep) if ops is NUMERIC else deep)
+
+
+def wire_channel(cad, section: str, feature: str, depth, pocket_width, ops: Ops = NUMERIC) -> tuple:
     """``(width, depth)`` of the wire channel the CAD cuts along each pocketed face from the clamp
-    to the last station (``cad``: the spec's CadOptions); ``(0, 0)`` without one."""
+    to the last station (``cad``: the spec's CadOptions; a size it gives, else
+    ``default_channel``'s); ``(0, 0)`` without one."""
     if feature != "pocket" or not cad.wire_channels:
         return 0.0, 0.0
-    width = cad.channel_width if cad.channel_width is not None else min(CHANNEL_WIDTH, pocket_width / 2)
-    deep = cad.channel_depth if cad.channel_depth is not None else ops.fmin(CHANNEL_DEPTH, depth / 2)
-    return width, deep
+    width, deep = default_channel(section, depth, pocket_width, cad.end_mill_diameter, ops)
+    return (cad.channel_width if cad.channel_width is not None else width,
+            cad.channel_depth if cad.channel_depth is not None else deep)
 
 
 def channel_inertia(g: Geometry, ops: Ops = NUMERIC):
@@ -137,14 +166,48 @@ def channel_inertia(g: Geometry, ops: Ops = NUMERIC):
     return 2 * 2 / 3 * (big - z0 ** 3 * a)
 
 
-def channel_spans(g: Geometry) -> tuple:
-    """Where the channels alone reduce the section: from the clamp face to the first feature and
-    between features (the channel runs to the last station, inside the last feature's span, and a
-    feature's own span is cut deeper than the channel)."""
+# Beam theory over-counts a wire channel's compliance: where a channel begins or ends (at the clamp
+# face, at a pocket) the section carries the bending stress as if uncut for some way, so each
+# channel span acts as if shorter by ``lambda``: ``CHANNEL_SHORTENING_ROUND * D`` on a round bar or
+# tube, ``CHANNEL_SHORTENING_SLOT * h^(1 - q) * b^q`` on a rectangle (``h`` its size in the load
+# direction, ``b`` the width of the face the channel is cut in). From 3-D solves of 90 bars
+# (rectangles 0.6-8 times as wide as high with slots 0.6-0.9 of their width, round bars, tubes;
+# channels 0.05-0.45 of the face wide and 1.5-15 % of the section deep; spans 0.3-15 sizes long)
+# with and without their channels: q by least squares on the rectangles, each factor the lowest
+# of its family's bars (benchmarks/channel_study.md), so that the model never counts less
+# compliance than 3-D finds. The lowest are the deepest channels, and on a rectangle the widest
+# slots: most channels act shorter still (up to 0.6 D on a round bar, 0.7 h on a 4:1 bar).
+CHANNEL_SHORTENING_ROUND = 0.27
+CHANNEL_SHORTENING_SLOT = 0.13
+CHANNEL_SHORTENING_EXPONENT = 0.31
+
+
+def channel_shortening(g: Geometry):
+    """``lambda``, by which each wire-channel span acts shorter than it is (half at each end)."""
+    if g.section != "rectangle":
+        return CHANNEL_SHORTENING_ROUND * g.diameter
+    q = CHANNEL_SHORTENING_EXPONENT
+    return CHANNEL_SHORTENING_SLOT * g.size ** (1 - q) * g.breadth ** q
+
+
+def channel_spans(g: Geometry, ops: Ops = NUMERIC, shortened: bool = True) -> tuple:
+    """Where the wire channels alone reduce the section's stiffness: from the clamp face to the
+    first feature and between features (the channel runs to the last station, inside the last
+    feature's span, and a feature's own span is cut deeper than the channel), each shortened by
+    ``channel_shortening`` (half at each end; a span shorter than that has none left), or where
+    they are cut (``shortened=False``)."""
     if not g.channel_width:
         return ()
     spans = g.reduced_spans
-    return ((0.0, spans[0][0]),) + tuple((spans[i][1], spans[i + 1][0]) for i in range(len(spans) - 1))
+    cut = ((0.0, spans[0][0]),) + tuple((spans[i][1], spans[i + 1][0]) for i in range(len(spans) - 1))
+    if not shortened:
+        return cut
+    shorter = channel_shortening(g)
+    # what is left of each span, max(l - lambda, 0) rounded off over a tenth of lambda (a kink
+    # there would stall the gradient methods), at most 0.05 lambda long where nothing is left
+    eps = 0.1 * shorter
+    left = [(b - a - shorter + ops.sqrt((b - a - shorter) ** 2 + eps * eps)) / 2 for a, b in cut]
+    return tuple((a + shorter / 2, a + shorter / 2 + rest) for (a, _), rest in zip(cut, left))
 
 
 # ----------------------------------------------------------------- shear

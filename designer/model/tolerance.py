@@ -87,7 +87,7 @@ def corners(g: Geometry, tol, cad) -> Geometry:
         dev = tol.deviation(nominal, part)
         out[name] = np.concatenate([nominal] + [np.maximum(nominal + s * dev, LEAST[part]) for s in corner[:, j]])
     built = replace(g, **out)
-    width, depth = wire_channel(cad, g.feature, built.depth, g.pocket_width)
+    width, depth = wire_channel(cad, g.section, g.feature, built.depth, g.pocket_width)
     return replace(built, channel_width=width, channel_depth=depth)
 
 

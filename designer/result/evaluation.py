@@ -210,7 +210,7 @@ def channelled(g: Geometry, cad) -> Geometry:
     """``g`` with the wire channels the CAD (``cad``: the spec's CadOptions) cuts for its pocket:
     their depth follows the pocket's (``sections.wire_channel``), so a geometry whose depth was
     rounded must have them cut again."""
-    width, depth = wire_channel(cad, g.feature, g.depth, g.pocket_width)
+    width, depth = wire_channel(cad, g.section, g.feature, g.depth, g.pocket_width)
     return replace(g, channel_width=width, channel_depth=depth)
 
 

@@ -166,7 +166,7 @@ class FamilyVariables:
             named["width"] = named["height"] = named["side"]
         stations = tuple(named[f"station_{i + 1}"] for i in range(spec.stations))
         depth = named.get("depth", 0.0)
-        channel = wire_channel(spec.cad, fam.feature, depth, wp, ops_for(depth))
+        channel = wire_channel(spec.cad, fam.section, fam.feature, depth, wp, ops_for(depth))
         g = Geometry(section=fam.section, feature=fam.feature, stations=stations, length=spec.free_length,
                      width=named.get("width"), height=named.get("height"), diameter=named.get("diameter"),
                      wall=named.get("wall"), depth=depth, hole=named.get("hole", 0.0),

@@ -40,6 +40,24 @@ def test_defaults_for_slot_pockets():
     assert beam.grooves.depth == pytest.approx(0.0003)
 
 
+@pytest.mark.parametrize("name, depth, mill, expected", [
+    # half of a 0.75 mm pocket is 0.375 mm: drawn 0.37 mm deep; 1.5 mm wide (0.4 x 5.5 = 2.2 mm)
+    ("rect_pockets", 0.75e-3, None, (1.5e-3, 0.37e-3)),
+    # a given 4.5 mm end mill leaves 1 mm of the 5.5 mm slot's end wall straight
+    ("rect_pockets", 1.2e-3, 4.5e-3, (1.0e-3, 0.5e-3)),
+    ("round_flats", 0.85e-3, None, (1.5e-3, 0.42e-3)),
+])
+def test_the_model_counts_the_wire_channel_the_cad_cuts(name, depth, mill, expected):
+    from designer.result.designfile import parse_design
+
+    rec = mutate(name, lambda r: (r["design"]["feature"].update(depth=depth),
+                                  r["spec"]["cad"].update(end_mill_diameter=mill)))
+    built = cad.resolve(rec).channels
+    g = parse_design(rec).design.geometry
+    assert (built.width, built.depth) == pytest.approx(expected, rel=1e-9)
+    assert (g.channel_width, g.channel_depth) == pytest.approx(expected, rel=1e-9)
+
+
 def test_spec_cad_keys_override_the_defaults():
     beam = cad.resolve(record("round_flats"))
     assert beam.clamp.length == pytest.approx(0.030)

@@ -23,8 +23,6 @@ from typing import Any
 
 from designer import model
 from designer.errors import DesignFileError
-# the wire channel's default size is the beam model's, whose stiffness counts it
-from designer.model.sections import CHANNEL_DEPTH, CHANNEL_WIDTH
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
 from designer.outputs.cad import mills
@@ -299,11 +297,14 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
 
 
 def _channels(cad: dict, kind: str, depth: float, p_wid: float, end_mill: float | None) -> Channels:
-    # On a slot the channel must enter through the straight part of the pocket's end wall.
+    # The default size is the beam model's (model.default_channel), whose stiffness counts it. On a
+    # slot the channel must enter through the straight part of the pocket's end wall.
     room = p_wid - end_mill if kind == "rectangle" else p_wid
+    given_mill = _length(cad, "end_mill_diameter", "spec.cad", required=False)
+    default_width, default_depth = model.default_channel(kind, depth, p_wid, given_mill)
     width = _length(cad, "channel_width", "spec.cad", required=False)
     if width is None:
-        width = _round_down(min(CHANNEL_WIDTH, room if kind == "rectangle" else room / 2))
+        width = default_width
     if not 0 < width <= room + LENGTH_EPS:
         what = ("the pocket width less the end mill diameter, so that the channel enters the pocket's straight "
                 "end wall" if kind == "rectangle" else "the pocket width")
@@ -311,7 +312,7 @@ def _channels(cad: dict, kind: str, depth: float, p_wid: float, end_mill: float 
                               f"{fmt_mm(room)} mm ({what}); or set spec.cad.wire_channels: false")
     c_depth = _length(cad, "channel_depth", "spec.cad", required=False)
     if c_depth is None:
-        c_depth = _round_down(min(CHANNEL_DEPTH, depth / 2))
+        c_depth = default_depth
     if not 0 < c_depth < depth:
         raise DesignFileError(f"spec.cad.channel_depth: {_mm(c_depth)} must be less than the pocket depth "
                               f"({fmt_mm(depth)} mm)")
