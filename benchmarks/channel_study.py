@@ -1,24 +1,25 @@
 """The wire channels' stiffness in 3-D: a series of bars, each solved with and without its channels.
 
 The beam model counts a wire channel as the section less the groove over every span between the
-clamp face and the features, by beam theory (docs/model.md §4); in 3-D a channel adds less, as if
-each span were shorter (benchmarks/channel_check.md). This series measures by how much, on the
-sections the optimiser chooses: rectangles from 0.6 to 8 times as wide as high (the channel cut in
-the wide face of a blade), round bars and tubes, with channels of a twentieth to a quarter of the
-face wide and 4-10 % of the section deep, and features from half a size to four sizes apart and
-from the clamp. Each bar is solved twice (normal mesh), with and without its channels; what the
-channels add to the free-end deflection in 3-D is compared with what beam theory says they add,
-and ``lambda``, the length by which every channel span (half at each end) would have to be shorter
-for beam theory to give the 3-D figure, is solved for. The same is done on the coarser partner
-mesh of each solve, to show how far the mesh moves it.
+clamp face and the features (docs/model.md §4); in 3-D a channel adds less than beam theory over
+those spans says, as if each span were shorter. This series measures by how much, on the sections
+the optimiser chooses (GROUPS): rectangles from 0.6 to 8 times as wide as high (the channel cut
+in the wide face of a blade) with slots 0.6 or 0.9 of their width, round bars and tubes, with
+channels 0.05-0.45 of the face wide and 1.5-15 % of the section deep, and features from half a
+size to four sizes apart and from the clamp. Each bar is solved twice (normal mesh), with and
+without its channels; what the channels add to the free-end deflection in 3-D is compared with
+what beam theory says they add, and ``lambda``, the length by which every channel span (half at
+each end) would have to be shorter for beam theory to give the 3-D figure, is solved for. The
+same is done on the coarser partner mesh of each solve, to show how far the mesh moves it.
 
-Then it fits ``lambda = k s^(1-q) b^q`` (``s`` the section's size in the load direction, ``b``
-the width of the face the channel is cut in; D and D for round bars and tubes): ``q`` by least
-squares on the rectangles' logarithms, ``k`` the lowest of every bar's, so that the model never
-counts less compliance than 3-D finds (``sections.channel_shortening`` carries the figures), and
-shows what the model with the shipped figures counts against 3-D.
+Then it fits ``lambda = k_round D`` on round bars and tubes and ``k_slot h^(1-q) b^q`` on
+rectangles (``h`` the height, ``b`` the width of the face the channel is cut in): ``q`` by least
+squares on the rectangles' logarithms, each ``k`` the lowest of its family's bars, so that the
+model never counts less compliance than 3-D finds (``sections.channel_shortening`` carries the
+figures), and shows what the model with the shipped figures counts against 3-D.
 
-Run by hand (about 12 minutes):  python benchmarks/channel_study.py [-o benchmarks/channel_study.md]
+Run by hand (about 25 minutes; ``--reuse CSV`` takes the 3-D figures of the bars an earlier run
+solved):  python benchmarks/channel_study.py [-o benchmarks/channel_study.md]
 (the rows also go to a CSV beside it).
 """
 
