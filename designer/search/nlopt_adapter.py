@@ -17,8 +17,8 @@ NAN_PENALTY = 1e6
 CCSA_INNER_MAX_EVAL = 50
 CCSA_DUAL_MAX_EVAL = 100
 NLOPT_SAFETY_SECONDS = 5.0    # a stalled run must not stall the search; budgets end runs first
-ISRES_SEED = 12345
-CCSA_RESTART_OVER = 1e-6      # a constraint over this at MMA's or CCSAQ's stop starts them once more            # nlopt's random generator is global: seeded before each ISRES run
+ISRES_SEED = 12345            # nlopt's random generator is global: seeded before each ISRES run
+CCSA_RESTART_OVER = 1e-6      # a constraint over this at MMA's or CCSAQ's stop starts them once more
 
 
 _NLOPT_ALGORITHMS = {"slsqp": "LD_SLSQP", "mma": "LD_MMA", "ccsaq": "LD_CCSAQ", "cobyla": "LN_COBYLA",

@@ -23,6 +23,7 @@ from typing import Any
 
 from designer import model
 from designer.errors import DesignFileError
+from designer.model.sections import round_down
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
 from designer.outputs.cad import mills
@@ -83,10 +84,6 @@ def _flag(obj: dict, key: str, where: str, default: bool) -> bool:
     if not isinstance(value, bool):
         raise DesignFileError(f"{where}.{key}: {value!r} must be true or false")
     return value
-
-
-def _round_down(value: float, step: float = ROUND_STEP) -> float:
-    return math.floor(value / step + 1e-9) * step
 
 
 def resolve(record: dict) -> BeamCad:
@@ -150,7 +147,7 @@ def resolve(record: dict) -> BeamCad:
     l_f = model.feature_length(fkind, p_len, hole, gauge_length)
     stations = _check_stations(d["stations"], length, l_f, fkind)
 
-    end_mill = None
+    end_mill = given = None
     corner = 0.0
     tool = ""
     system = _system(spec)
@@ -168,7 +165,7 @@ def resolve(record: dict) -> BeamCad:
     clamp = _clamp(cad, width, height)
     channels = None
     if fkind == "pocket" and _flag(cad, "wire_channels", "spec.cad", True):
-        channels = _channels(cad, kind, depth, p_wid, end_mill)
+        channels = _channels(cad, kind, depth, p_wid, end_mill, given)
     grooves = None
     if _flag(cad, "load_grooves", "spec.cad", False):
         grooves = _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits)
@@ -296,11 +293,12 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
     return given
 
 
-def _channels(cad: dict, kind: str, depth: float, p_wid: float, end_mill: float | None) -> Channels:
-    # The default size is the beam model's (model.default_channel), whose stiffness counts it. On a
-    # slot the channel must enter through the straight part of the pocket's end wall.
+def _channels(cad: dict, kind: str, depth: float, p_wid: float, end_mill: float | None,
+              given_mill: float | None) -> Channels:
+    # The default size is the beam model's (model.default_channel, from the spec's end mill if it
+    # gives one), whose stiffness counts it. On a slot the channel must enter through the straight
+    # part of the pocket's end wall.
     room = p_wid - end_mill if kind == "rectangle" else p_wid
-    given_mill = _length(cad, "end_mill_diameter", "spec.cad", required=False)
     default_width, default_depth = model.default_channel(kind, depth, p_wid, given_mill)
     width = _length(cad, "channel_width", "spec.cad", required=False)
     if width is None:
@@ -336,7 +334,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
         raise DesignFileError(f"spec.cad.groove_positions: {positions!r} must be a list of positions (m)")
     g_depth = _length(cad, "groove_depth", "spec.cad", required=False)
     if g_depth is None:
-        g_depth = _round_down(min(GROOVE_DEPTH, GROOVE_DEPTH_FRACTION * min(width, height)))
+        g_depth = round_down(min(GROOVE_DEPTH, GROOVE_DEPTH_FRACTION * min(width, height)), ROUND_STEP)
     if kind == "tube":
         min_wall = float(limits.get("min_wall") or 0.0)
         deepest, what = wall - min_wall, f"the tube wall less spec.limits.min_wall ({fmt_mm(min_wall)} mm)"
