@@ -31,6 +31,7 @@ import time
 from dataclasses import dataclass, fields
 from pathlib import Path
 
+from designer.checks.extra_length import beyond_euler, euler_deflection, extra_length, feature_weights
 from designer.model.domain import LP_GRID_BOX
 
 MATERIAL = "6061-T6"
@@ -359,6 +360,8 @@ class Row:
     strain_mesh_change: float
     stress_mesh_change: float
     seconds: float
+    far_share: float = math.nan          # the far feature's share of the deflection's slope in Δ
+    far_clamp_ratio: float = math.nan    # the far feature's clamp ratio (``clamp_ratios``)
 
 
 def geometry_parameters(g) -> dict:
@@ -414,58 +417,11 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
     f_max, x_max = spec.load.force_max, spec.load.position_max
     nominal = [f_max * (x_max - a) * float(raw.props.y_e) / float(raw.props.I_s) for a, _ in g.reduced_spans]
     stiffness = corrections.stiffness_fit(corrections.load())
+    extra = extra_length(g, raw, design.material, spec, v.deflection_fea, stiffness)
     return Row(case.family, mesh, params, near, far, v.deflection_fea / euler_deflection(g, raw, design.material, spec),
-               extra_length(g, raw, design.material, spec, v.deflection_fea, stiffness) / case.size,
-               near_peak / nominal[0], far_peak / nominal[1],
-               max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0)
-
-
-def euler_deflection(g, analysis, material, spec) -> float:
-    """The free-end deflection by Euler-Bernoulli theory with the reduced sections over their
-    spans alone (no wire channel, no correction): what the table's ``deflection_ratio`` is over."""
-    from designer import model
-
-    return float(model.tip_deflection(g, analysis.props, float(material.E), spec.load.force_max,
-                                      spec.load.position_max))
-
-
-def beyond_euler(g, analysis, material, spec, stiffness=None) -> float:
-    """What the beam model adds to ``euler_deflection`` besides the features' extra length: the
-    wire channels, and the plain bar's ``stiffness`` fit where one is given."""
-    from designer import model
-
-    sp, E = analysis.props, float(material.E)
-    f_max, x_max = spec.load.force_max, spec.load.position_max
-    rest = float(model.channel_deflection(g, sp, E, f_max, x_max))
-    if stiffness is not None:
-        rest += float(stiffness.extra_deflection(g, sp, E, float(material.poisson), f_max, x_max))
-    return rest
-
-
-def extra_length(g, analysis, material, spec, deflection: float, stiffness=None) -> float:
-    """The extension Δ of each reduced-section span (Δ/2 at each end) for which the beam model's
-    deflection (beam theory with EI(s) piecewise, the wire channels, and the plain bar's
-    ``stiffness`` fit where one is given) is ``deflection`` under F_max at x_max; negative if the
-    beam is stiffer."""
-    from scipy.optimize import brentq
-
-    from designer import model
-    from designer.model import corrections
-
-    sp = analysis.props
-    E = float(material.E)
-    f_max, x_max = spec.load.force_max, spec.load.position_max
-    rest = beyond_euler(g, analysis, material, spec, stiffness)
-
-    def tip(delta):
-        widened = corrections.Widened(g, delta)
-        return float(model.tip_deflection(widened, sp, E, f_max, x_max)) + rest - deflection
-
-    span = g.stations[1] - g.stations[0] - g.feature_length
-    lo, hi = -g.feature_length * 0.99, span * 0.99
-    if tip(lo) * tip(hi) > 0:
-        return math.nan
-    return brentq(tip, lo, hi, xtol=1e-9)
+               extra / case.size, near_peak / nominal[0], far_peak / nominal[1],
+               max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0,
+               *feature_weights(g, raw, design.material, spec, extra))
 
 
 def write_csv(rows: list[Row], path: Path) -> None:
@@ -507,7 +463,9 @@ def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
         row = dict(rows[match[0]])
         euler = euler_deflection(g, raw, design.material, spec)
         fea = row["deflection_ratio"] * euler
-        row["extra_length"] = extra_length(g, raw, design.material, spec, fea, stiffness) / case.size
+        extra = extra_length(g, raw, design.material, spec, fea, stiffness)
+        row["extra_length"] = extra / case.size
+        row["far_share"], row["far_clamp_ratio"] = feature_weights(g, raw, design.material, spec, extra)
         row["base_ratio"] = fea / (euler + beyond_euler(g, raw, design.material, spec, stiffness))
         out[match[0]] = row
     return out

@@ -543,15 +543,26 @@ def stress_concentration(g: Geometry, table: Corrections):
 
 
 def widened(g: Geometry, table: Corrections) -> Geometry:
-    """``g`` with each reduced span longer by the ``extra_length`` fit (half at each end)."""
+    """``g`` with each reduced span longer by the ``extra_length`` fit (half at each end); a fit in
+    the clamp's nearness is taken at each feature's own (``feature_parameters``): the clamp
+    stiffens the first feature's surroundings, not those of a feature far out."""
     fit = table.fit(family(g), "extra_length")
     if fit is None:
         return g
-    return Widened(g, fit(parameters(g)) * g.size)
+    if CLAMP_NEAR not in fit.variables:
+        return Widened(g, fit(parameters(g)) * g.size)
+    return Widened(g, tuple(fit(p) * g.size for p in feature_parameters(g)))
+
+
+def feature_parameters(g: Geometry) -> list:
+    """``parameters(g)`` for each feature, each with its own ``clamp_near`` (``clamp_ratios``)."""
+    p = parameters(g)
+    return [{**p, CLAMP_NEAR: clamp_nearness(u, ops_for(u))} for u in clamp_ratios(g)]
 
 
 class Widened:
-    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end)."""
+    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end); ``delta`` one
+    length for every span, or a tuple of one per span."""
 
     def __init__(self, g: Geometry, delta):
         self._g, self._delta = g, delta
@@ -561,4 +572,6 @@ class Widened:
 
     @property
     def reduced_spans(self) -> tuple:
-        return tuple((a - self._delta / 2, b + self._delta / 2) for a, b in self._g.reduced_spans)
+        spans = self._g.reduced_spans
+        deltas = self._delta if isinstance(self._delta, tuple) else (self._delta,) * len(spans)
+        return tuple((a - d / 2, b + d / 2) for (a, b), d in zip(spans, deltas))

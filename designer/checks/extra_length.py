@@ -1,0 +1,101 @@
+"""A pocket study row's extra length (docs/model.md §7): the extension of each reduced span for
+which the beam model gives the row's 3-D free-end deflection, solved when the row is run
+(``study.run_case``) and again after a change of the beam model
+(``study.refresh_extra_lengths``), and how a row's two features share it (``feature_weights``,
+``features``) where a fit takes each feature's own clamp nearness, as the model does
+(``corrections.widened``)."""
+
+from __future__ import annotations
+
+import math
+
+
+def euler_deflection(g, analysis, material, spec) -> float:
+    """The free-end deflection by Euler-Bernoulli theory with the reduced sections over their
+    spans alone (no wire channel, no correction): what the table's ``deflection_ratio`` is over."""
+    from designer import model
+
+    return float(model.tip_deflection(g, analysis.props, float(material.E), spec.load.force_max,
+                                      spec.load.position_max))
+
+
+def beyond_euler(g, analysis, material, spec, stiffness=None) -> float:
+    """What the beam model adds to ``euler_deflection`` besides the features' extra length: the
+    wire channels, and the plain bar's ``stiffness`` fit where one is given."""
+    from designer import model
+
+    sp, E = analysis.props, float(material.E)
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+    rest = float(model.channel_deflection(g, sp, E, f_max, x_max))
+    if stiffness is not None:
+        rest += float(stiffness.extra_deflection(g, sp, E, float(material.poisson), f_max, x_max))
+    return rest
+
+
+def extra_length(g, analysis, material, spec, deflection: float, stiffness=None) -> float:
+    """The extension Δ of each reduced-section span (Δ/2 at each end) for which the beam model's
+    deflection (beam theory with EI(s) piecewise, the wire channels, and the plain bar's
+    ``stiffness`` fit where one is given) is ``deflection`` under F_max at x_max; negative if the
+    beam is stiffer."""
+    from scipy.optimize import brentq
+
+    from designer import model
+    from designer.model import corrections
+
+    sp = analysis.props
+    E = float(material.E)
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+    rest = beyond_euler(g, analysis, material, spec, stiffness)
+
+    def tip(delta):
+        widened = corrections.Widened(g, delta)
+        return float(model.tip_deflection(widened, sp, E, f_max, x_max)) + rest - deflection
+
+    span = g.stations[1] - g.stations[0] - g.feature_length
+    lo, hi = -g.feature_length * 0.99, span * 0.99
+    if tip(lo) * tip(hi) > 0:
+        return math.nan
+    return brentq(tip, lo, hi, xtol=1e-9)
+
+
+def feature_weights(g, analysis, material, spec, delta: float) -> tuple[float, float]:
+    """``(far_share, far_clamp_ratio)``: the far feature's share of the free-end deflection's slope
+    in the extra length at ``delta`` (both spans widened by it), and its clamp ratio. The row's
+    one ``extra_length`` is then the two features' own extra lengths weighted by their shares (to
+    first order), which is how ``fits`` fits a form in the clamp's nearness, that the model takes at
+    each feature's own (``corrections.widened``); nan where the extra length is."""
+    from designer import model
+    from designer.model import corrections
+
+    if not math.isfinite(delta) or g.feature == "none" or len(g.stations) != 2:
+        return math.nan, math.nan
+    sp, E = analysis.props, float(material.E)
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+    h = 1e-3 * g.size
+
+    def tip(deltas):
+        return float(model.tip_deflection(corrections.Widened(g, deltas), sp, E, f_max, x_max))
+
+    base = tip((delta, delta))
+    near, far = tip((delta + h, delta)) - base, tip((delta, delta + h)) - base
+    return far / (near + far), float(corrections.clamp_ratios(g)[1])
+
+
+
+def features(row: dict, variables, quantity: str) -> list[tuple[float, dict]]:
+    """``(share, parameters)`` of each feature whose own parameters a fit of ``quantity`` in
+    ``variables`` takes at ``row``: the model takes an extra length in the clamp's nearness at each
+    feature's own (``corrections.widened``), so a row that records its far feature's share of the
+    deflection's slope (``far_share``, ``feature_weights``) holds the two features' fits in
+    those shares; any other row or quantity (K_t is the near feature's), its own parameters."""
+    from designer.model.corrections import CLAMP_NEAR
+
+    share = row.get("far_share", math.nan)
+    if quantity != "extra_length" or CLAMP_NEAR not in variables or not math.isfinite(share):
+        return [(1.0, row)]
+    return [(1.0 - share, row), (share, {**row, CLAMP_NEAR: row["clamp_near_far"]})]
+
+
+def prediction(fit, quantity: str, row: dict) -> float:
+    """What ``fit`` of ``quantity`` predicts for ``row``, its features weighted as ``features`` says."""
+    return sum(share * float(fit(q)) for share, q in features(row, fit.variables, quantity))
