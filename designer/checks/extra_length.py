@@ -60,10 +60,10 @@ def extra_length(g, analysis, material, spec, deflection: float, stiffness=None)
 
 def feature_weights(g, analysis, material, spec, delta: float) -> tuple[float, float]:
     """``(far_share, far_clamp_ratio)``: the far feature's share of the free-end deflection's slope
-    in the extra length at ``delta`` (both spans widened by it), and its clamp ratio. The row's
-    one ``extra_length`` is then the two features' own extra lengths weighted by their shares (to
-    first order), which is how ``fits`` fits a form in the clamp's nearness, that the model takes at
-    each feature's own (``corrections.widened``); nan where the extra length is."""
+    in the extra length at ``delta`` (both spans widened by it), and its clamp ratio; nan where the
+    extra length is. To first order the row's one ``extra_length`` is the two features' own
+    weighted by these shares: a form in the clamp's nearness, which the model takes at each
+    feature's own (``corrections.widened``), is fitted to that weighted sum (``features``)."""
     from designer import model
     from designer.model import corrections
 
@@ -79,7 +79,6 @@ def feature_weights(g, analysis, material, spec, delta: float) -> tuple[float, f
     base = tip((delta, delta))
     near, far = tip((delta + h, delta)) - base, tip((delta, delta + h)) - base
     return far / (near + far), float(corrections.clamp_ratios(g)[1])
-
 
 
 def features(row: dict, variables, quantity: str) -> list[tuple[float, dict]]:

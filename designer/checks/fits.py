@@ -342,10 +342,9 @@ def rough_ships(quantity: str, loo_max: float, uncorrected: float) -> bool:
 def with_nearness(rows: list[dict]) -> list[dict]:
     """The study's rows with the parameters the fits compute from its columns
     (``corrections.derived_parameters``: ``clamp_near`` from each row's clamp ratio, a pocket's
-    grid-gap decays, a slot's side walls)."""
-    from designer.model.corrections import derived_parameters
-
-    from designer.model.corrections import clamp_nearness
+    grid-gap decays, a slot's side walls; ``clamp_near_far``, the far feature's, where the row
+    records its clamp ratio)."""
+    from designer.model.corrections import clamp_nearness, derived_parameters
 
     out = [{**r, **{k: float(v) for k, v in derived_parameters(r, r.get("clamp_ratio")).items()}} for r in rows]
     for r in out:
