@@ -57,7 +57,8 @@ def test_every_shipped_fit_reproduces_the_study_and_its_held_out_points():
             assert len(used) >= 2 * len(fit.coefficients), (fam, quantity)
             for r in used:
                 # within the acceptance the fit was shipped under (its leave-one-out error)
-                assert _within_its_rule(quantity, fit, r), (fam, quantity, fits.judged_error(quantity, r, prediction(fit, quantity, r)), r)
+                assert _within_its_rule(quantity, fit, r), (
+                    fam, quantity, fits.judged_error(quantity, r, prediction(fit, quantity, r)), r)
             if fit.margin:
                 assert quantity in fits.SAFE_SIDE and fit.loo_max <= fits.FIT_CEILING[quantity]
             else:
@@ -311,8 +312,8 @@ def test_the_extra_lengths_deflection_weight_is_the_beam_models_slope():
 def test_a_near_clamp_row_s_extra_length_is_its_two_flats_own_in_their_shares():
     # a round-flat row near the clamp holds one extra length for two flats, the far one with
     # none of the clamp's nearness: the fit is made to their own extra lengths weighted by their
-    # shares of the deflection's slope (extra_length.features); the beam model with each flat widened by
-    # its own gives the deflection of both widened by that weighted sum within 0.05 %
+    # shares of the deflection's slope (extra_length.features); the beam model with each flat
+    # widened by its own gives the deflection of both widened by that weighted sum within 0.05 %
     from designer import model
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
