@@ -108,6 +108,14 @@ def test_corner_radius_messages_give_the_value_and_what_is_allowed():
         cad.resolve(mutate("round_flats", lambda r: r["spec"]["cad"].update(corner_radius=0.0011)))
     assert str(info.value) == ("spec.cad.corner_radius: 0.0011 m (1.1 mm) leaves a flat floor 6.7 mm long, shorter "
                                "than the 6.9 mm gauge backing; it must be at most 1 mm")
+    # a flat as long as the backing has no room for any radius: the message says what would have
+    # (the fixture's flats are 8.9 mm long, its gauge backing 6.9 mm)
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate("round_flats", lambda r: (r["design"]["feature"].update(length=0.0069),
+                                                     r["spec"]["cad"].update(corner_radius=0.0002))))
+    assert str(info.value) == ("spec.cad.corner_radius: 0.0002 m (0.2 mm) leaves a flat floor 6.5 mm long, shorter "
+                               "than the 6.9 mm gauge backing; a flat no longer than the backing has no room for "
+                               "one: make it at least 7.3 mm long (design.feature.length)")
 
 
 def test_a_flats_end_mill_may_be_as_long_as_the_flat():

@@ -287,9 +287,12 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
                               f"({fmt_mm(depth)} mm), so that the pocket keeps a wall above its floor radius")
     floor = p_len - 2 * given
     if kind != "rectangle" and floor < g_len - LENGTH_EPS:  # slots: checked with the end mill
+        room = (p_len - g_len) / 2
+        allowed = (f"it must be at most {fmt_mm(room)} mm" if room > LENGTH_EPS else
+                   f"a flat no longer than the backing has no room for one: make it at least "
+                   f"{fmt_mm(g_len + 2 * given)} mm long (design.feature.length)")
         raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} leaves a flat floor {fmt_mm(floor)} mm long, "
-                              f"shorter than the {fmt_mm(g_len)} mm gauge backing; it must be at most "
-                              f"{fmt_mm((p_len - g_len) / 2)} mm")
+                              f"shorter than the {fmt_mm(g_len)} mm gauge backing; {allowed}")
     return given
 
 
