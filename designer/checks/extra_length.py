@@ -13,10 +13,17 @@ import math
 def euler_deflection(g, analysis, material, spec) -> float:
     """The free-end deflection by Euler-Bernoulli theory with the reduced sections over their
     spans alone (no wire channel, no correction): what the table's ``deflection_ratio`` is over."""
-    from designer import model
+    return widened_tip(g, analysis, material, spec, 0.0)
 
-    return float(model.tip_deflection(g, analysis.props, float(material.E), spec.load.force_max,
-                                      spec.load.position_max))
+
+def widened_tip(g, analysis, material, spec, delta) -> float:
+    """``euler_deflection`` with each reduced span ``delta`` longer (``delta/2`` at each end; one
+    length for every span, or a tuple of one per span: ``corrections.Widened``)."""
+    from designer import model
+    from designer.model import corrections
+
+    return float(model.tip_deflection(corrections.Widened(g, delta), analysis.props, float(material.E),
+                                      spec.load.force_max, spec.load.position_max))
 
 
 def beyond_euler(g, analysis, material, spec, stiffness=None) -> float:
@@ -39,17 +46,10 @@ def extra_length(g, analysis, material, spec, deflection: float, stiffness=None)
     beam is stiffer."""
     from scipy.optimize import brentq
 
-    from designer import model
-    from designer.model import corrections
-
-    sp = analysis.props
-    E = float(material.E)
-    f_max, x_max = spec.load.force_max, spec.load.position_max
     rest = beyond_euler(g, analysis, material, spec, stiffness)
 
     def tip(delta):
-        widened = corrections.Widened(g, delta)
-        return float(model.tip_deflection(widened, sp, E, f_max, x_max)) + rest - deflection
+        return widened_tip(g, analysis, material, spec, delta) + rest - deflection
 
     span = g.stations[1] - g.stations[0] - g.feature_length
     lo, hi = -g.feature_length * 0.99, span * 0.99
@@ -64,17 +64,14 @@ def feature_weights(g, analysis, material, spec, delta: float) -> tuple[float, f
     extra length is. To first order the row's one ``extra_length`` is the two features' own
     weighted by these shares: a form in the clamp's nearness, which the model takes at each
     feature's own (``corrections.widened``), is fitted to that weighted sum (``features``)."""
-    from designer import model
     from designer.model import corrections
 
     if not math.isfinite(delta) or g.feature == "none" or len(g.stations) != 2:
         return math.nan, math.nan
-    sp, E = analysis.props, float(material.E)
-    f_max, x_max = spec.load.force_max, spec.load.position_max
     h = 1e-3 * g.size
 
     def tip(deltas):
-        return float(model.tip_deflection(corrections.Widened(g, deltas), sp, E, f_max, x_max))
+        return widened_tip(g, analysis, material, spec, deltas)
 
     base = tip((delta, delta))
     near, far = tip((delta + h, delta)) - base, tip((delta, delta + h)) - base
