@@ -24,6 +24,9 @@ STRESS_UNIT = 1e6
 LENGTH_UNIT = 1e-3
 PPM = 1e-6
 PERCENT = 1e-2
+# The width of the smooth maximum over the features' peak stresses, as a share of the first
+# feature's K_t (``peak_concentration``): IPOPT stalls at the kink of a plain max().
+PEAK_SMOOTHING = 0.002
 
 
 @dataclass(frozen=True)
@@ -79,7 +82,7 @@ class Analysis:
     position_error: Any       # sigma_x(F_min, x_max), m
     stress_root: Any
     stress_feature: Any       # nominal, at the first feature's clamp-side edge
-    stress_concentration: Any  # K_t at the feature (docs/model.md §7); 1 without a fit
+    stress_concentration: Any  # K_t: the features' largest peak over stress_feature (docs/model.md §4, §7)
     notch_sensitivity: Any    # Peterson's q = r / (r + a) at the feature's notch radius r
     gauge_strain: tuple       # at F_max, x_max, per station
     min_signal_snr: Any
@@ -97,7 +100,7 @@ class Analysis:
 
     @property
     def stress_peak(self):
-        """The peak stress at the feature: K_t times the nominal stress."""
+        """The peak stress at the features: K_t times the first feature's nominal stress."""
         return self.stress_concentration * self.stress_feature
 
     @property
@@ -163,7 +166,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
     noise_strain = sigma_v / gain
-    kt = corrections.stress_concentration(g, table)
+    kt = peak_concentration(corrections.stress_concentrations(g, table), [x_max - (di - l_f / 2) for di in d], ops)
     if adjust is not None:
         kt = kt * adjust.stress_concentration
     q = notch_sensitivity(notch_radius(g), m.notch_length)
@@ -189,6 +192,25 @@ def grid_arc_factor(g: Geometry, ops: Ops = NUMERIC):
         return None
     a = g.grid_width / g.diameter
     return (a * ops.sqrt(1 - a * a) + (math.pi / 2 - ops.acos(a))) / (2 * a)
+
+
+def peak_concentration(kts, arms, ops: Ops = NUMERIC):
+    """The features' peak stress over the first one's nominal stress: the largest of each
+    feature's ``K_t,i`` times its nominal stress over the first's (its moment arm ``x - a_i`` over
+    ``x - a_1``, the sections being the same), as a smooth maximum never below it (at most
+    PEAK_SMOOTHING / 2 of the first's K_t above, where two features tie). The first feature
+    carries the largest moment, but one further from the clamp may have the higher K_t (a fit in
+    the clamp's nearness) and so the peak; where every K_t is the same, the first's is the peak.
+    Taking K_f from this K_t errs safe: ``1 + q (K_t,i r_i - 1) >= r_i (1 + q (K_t,i - 1))`` for
+    ``r_i <= 1``."""
+    if all(k is kts[0] for k in kts[1:]):  # one K_t shared by every feature (no clamp term)
+        return kts[0]
+    width = PEAK_SMOOTHING * kts[0]
+    out = kts[0]
+    for k, arm in zip(kts[1:], arms[1:]):
+        v = k * arm / arms[0]
+        out = (out + v + ops.sqrt((out - v) ** 2 + width ** 2)) / 2
+    return out
 
 
 def fatigue_factor(notch_sensitivity, stress_concentration):

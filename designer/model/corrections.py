@@ -536,10 +536,15 @@ def stress_allowance(g: Geometry, table: Corrections) -> float:
     return 0.0 if fit is None else _unsafe_error(fit, "stress")
 
 
-def stress_concentration(g: Geometry, table: Corrections):
-    """K_t at the feature: the ``stress`` fit, or 1 where the table has none."""
+def stress_concentrations(g: Geometry, table: Corrections) -> tuple:
+    """K_t at each feature: the ``stress`` fit at the feature's own parameters (a fit in the
+    clamp's nearness gives a feature far from the clamp a higher K_t), or 1 where the table has none."""
     fit = table.fit(family(g), "stress")
-    return 1.0 if fit is None else fit(parameters(g))
+    if fit is None:
+        return (1.0,) * len(g.stations)
+    if CLAMP_NEAR not in fit.variables:
+        return (fit(parameters(g)),) * len(g.stations)
+    return tuple(fit(p) for p in feature_parameters(g))
 
 
 def widened(g: Geometry, table: Corrections) -> Geometry:

@@ -77,6 +77,43 @@ def test_fatigue_uses_kf_times_nominal_and_static_the_nominal_against_yield():
     assert float(lims["stress_root"].limit) == pytest.approx(min(m.yield_strength, m.fatigue) / 2, rel=1e-15)
 
 
+# A made-up table whose K_t grows away from the clamp, as the round flats' shipped fit does:
+# K_t = 2.5 - 2 clamp_near, clamp_near = exp(-3 a / D) of each flat's clamp-side end a.
+KT_CLAMP = Corrections({"round-pocket": {"stress": Fit(("clamp_near",), ((0,), (1,)), (2.5, -2.0), {})}})
+
+
+def test_a_flat_far_from_the_clamp_carries_the_peak_where_its_k_t_outweighs_its_smaller_moment():
+    import math
+
+    from designer.model.analysis import PEAK_SMOOTHING
+
+    text = FLAT_SPEC.replace("stations: [20 mm, 60 mm]", "stations: [6 mm, 60 mm]")
+    spec = parse_spec_text(text.format(fatigue="true"))
+    design = fixed_design(spec).rounded(spec.cad)
+    g, params = design.geometry, design.material_params(spec)
+    a = model.analyse(g, params, spec, table=KT_CLAMP)
+    # by hand: each flat's clamp-side end, its K_t and its nominal stress M y_e / I_s under
+    # F_max at x_max, the sections being the same (docs/model.md section 4)
+    x = spec.load.position_max
+    ends = [d - g.pocket_length / 2 for d in g.stations]
+    kts = [2.5 - 2.0 * math.exp(-3 * e / g.diameter) for e in ends]
+    nominal = [float(a.stress_feature) * (x - e) / (x - ends[0]) for e in ends]
+    peaks = [k * s for k, s in zip(kts, nominal)]
+    assert kts[1] > 2.4 and kts[0] < 1.3 and peaks[1] > 1.5 * peaks[0]   # the case in point
+    # the peak is the far flat's, within the smooth maximum's width (never below)
+    assert peaks[1] <= float(a.stress_peak) <= peaks[1] + PEAK_SMOOTHING / 2 * kts[0] * nominal[0]
+    # and far from the kink (the far peak 1.6 x the near one) within (sqrt(d^2 + w^2) - d) / 2 of it
+    assert float(a.stress_peak) == pytest.approx(peaks[1], rel=1e-5)
+    # and the fatigue limit holds K_f at that flat's peak, on the safe side of its own K_f
+    q = float(a.notch_sensitivity)
+    far_fatigue = (1 + q * (kts[1] - 1)) * nominal[1]
+    assert float(a.stress_fatigue) >= far_fatigue
+    assert float(a.stress_fatigue) == pytest.approx(far_fatigue, rel=(1 - q) * (1 - nominal[1] / nominal[0]) + 1e-6)
+    # where the flats share one K_t (no clamp term) the first one's moment makes its peak
+    a = model.analyse(g, params, spec, table=KT)
+    assert float(a.stress_peak) == pytest.approx(2.5 * nominal[0], rel=1e-12)
+
+
 def test_no_fatigue_limit_without_fatigue_and_no_table_means_kf_one():
     *_, lims = _analysis(fatigue=False)
     assert "fatigue_feature" not in lims
@@ -86,7 +123,8 @@ def test_no_fatigue_limit_without_fatigue_and_no_table_means_kf_one():
     assert float(lims["fatigue_feature"].value) == float(a.stress_feature)
 
 
-def test_the_optimiser_sees_the_fatigue_limit_with_exact_derivatives():
+@pytest.mark.parametrize("table", [KT, KT_CLAMP], ids=["one-kt", "kt-per-flat"])
+def test_the_optimiser_sees_the_fatigue_limit_with_exact_derivatives(table):
     import casadi as ca
 
     spec, design, params, *_ = _analysis()
@@ -96,7 +134,7 @@ def test_the_optimiser_sees_the_fatigue_limit_with_exact_derivatives():
     g = Geometry(section="round", feature="pocket", stations=g0.stations, length=g0.length, diameter=x[0],
                  depth=x[1], pocket_length=g0.pocket_length, pocket_width=g0.pocket_width,
                  gauge_length=g0.gauge_length, grid_length=g0.grid_length, floor_radius=g0.floor_radius)
-    a = model.analyse(g, MaterialParams.from_scaled(p), spec, model.casadi_ops(), table=KT)
+    a = model.analyse(g, MaterialParams.from_scaled(p), spec, model.casadi_ops(), table=table)
     f = ca.Function("f", [x, p], [a.stress_fatigue])
     jac = ca.Function("j", [x, p], [ca.jacobian(a.stress_fatigue, x)])
     x0, p0 = [10 * MM, 2 * MM], params.scaled()
@@ -108,4 +146,4 @@ def test_the_optimiser_sees_the_fatigue_limit_with_exact_derivatives():
         fd = (float(f(xp, p0)) - float(f(xm, p0))) / (2 * h)
         assert float(jac(x0, p0)[i]) == pytest.approx(fd, rel=1e-5)
     # and the same number as the numeric model
-    assert float(f(x0, p0)) == pytest.approx(float(_analysis()[3].stress_fatigue), rel=1e-12)
+    assert float(f(x0, p0)) == pytest.approx(float(_analysis(table=table)[3].stress_fatigue), rel=1e-12)
