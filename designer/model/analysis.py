@@ -148,9 +148,11 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     noise_errors = (force_error, position_error)
 
     l_f = g.feature_length
+    # each feature's moment arm under F_max at x_max, from its clamp-side edge
+    arms = [x_max - (di - l_f / 2) for di in d]
     # the wire channels, where there are any, run into the clamp
     stress_root = f_max * x_max * sp.y_root / (sp.I - channel_inertia(g, ops))
-    stress_feature = f_max * (x_max - (d[0] - l_f / 2)) * sp.y_e / sp.I_s
+    stress_feature = f_max * arms[0] * sp.y_e / sp.I_s
     strains = _scaled([f_max * (x_max - di) * sp.y_g / (m.E * sp.I_s) for di in d], station_factors)
     snr = ks[-1] * f_min * (x_min - d[-1]) / sigma_v
 
@@ -168,7 +170,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     frequency = natural_frequency(sp, m.E, m.density, g.length, ops)
     mass = m.density * (sp.A * g.length - len(d) * sp.feature_volume)
     noise_strain = sigma_v / gain
-    kt = peak_concentration(corrections.stress_concentrations(g, table), [x_max - (di - l_f / 2) for di in d], ops)
+    kt = peak_concentration(corrections.stress_concentrations(g, table), arms, ops)
     if adjust is not None:
         kt = kt * adjust.stress_concentration
     q = notch_sensitivity(notch_radius(g), m.notch_length)
