@@ -97,11 +97,18 @@ def continuous_optimum(spec, problems: dict, candidates: list) -> Evaluation | N
     the numeric box alone (they were only the rows' starts and bounds), so they are rounded and
     repaired here as any answer is (``back_off``, ``closer_on_the_grid``), best continuous answer
     first, until the next one (a bound on its rounded design) ranks after the best rounded so far.
-    None without stock, or when none meets every limit."""
+    A tube is bought under ``stock: none`` too (``stock.stock_system``: no bore is drilled), so its
+    family's design on stock stands for it: a tube of continuous sizes is no design to compare
+    with. None without stock, or when none meets every limit."""
     if spec.search.stock == "none":
         return None
-    answers = []
+    bars = replace(spec, search=replace(spec.search, stock="none"))
+    answers, found = [], []
     for c in candidates:
+        if stock_system(bars, c.family) != "none":
+            if c.evaluation is not None and c.evaluation.feasible:
+                found.append(c.evaluation)
+            continue
         if c.continuous is not None and c.continuous.feasible:
             problem = problems[c.family]
             material = catalogue.material(c.material)
@@ -110,7 +117,6 @@ def continuous_optimum(spec, problems: dict, candidates: list) -> Evaluation | N
             if c.solution is not None:  # its answer's, unless a design held in a smaller range beat it
                 bound = min(bound, float(problem.functions(c.solution.x, params)[0]))
             answers.append((bound, c, problem, material, params))
-    found = []
     for bound, c, problem, material, params in sorted(answers, key=lambda a: a[0]):
         if found and bound > in_nlp_units(pick(found).objective, spec.objective) * (1 + model.TIE_TOLERANCE):
             break
