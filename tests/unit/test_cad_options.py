@@ -126,7 +126,7 @@ def test_a_flats_end_mill_may_be_as_long_as_the_flat():
 
 FLAT_SPEC = """\
 name: flats
-load: {force: [0.5 N, 20 N], position: [40 mm, 110 mm]}
+load: {force: [0.5 N, 19 N], position: [40 mm, 110 mm]}
 electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
 gauge: BF350-3AA
 bridge: half

@@ -491,9 +491,10 @@ def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaire
     # Reference: the same search repairing every candidate (outrank=False): the same reported
     # design, each outranked candidate's repaired design still more than CONTENDER_BAND above the
     # best (it could have been neither chosen nor a contender), and fewer IPOPT runs. The first
-    # answer is not a bound on every repair: the gripper finger's 304 rectangle under ISO 2768-m
-    # answers 0.991, meeting its limits to IPOPT's tolerance only, and a wider grid around it finds
-    # 0.959 (the best design is 0.401). At nominal sizes, and under the examples' own ISO 2768-m,
+    # answer is not a bound on every repair: an answer meets its limits to IPOPT's tolerance only
+    # (with the K_t fits of the study before its floor radii were refined whole, the gripper
+    # finger's 304 rectangle under ISO 2768-m answered 0.991 and a wider grid around it found
+    # 0.959, the best design 0.401). At nominal sizes, and under the examples' own ISO 2768-m,
     # whose corners the NLP holds as the check builds them (before, the answers on a flat missed a corner by up to 2e-5 in
     # the check, so none was outranked under a tolerance class).
     from designer.search.run import CONTENDER_BAND
@@ -518,10 +519,6 @@ def test_a_candidate_far_below_the_best_before_rounding_is_outranked_not_repaire
     text = report.markdown(search_record(spec, capped))
     assert "≥" not in text
     assert all(f"| {c.continuous.objective:.4g} before rounding |" in text for c in skipped)
-    if name == "gripper-finger":   # the 304 rectangle repairs below its answer: no bound
-        below = [c for c in skipped if (r := repaired[(c.material, c.family)].evaluation) is not None
-                 and r.feasible and r.objective < c.continuous.objective]
-        assert [(c.material, c.family.section) for c in below] == [("304", "rectangle")]
 
 
 def test_a_design_judged_again_under_the_same_spec_is_not_analysed_again(monkeypatch):
@@ -686,11 +683,13 @@ def test_stations_that_fit_no_section_before_the_load_are_bad_input_without_a_ro
     assert found.status == "infeasible" and re.match(room, found.messages[1]) and rows == []
 
 
-# The bench suite's 024-kilonewton (seed 0; `fpdesign bench`): a 6061-T6 round bar with flats,
-# its mass the objective. Rounded on the 0.01 mm grid around IPOPT's answer, the best design met
-# every limit as a Ø28.79 mm bar with 1.60 mm flats, its first station 37.64 mm out; with the
-# depth held at 1.60 mm and the diameter and stations solved again, a Ø28.68 mm bar with the
-# station at 38.35 mm (71 grid steps away, beyond the grid walk's box) meets them 0.77 % lighter.
+# The bench suite's 024-kilonewton (seed 0; `fpdesign bench`) with its force error target 1.06 %
+# (1.03 % in the suite): a 6061-T6 round bar with flats, its mass the objective. Rounded on the
+# 0.01 mm grid around IPOPT's answer, the best design meets every limit as a Ø29.00 mm bar with
+# 1.60 mm flats, its first station 38.01 mm out; with the depth held at 1.60 mm and the diameter
+# and stations solved again, a Ø28.87 mm bar with the station at 38.84 mm (83 grid steps away,
+# beyond the grid walk's box) meets them 0.90 % lighter. (The suite's own spec showed the same,
+# 0.77 % lighter, with the K_t fits of the study before its floor radii were refined whole.)
 KILONEWTON_BAR = """\
 name: 024-kilonewton
 load: {force: [26.13 N, 378.3 N], position: [112.7 mm, 193 mm]}
@@ -700,7 +699,7 @@ bridge: quarter
 stations: 2
 limits: {width: [6.458 mm, 53.2 mm], height: [6.458 mm, 42.77 mm], min_pocket_depth: 0.5 mm, min_wall: 1 mm,
          max_deflection: 3.86 mm}
-targets: {force_error: 1.03 %, position_error: 1.612 mm}
+targets: {force_error: 1.06 %, position_error: 1.612 mm}
 search: {materials: [6061-T6, '304'], sections: [round], feature: pocket}
 objective: mass
 tolerances: {class: none}

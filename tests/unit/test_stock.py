@@ -242,7 +242,7 @@ def test_stock_none_keeps_bars_continuous_and_never_reads_the_catalogue(monkeypa
     """``stock: none`` (the default) without tubes is the continuous search: the stock catalogue
     is not read, no design carries a stock item, and the gripper finger's objective is no worse,
     within the 0.1 % tie band, than the exhaustive reference search's at nominal sizes
-    (designer/search/reference.py with tolerances none: 0.338429)."""
+    (designer/search/reference.py with tolerances none: 0.341286)."""
     def refuse():
         raise AssertionError("search.stock: none read the stock catalogue")
 
@@ -251,7 +251,7 @@ def test_stock_none_keeps_bars_continuous_and_never_reads_the_catalogue(monkeypa
     assert spec.search.stock == "none"
     found = optimize(spec)
     assert found.x.stock is None and found.get("continuous") is None
-    assert found.best.objective <= 0.338429 * (1 + model.TIE_TOLERANCE)
+    assert found.best.objective <= 0.341286 * (1 + model.TIE_TOLERANCE)
     assert all("stock" not in c.record() for c in found.candidates)
 
 
@@ -440,6 +440,10 @@ def test_the_continuous_optimum_beside_a_stock_design_is_the_continuous_search_s
     plain = optimize(_spec("gripper-finger", stock="none")).best
     c = found.get("continuous")
     assert c is not None and c.feasible and c.design.stock is None
+    # the titanium tube's continuous answer is lighter than any bar's, but titanium tube is not
+    # stocked and no bore is drilled (``stock.stock_system``): it is no design to compare with
+    tube = next(x for x in found.candidates if (x.material, x.family.section) == ("Ti-6Al-4V", "tube"))
+    assert tube.continuous is not None and tube.continuous.objective < c.objective
     g = c.design.geometry
     for size in (g.width, g.height, g.diameter, g.wall, *g.stations):
         if size is not None:

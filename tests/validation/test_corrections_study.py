@@ -617,10 +617,10 @@ def test_a_deep_slot_one_height_long_narrow_in_a_wide_bar_reads_the_model_in_3d(
 def test_a_slot_whose_side_walls_are_thinner_than_the_slot_k_t_fit_holds_for_is_kept_out():
     """docs/model.md §7: the slot's K_t is fitted, and designs kept, where the side walls are
     together at least 0.15 of the height. The study's slot 0.86 of a 6.4 mm bar's width (walls
-    0.14 h together) reads a 3-D K_t of 1.39, about 15 % above the fit of the others and 9 % above it
-    after its shift to the safe side; it and the study's four other slots
-    of one to two heights with walls that thin are outside the fit's domain, and the beam evaluated
-    reports ``domain_side_wall_ratio_min``. Reference: the study's 3-D rows."""
+    0.14 h together) reads a 3-D K_t of 1.37, 13 % above the fit of the others before its shift to
+    the safe side (the shift that holds the others leaves it 3 % under); it and the study's four
+    other slots of one to two heights with walls that thin are outside the fit's domain, and the
+    beam evaluated reports ``domain_side_wall_ratio_min``. Reference: the study's 3-D rows."""
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
@@ -630,6 +630,29 @@ def test_a_slot_whose_side_walls_are_thinner_than_the_slot_k_t_fit_holds_for_is_
     assert len(thin) == 5 and not any(_inside(fit, row) for _, row in thin)
     case, row = min(thin, key=lambda t: fits.judged_error("stress", t[1], fit(t[1])))
     assert row["pocket_width_ratio"] == pytest.approx(0.86, abs=0.005)
-    assert fits.judged_error("stress", row, fit(row)) < -0.09   # the shipped K_t 9 % under the 3-D one
+    unshifted = fit(row) / (1 + fit.margin)
+    assert fits.judged_error("stress", row, unshifted) < -0.10   # the fitted K_t 12 % under the 3-D one
     ev = evaluate_fixed(parse_spec_text(case.spec_text())).evaluation
     assert "domain_side_wall_ratio_min" in [v.name for v in ev.violations]
+
+
+@pytest.mark.parametrize("family", ["rectangle-pocket", "round-pocket", "tube-pocket"])
+def test_the_k_t_fit_predicts_the_far_features_it_was_not_fitted_on(family):
+    """docs/model.md §4 and §7: the model takes K_t at every feature, each at its own nearness to
+    the clamp, but the fits are made from the study's near features alone. Every study beam has a
+    second feature further out (``stress_far``, at ``far_clamp_ratio``), which the 3-D check
+    resolves as well (it refines every feature's floor radius): the shipped K_t, shifted to its
+    safe side, reads each of them at most FIT_ACCEPT under the 3-D peak, as it does the features
+    it was fitted on. Reference: the study's 3-D rows."""
+    fit = corrections.load().fit(family, "stress")
+    far = []
+    for r in _rows():
+        if r["family"] != family or not math.isfinite(r.get("stress_far", math.nan)):
+            continue
+        row = {**r, "stress_ratio": r["stress_far"], "clamp_ratio": r["far_clamp_ratio"],
+               corrections.CLAMP_NEAR: r["clamp_near_far"]}
+        if _inside(fit, row):
+            far.append(row)
+    assert len(far) >= 30
+    errors = [fits.judged_error("stress", r, prediction(fit, "stress", r)) for r in far]
+    assert min(errors) >= -fits.FIT_ACCEPT["stress"]

@@ -66,12 +66,12 @@ MIN_SIZE_FRACTION = 0.25
 # meshes read 172 and 136 MPa.
 RADIUS_SIZE = 0.3
 RADIUS_REACH = 0.5
-# Along the fillet (across the beam) only this many radii from the beam's mid-plane are refined:
-# the peak sits there, where the material under the floor is thinnest (a flat on a tube) or at
-# the slot's end (a rectangle's pocket), and the stress along the fillet is flat near it (the
-# gripper finger's whole flat refined: the peak within 0.2 % of the banded one, with 170 000
-# elements on the normal mesh instead of 27 000).
-RADIUS_BAND = 3.0
+# The whole fillet is refined, across the beam: a band of three radii about the mid-plane (where a
+# deep flat's peak sits) read a R0.1 flat on a Ø12 mm bar 7 % low next to the unrefined rest of
+# the fillet (a peak at a vertex off the band, on 0.67 mm edges), and the optimised prototype B's
+# slot, whose peak sits off the mid-plane, 7 % low (213 MPa; 229 MPa with the whole fillet, 221.5
+# on the mesh 1.5 x coarser). The whole fillets cost the gripper finger's normal mesh 59 600
+# elements against 18 800.
 HXT = 10                 # gmsh's Mesh.Algorithm3D code of its parallel Delaunay, HXT
 # gmsh's surface mesher (Frontal-Delaunay) can leave flat triangles (three corners in a line, or
 # nearly) on a floor radius's faces, strips a quarter circle wide running across the beam: the
@@ -242,24 +242,26 @@ def _feature_faces(pb: Problem) -> list:
 
 
 def _floor_radius_boxes(pb: Problem) -> list:
-    """Bounding boxes ``(low, high)`` of the floor-radius faces at the clamp-side end of the first
-    pocket or flat, where the bending moment over the features is largest and so the peak stress
+    """Bounding boxes ``(low, high)`` of the floor-radius faces at the clamp-side end of every
+    pocket or flat, where the bending moment over each feature is largest and so its peak stress
     sits: the faces that rise from the floor (on the loaded face, +Z) by the floor radius within
-    the radius of that end. The other ends carry less moment; were a peak found there, the
-    report's RESOLVED_RADIUS_SHARE test would say that the mesh does not resolve it."""
+    the radius of that end, across the whole beam. The first feature's carries the most moment,
+    but a feature further from the clamp has the higher K_t (the clamp no longer stiffens its
+    surroundings) and may carry the peak (docs/model.md §4). The far ends carry less moment; were
+    a peak found there, the report's RESOLVED_RADIUS_SHARE test would say that the mesh does not
+    resolve it."""
     import gmsh
 
     r = pb.floor_radius
     tol = FACE_TOLERANCE * pb.size
     rise = max(tol, 0.25 * r)            # OCC's boxes of curved faces may overshoot a little
-    a, b = pb.spans[0]
     out = []
     for dim, tag in gmsh.model.getEntities(2):
         x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
-        at_end = a - tol <= x0 <= a + r + tol and x1 <= b + tol
+        at_end = any(a - tol <= x0 <= a + r + tol and x1 <= b + tol for a, b in pb.spans)
         rises = abs(z0 - pb.gauge_z) < tol and tol < z1 - pb.gauge_z <= r + rise
-        if at_end and rises and y0 <= RADIUS_BAND * r:
-            out.append((np.array([x0, y0, z0]), np.array([x1, min(y1, RADIUS_BAND * r), z1])))
+        if at_end and rises:
+            out.append((np.array([x0, y0, z0]), np.array([x1, y1, z1])))
     return out
 
 
