@@ -13,8 +13,8 @@ on it, and the case yields, in dimensionless form:
   free-end deflection (the extra compliance of the feature);
 - ``stress_ratio``: the 3-D peak stress at the near station's feature over the beam model's
   nominal stress at its clamp-side edge (K_t: the 3-D check resolves the floor radius there), and
-  ``stress_far``, the same at the far station's feature (resolved as well since the check refines
-  every feature's floor radius; in rows of the shipped table read before that, a lower bound);
+  ``stress_far``, the same at the far station's feature (resolved as well: the check refines
+  every feature's floor radius);
 - the mesh-convergence figures of the check, so that a fit can weight or drop poor points.
 
 ``python -m designer.checks.study -o FILE.csv [--mesh normal] [--family F ...]`` regenerates the
