@@ -42,13 +42,19 @@ class StockOutcome:
     outranked: bool = False     # every row is bounded above ``cap``: none was solved
 
 
+def always_stocked(family) -> bool:
+    """Whether ``family``'s sections come from stock whatever ``search.stock`` says: a tube's (a
+    bore through a bar's length is not drilled: the tube is bought)."""
+    return family.section == "tube"
+
+
 def stock_system(spec, family) -> str:
     """The stock tables ``family``'s sections come from under ``spec``: ``search.stock``, or with
-    ``stock: none`` ``any`` for a tube (a bore through a bar's length is not drilled: the tube is
-    bought) and ``none`` (continuous sizes) for the others."""
+    ``stock: none`` ``any`` for a family ``always_stocked`` and ``none`` (continuous sizes) for the
+    others."""
     if spec.search.stock != "none":
         return spec.search.stock
-    return "any" if family.section == "tube" else "none"
+    return "any" if always_stocked(family) else "none"
 
 
 def stock_rows(problem: FamilyProblem, material) -> tuple[list, str]:

@@ -13,7 +13,7 @@ from designer.search.diagnosis import no_room
 from designer.search.ongrid import back_off, closer_on_the_grid
 from designer.search.problem import in_nlp_units, start_from
 from designer.search.rounding import pick, round_and_check
-from designer.search.stock import search_stock, stock_rows, stock_system
+from designer.search.stock import always_stocked, search_stock, stock_rows, stock_system
 from designer.spec import catalogue
 
 
@@ -97,15 +97,14 @@ def continuous_optimum(spec, problems: dict, candidates: list) -> Evaluation | N
     the numeric box alone (they were only the rows' starts and bounds), so they are rounded and
     repaired here as any answer is (``back_off``, ``closer_on_the_grid``), best continuous answer
     first, until the next one (a bound on its rounded design) ranks after the best rounded so far.
-    A tube is bought under ``stock: none`` too (``stock.stock_system``: no bore is drilled), so its
-    family's design on stock stands for it: a tube of continuous sizes is no design to compare
+    A tube is bought under ``stock: none`` too (``stock.always_stocked``: no bore is drilled), so
+    its family's design on stock stands for it: a tube of continuous sizes is no design to compare
     with. None without stock, or when none meets every limit."""
     if spec.search.stock == "none":
         return None
-    bars = replace(spec, search=replace(spec.search, stock="none"))
     answers, found = [], []
     for c in candidates:
-        if stock_system(bars, c.family) != "none":
+        if always_stocked(c.family):
             if c.evaluation is not None and c.evaluation.feasible:
                 found.append(c.evaluation)
             continue

@@ -441,7 +441,7 @@ def test_the_continuous_optimum_beside_a_stock_design_is_the_continuous_search_s
     c = found.get("continuous")
     assert c is not None and c.feasible and c.design.stock is None
     # the titanium tube's continuous answer is lighter than any bar's, but titanium tube is not
-    # stocked and no bore is drilled (``stock.stock_system``): it is no design to compare with
+    # stocked and no bore is drilled (``stock.always_stocked``): it is no design to compare with
     tube = next(x for x in found.candidates if (x.material, x.family.section) == ("Ti-6Al-4V", "tube"))
     assert tube.continuous is not None and tube.continuous.objective < c.objective
     g = c.design.geometry
