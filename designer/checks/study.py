@@ -194,6 +194,16 @@ NEAR_CLAMP_WIDE_SLOT_GROUPS = (("rectangle-pocket", NEAR_CLAMP_WIDE_SLOTS, 24),)
 SHALLOW_NARROW_SLOTS = {"depth_ratio": (0.05, 0.12), "length_ratio": (0.9, 2.5), "pocket_width_ratio": (0.2, 0.3),
                         "notch_ratio": (1.55, 7.0), "lp_grid": LP_GRID_BOX}
 SHALLOW_NARROW_SLOT_GROUPS = (("rectangle-pocket", SHALLOW_NARROW_SLOTS, 20),)
+# Shallow slots with a sharp floor radius: a micro end mill's R0.01-0.02 mm in a slot 0.05-0.1 mm
+# deep (the bench suites' millinewton and short-beam bars, 0.5-0.8 mm high), sqrt(p/r) 1.6-3.2 at
+# a depth of 0.05-0.15 heights. MIN_CORNER_RADIUS keeps the groups above at sqrt(p/r) under about
+# 2.2 there, and the K_t fit of those read a short beam's slot at sqrt(p/r) 2.24 (016-short-beam of
+# the bench suite) 7 % under its 3-D K_t before its shift. Their radii go down to
+# SHARP_CORNER_RADIUS (the group's fifth element).
+SHALLOW_SHARP_SLOTS = {"depth_ratio": (0.05, 0.15), "length_ratio": (0.9, 3.0), "pocket_width_ratio": (0.2, 0.88),
+                       "notch_ratio": (1.8, 3.4), "lp_grid": LP_GRID_BOX}
+SHARP_CORNER_RADIUS = 0.03e-3
+SHALLOW_SHARP_SLOT_GROUPS = (("rectangle-pocket", SHALLOW_SHARP_SLOTS, 32, 0, SHARP_CORNER_RADIUS),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -219,11 +229,11 @@ def halton(n: int, dims: int) -> list[tuple]:
     return [tuple(radical(i, b) for b in primes) for i in range(1, n + 1)]
 
 
-def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
+def pocket_case(family: str, u: dict, box: dict | None = None, min_corner: float = MIN_CORNER_RADIUS) -> Case | None:
     """The case of one point of a pocket family's box (parameter -> value), or None where the
     flat would be narrower than the gauge's grid or the floor radii would leave a floor shorter
     than the gauge's backing (the CAD refuses both). ``notch_ratio``'s coordinate (0-1) spans the
-    box's range up to where the floor radius reaches MIN_CORNER_RADIUS."""
+    box's range up to where the floor radius reaches ``min_corner``."""
     l_p = u["lp_grid"] * GRID_LENGTH
     size = l_p / u["length_ratio"]
     clearance = (max(NEAR_CLAMP_CLEARANCE, u["clamp_ratio"] * size) if "clamp_ratio" in u
@@ -231,7 +241,7 @@ def pocket_case(family: str, u: dict, box: dict | None = None) -> Case | None:
     wall = u["wall_ratio"] * size if family == "tube-pocket" else 0.0
     depth = u["depth_ratio"] * (wall if family == "tube-pocket" else size)
     lo, hi = (box or POCKET_BOXES[family])["notch_ratio"]
-    hi = max(lo, min(hi, math.sqrt(depth / MIN_CORNER_RADIUS)))
+    hi = max(lo, min(hi, math.sqrt(depth / min_corner)))
     corner = depth / (lo + u["notch_ratio"] * (hi - lo)) ** 2
     if family == "rectangle-pocket":
         case = Case(family, width=POCKET_WIDTH / u["pocket_width_ratio"], height=size, depth=depth,
@@ -255,11 +265,14 @@ def box_point(box: dict, point) -> dict:
 
 
 def group_cases(groups) -> list[Case]:
-    """The cases of pocket groups ``(family, box, number of Halton points[, points skipped])``."""
+    """The cases of pocket groups ``(family, box, number of Halton points[, points skipped[, least
+    floor radius]])``."""
     out = []
-    for fam, box, count, *skip in groups:
-        for point in halton(count + sum(skip), len(box))[sum(skip):]:
-            case = pocket_case(fam, box_point(box, point), box)
+    for fam, box, count, *rest in groups:
+        skip = rest[0] if rest else 0
+        min_corner = rest[1] if len(rest) > 1 else MIN_CORNER_RADIUS
+        for point in halton(count + skip, len(box))[skip:]:
+            case = pocket_case(fam, box_point(box, point), box, min_corner)
             if case is not None:
                 out.append(case)
     return out
@@ -269,7 +282,8 @@ def cases(families=None) -> list[Case]:
     """The study's grid, family by family; ``near_clamp_cases`` are the last of their families."""
     mm = 1e-3
     out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS + NEAR_CLAMP_SHORT_GROUPS
-                      + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS + SHALLOW_NARROW_SLOT_GROUPS)
+                      + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS + SHALLOW_NARROW_SLOT_GROUPS
+                      + SHALLOW_SHARP_SLOT_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -507,6 +521,8 @@ PARTS = {
                               "the slots in wide bars within a width or two of the clamp"),
     "shallow-narrow-slots": (lambda: group_cases(SHALLOW_NARROW_SLOT_GROUPS),
                              "the shallow slots a fifth to a third of a wide bar's width"),
+    "shallow-sharp-slots": (lambda: group_cases(SHALLOW_SHARP_SLOT_GROUPS),
+                            "the shallow slots with a micro end mill's sharp floor radius"),
 }
 
 

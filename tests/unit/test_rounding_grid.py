@@ -72,9 +72,9 @@ def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
     from designer.search.rounding import round_and_check
     from designer.spec import catalogue
 
-    spec = _generate(28, "long-beam", 0).spec
+    spec = _generate(20, "long-beam", 0).spec
     problem = FamilyProblem(spec, Family("rectangle", spec.search.feature))
-    material = catalogue.material("7075-T6")
+    material = catalogue.material("17-4PH-H900")
     params = material_params(material, spec)
     monkeypatch.setattr(ongrid, "_on_the_grid", lambda *args, **kwargs: None)
     monkeypatch.setattr(ongrid, "_nearby_on_the_grid", lambda *args: None)
@@ -95,7 +95,7 @@ def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
     assert ev.objective <= reference.objective * (1 + 1e-9)
     continuous = float(problem.functions(first.x, params)[0])
     # the last resort is not cheap (the depth leaves its domain's least value by the margin): the
-    # grid searches above are what keep rounding within the tie band; measured +1.4 %
+    # grid searches above are what keep rounding within the tie band; measured +1.8 %
     assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.02
 
 

@@ -519,7 +519,8 @@ def test_the_slot_strain_form_predicts_the_mid_slots_it_was_not_fitted_on():
     mid = [row for _, row in _mid_slots(rows)]
     assert len(mid) == 46
     box = fits.FIT_DOMAINS["rectangle-pocket"]["strain"]
-    later = mid + _group_rows(study.NEAR_CLAMP_WIDE_SLOT_GROUPS + study.SHALLOW_NARROW_SLOT_GROUPS, rows)
+    later = mid + _group_rows(study.NEAR_CLAMP_WIDE_SLOT_GROUPS + study.SHALLOW_NARROW_SLOT_GROUPS
+                              + study.SHALLOW_SHARP_SLOT_GROUPS, rows)
     earlier = [r for r in rows if r["family"] == "rectangle-pocket" and fits._in_domain(r, box)
                and not any(r is m for m in later)]
     held = [r for r in mid if fits._in_domain(r, box)]
@@ -545,7 +546,8 @@ def test_the_slot_strain_form_predicts_the_shallow_narrow_slots_it_was_not_fitte
     slots = [r for r in rows if r["family"] == "rectangle-pocket" and fits._in_domain(r, box)]
     added = _group_rows(study.SHALLOW_NARROW_SLOT_GROUPS, rows)
     assert len(added) == 20
-    rest = [r for r in slots if not any(r is a for a in added)]
+    later = _group_rows(study.SHALLOW_SHARP_SLOT_GROUPS, rows)     # (run after these)
+    rest = [r for r in slots if not any(r is a for a in added + later)]
 
     def misses(terms):
         fit, _ = fits.fit_terms(rest, terms, lambda r: r["strain_far"])
@@ -634,6 +636,30 @@ def test_a_slot_whose_side_walls_are_thinner_than_the_slot_k_t_fit_holds_for_is_
     assert fits.judged_error("stress", row, unshifted) < -0.10   # the fitted K_t 12 % under the 3-D one
     ev = evaluate_fixed(parse_spec_text(case.spec_text())).evaluation
     assert "domain_side_wall_ratio_min" in [v.name for v in ev.violations]
+
+
+def test_the_slot_k_t_fit_reads_shallow_slots_with_a_sharp_floor_radius_on_its_safe_side():
+    """docs/model.md §7: 32 shallow slots with a micro end mill's sharp floor radius
+    (``study.SHALLOW_SHARP_SLOTS``: sqrt(p/r) 1.8-3.4 at depths of 0.05-0.15 heights, where the
+    other groups' least floor radius left few points) were run after the others. The shipped form
+    fitted to the other rows reads their K_t 4 % under the 3-D one on average and up to 11 %
+    under (before its shift); fitted with them, the shipped K_t (shifted) reads every one inside
+    its domain at or above the 3-D K_t. Reference: the study's 3-D rows."""
+    rows = _rows()
+    added = _group_rows(study.SHALLOW_SHARP_SLOT_GROUPS, rows)
+    assert len(added) == 32
+    box = fits.FIT_DOMAINS["rectangle-pocket"]["stress"]
+    rest = [r for r in rows if r["family"] == "rectangle-pocket" and fits._in_domain(r, box)
+            and math.isfinite(r.get("stress_ratio", math.nan)) and not any(r is a for a in added)]
+    fit, _ = fits.fit_terms(rest, fits.SLOT_KT_CLAMP, lambda r: r["stress_ratio"],
+                            weight=lambda r: fits.error_weight("stress", r), box=box, quantity="stress")
+    before = [fits.judged_error("stress", r, fit(r)) for r in added]
+    assert sum(before) / len(before) < -0.03 and min(before) < -0.10
+    shipped = corrections.load().fit("rectangle-pocket", "stress")
+    assert shipped.exponents == fits.SLOT_KT_CLAMP.exponents
+    inside = [r for r in added if _inside(shipped, r)]
+    assert len(inside) >= 30
+    assert min(fits.judged_error("stress", r, prediction(shipped, "stress", r)) for r in inside) >= 0
 
 
 @pytest.mark.parametrize("family", ["rectangle-pocket", "round-pocket", "tube-pocket"])
