@@ -358,10 +358,11 @@ def _row_of(case, rows):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("family, index", [("tube-pocket", 1), ("round-pocket", 1)])
+@pytest.mark.parametrize("family, index", [("tube-pocket", 1), ("round-pocket", 1), ("rectangle-pocket", -32)])
 def test_fresh_3d_runs_reproduce_pocket_points_of_the_table_and_the_fits(family, index):
     # points of the study run again with the 3-D check on the study's own mesh: the same figures,
-    # and any shipped fit of the family predicts them within its acceptance
+    # and any shipped fit of the family predicts them within its acceptance (the slot is the first
+    # of the shallow slots with a sharp floor radius, study.SHALLOW_SHARP_SLOTS, the last group)
     case = study.cases([family])[index]
     row = _row_of(case, _rows())
     fresh = study.run_case(case, mesh=row["mesh"])
