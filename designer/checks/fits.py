@@ -185,6 +185,9 @@ FIT_FORMS = {
 }
 # Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
 # kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
+# A slot from 0.9 of its bar's height long (below, the slots' gauge strain; its K_t is fitted
+# over the same designs).
+SLOT_LENGTH = {"length_ratio": (0.9, math.inf)}
 FIT_DOMAINS: dict = {
     # A pocket or flat short for its section reads a gauge strain that scatters more than any
     # smooth fit follows (the load flows round a short pocket rather than through it): on a tube,
@@ -210,8 +213,8 @@ FIT_DOMAINS: dict = {
     # 0.9 heights long, where its gauge strain is fitted and designs are kept already: the study's
     # shorter slots, whose ends interact, took its shift from x1.078 to x1.115 for designs that
     # cannot be made
-    "rectangle-pocket": {"strain": {"length_ratio": (0.9, math.inf)},
-                         "stress": {"side_wall_ratio": (0.15, math.inf), "length_ratio": (0.9, math.inf)}},
+    "rectangle-pocket": {"strain": {**SLOT_LENGTH},
+                         "stress": {"side_wall_ratio": (0.15, math.inf), **SLOT_LENGTH}},
     # a hole's K_t varies little with the bar's width over the study's 0.3-2 (1.03 to 1.00 for a
     # small hole far from the clamp), so its fit leaves the width out; designs stay inside it
     "rectangle-hole": {"stress": {"width_ratio": (0.3, 2.0)}},
