@@ -17,7 +17,7 @@ from pathlib import Path
 from designer.checks.clamp_study import near_station
 from designer.checks.extra_length import features
 from designer.model import corrections
-from designer.model.domain import NEAR_STATION
+from designer.model.domain import NEAR_STATION, upper_hull
 
 
 def monomials(n: int, degree: int) -> list[tuple]:
@@ -65,16 +65,15 @@ def fit_terms(rows: list[dict], terms: Terms, target, weight=None, box=(), quant
 
 # What each family's fits may depend on, as candidate forms tried from the fewest terms up (the
 # other parameters are fixed by the spec's pocket rule or do not vary in the study). A tuple of
-# parameters stands for its full polynomials of FIT_DEGREES; ``Terms`` are forms with a physical
-# shape:
+# parameters stands for its full polynomials of FIT_DEGREES; ``Terms`` are forms with a physical shape:
 # - the gauge strain on the pocket's depth, its length and the gauge grid's (how far the grid's
 #   ends are from the pocket's ends), and for a slot the share of the width it takes;
 # - the extra compliance on the depth and the length (a tube's wall, a slot's share), also as a
 #   share of the feature's length (``_share_of_length``: a slot's side walls and a flat's ends
 #   shed their load over a distance that grows with the feature); a flat's also on its floor
 #   radius over its depth (r/t: a sharp end cuts the section off more abruptly than a rounded
-#   one; without it the round flats' form missed by 4.6 % of the deflection and shipped shifted
-#   by 0.010 sizes, with it 3.5 % and 0.001);
+#   one; without it the round flats' form misses by 4.8 % of the deflection, with it 3.7 % and
+#   ships shifted by 0.002 sizes);
 # - K_t, as Peterson's shoulder fillets, on sqrt(t/r) and the depth (a tube's wall, a slot's
 #   share), also in Neuber's shape ``1 + sqrt(t/r) (a + b p + c v)``: K_t - 1 grows like sqrt(t/r)
 #   for a sharp fillet, with a slope set by the depth (Neuber, Kerbspannungslehre; Peterson's
@@ -84,7 +83,8 @@ NEUBER = Terms(("notch_ratio", "depth_ratio"), ((0, 0), (1, 0), (1, 1)))
 
 def near_clamp_domain(fit, rows: list[dict]):
     """``fit`` with its domain bounded below by the study's nearest feature to the clamp
-    (``NEAR_CLAMP``); unchanged where the rows do not record it."""
+    (``NEAR_CLAMP``), where the rows record it; a pocket K_t's with the rows' sharpest notch_ratio
+    by depth (``notch_top``, ``domain.NOTCH_HULL``)."""
     from designer.model.corrections import CLAMP_NEAR
 
     near = [r[NEAR_CLAMP] for r in rows if math.isfinite(r.get(NEAR_CLAMP, math.nan))]
@@ -94,7 +94,8 @@ def near_clamp_domain(fit, rows: list[dict]):
         domain[CLAMP_NEAR] = (0.0, domain[CLAMP_NEAR][1])
     if near:
         domain[NEAR_CLAMP] = (min(near), math.inf)
-    return replace(fit, domain=domain)
+    hull = upper_hull((r["depth_ratio"], r["notch_ratio"]) for r in rows) if "notch_ratio" in fit.variables else ()
+    return replace(fit, domain=domain, notch_top=hull)
 
 
 def _neuber(third: str) -> Terms:
@@ -113,7 +114,8 @@ def _share_of_length(*others: str) -> Terms:
 # flat's length: a short flat's two ends both reach its grid. With a fast decay in that term's
 # place (exp(-27 g), the form before) its left-out error was 1.46 %, and it missed 37 round flats
 # outside the fit (4-8 grids long under a shorter grid; benchmarks/round_flat_holdout.csv) by up
-# to 1.81 %, shallow flats of 0.4-0.5 D reading high; this form 1.09 % and 1.29 %.
+# to 1.81 %, shallow flats of 0.4-0.5 D reading high; this form 1.09 % and 1.29 % (1.54 % left out
+# with the shallow sharp flats, study.SHALLOW_SHARP_FLATS).
 FLAT_GAP = Terms(("depth_ratio", "gap_slow", "length_ratio"),
                  ((0, 0, 0), (1, 0, 0), (2, 0, 0), (0, 1, 0), (1, 1, 0), (0, 1, -1)))
 # A slot's gauge strain: the slot's ends reaching the grid (the slow grid-gap decay), as much as
@@ -187,8 +189,7 @@ FIT_FORMS = {
 }
 # Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
 # kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
-# A slot from 0.9 of its bar's height long (below, the slots' gauge strain; its K_t is fitted
-# over the same designs).
+# A slot from 0.9 of its bar's height long (below, the slots' gauge strain; its K_t likewise).
 SLOT_LENGTH = {"length_ratio": (0.9, math.inf)}
 FIT_DOMAINS: dict = {
     # A pocket or flat short for its section reads a gauge strain that scatters more than any
@@ -206,7 +207,7 @@ FIT_DOMAINS: dict = {
     # above the beam model's strain, and no fit of 10 terms or fewer follows it within 4 %; flats
     # of 0.3-0.4 D (study.NEAR_CLAMP_SHORT_GROUPS, a kilonewton lug's) scatter 2.5 % about the
     # best fit over 0.3 D up (left-out 2.2-2.8 %, no further parameter of the study explains it),
-    # while from 0.4 D the grid-gap form meets the 2 % rule (1.1 %; a quadratic in depth and length
+    # while from 0.4 D the grid-gap form meets the 2 % rule (1.5 %; a quadratic in depth and length
     # 1.9 %, which read 1.02 for the weigh-bar's flat in 3-D: the grid-gap form goes first)
     "round-pocket": {"strain": {"length_ratio": (0.4, math.inf)}},
     # A slot's K_t where its side walls are together at least 0.15 of the bar's height: thinner

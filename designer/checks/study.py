@@ -204,6 +204,13 @@ SHALLOW_SHARP_SLOTS = {"depth_ratio": (0.05, 0.15), "length_ratio": (0.9, 3.0), 
                        "notch_ratio": (1.8, 3.4), "lp_grid": LP_GRID_BOX}
 SHARP_CORNER_RADIUS = 0.03e-3
 SHALLOW_SHARP_SLOT_GROUPS = (("rectangle-pocket", SHALLOW_SHARP_SLOTS, 32, 0, SHARP_CORNER_RADIUS),)
+# Shallow round flats with a sharp floor radius: the bench suite's kilonewton lugs (flats 0.055 D
+# deep, the least the round flats' fits allowed, sqrt(p/r) 2.7-3.0) sat where the groups above have
+# a single point (0.055 D deep, sqrt(p/r) 1.7): Halton points from the least depth up, near the
+# clamp and further out.
+SHALLOW_SHARP_FLATS = {"depth_ratio": (0.05, 0.08), "length_ratio": (0.28, 1.0), "notch_ratio": (2.2, 4.6),
+                       "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 1.0)}
+SHALLOW_SHARP_FLAT_GROUPS = (("round-pocket", SHALLOW_SHARP_FLATS, 20),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -283,7 +290,7 @@ def cases(families=None) -> list[Case]:
     mm = 1e-3
     out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS + NEAR_CLAMP_SHORT_GROUPS
                       + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS + SHALLOW_NARROW_SLOT_GROUPS
-                      + SHALLOW_SHARP_SLOT_GROUPS)
+                      + SHALLOW_SHARP_SLOT_GROUPS + SHALLOW_SHARP_FLAT_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -523,6 +530,8 @@ PARTS = {
                              "the shallow slots a fifth to a third of a wide bar's width"),
     "shallow-sharp-slots": (lambda: group_cases(SHALLOW_SHARP_SLOT_GROUPS),
                             "the shallow slots with a micro end mill's sharp floor radius"),
+    "shallow-sharp-flats": (lambda: group_cases(SHALLOW_SHARP_FLAT_GROUPS),
+                            "the shallow round flats with a sharp floor radius"),
 }
 
 

@@ -259,6 +259,7 @@ class Fit:
     # (``checks.fits.SAFE_SIDE``): K_t times (1 + margin), the extra length + margin sizes; 0
     # for a fit that meets it
     margin: float = 0.0
+    notch_top: tuple = ()   # a pocket K_t's sharpest study points by depth (``domain.NOTCH_HULL``)
 
     def __call__(self, values: dict):
         powers = {}  # each variable's powers taken once (a casadi graph gets a node per operation)
@@ -445,7 +446,8 @@ def _fit_from_dict(f: dict):
                             float(f.get("rms", 0.0)), float(f.get("loo_max", 0.0)))
     return Fit(tuple(f["variables"]), tuple(tuple(e) for e in f["exponents"]),
                tuple(float(c) for c in f["coefficients"]), domain, float(f.get("rms", 0.0)),
-               float(f.get("loo_max", 0.0)), float(f.get("margin", 0.0)))
+               float(f.get("loo_max", 0.0)), float(f.get("margin", 0.0)),
+               tuple((float(x), float(y)) for x, y in f.get("notch_top", ())))
 
 
 def _fit_to_dict(f) -> dict:
@@ -461,7 +463,8 @@ def _fit_to_dict(f) -> dict:
                     "domain": {k: list(v) for k, v in f.domain.items()}, "rms": f.rms, "loo_max": f.loo_max}
     return {"variables": list(f.variables), "exponents": [list(e) for e in f.exponents],
             "coefficients": list(f.coefficients), "domain": {k: list(v) for k, v in f.domain.items()},
-            "rms": f.rms, "loo_max": f.loo_max, **({"margin": f.margin} if f.margin else {})}
+            "rms": f.rms, "loo_max": f.loo_max, **({"margin": f.margin} if f.margin else {}),
+            **({"notch_top": [list(v) for v in f.notch_top]} if f.notch_top else {})}
 
 
 def to_dict(c: Corrections) -> dict:

@@ -62,6 +62,38 @@ LP_GRID_BOX = (2.4, 4.0)
 LP_GRID_TOP = {"tube-pocket": 8.0}
 
 
+# A pocket's sharpness over the sharpest the study had at its depth: ``notch_ratio`` (sqrt(p/r)) over
+# the rising part of the upper hull of the K_t fit's study points in (depth_ratio, notch_ratio),
+# the fit's ``notch_top``. The box bounds each parameter alone, while the study's sharp radii are
+# on the deeper pockets (a slot's notch_ratio to 3.0 at 0.066 h deep, to 4.8 at 0.28 h): a sharp
+# corner radius on a shallow pocket is inside the box but far from any point the fit was made on.
+NOTCH_HULL = "notch_hull"
+
+
+def upper_hull(points) -> tuple:
+    """The rising part of the upper convex hull of ``points`` (x, y), as vertices from the least x
+    to the greatest y: below the lines through consecutive vertices lies every point."""
+    hull = []
+    for p in sorted(set((float(x), float(y)) for x, y in points)):
+        while len(hull) >= 2 and ((hull[-1][0] - hull[-2][0]) * (p[1] - hull[-2][1])
+                                  - (hull[-1][1] - hull[-2][1]) * (p[0] - hull[-2][0])) >= 0:
+            hull.pop()
+        hull.append(p)
+    top = max(range(len(hull)), key=lambda i: hull[i][1])
+    return tuple(hull[:top + 1])
+
+
+def notch_top(depth_ratio, vertices):
+    """The sharpest ``notch_ratio`` the study had at ``depth_ratio``: the least of the lines through
+    the consecutive ``vertices`` (``upper_hull``), and their greatest notch (a number or an
+    expression, as ``depth_ratio``)."""
+    ops = ops_for(depth_ratio)
+    out = vertices[-1][1]
+    for (x0, y0), (x1, y1) in zip(vertices, vertices[1:]):
+        out = ops.fmin(out, y0 + (y1 - y0) / (x1 - x0) * (depth_ratio - x0))
+    return out
+
+
 def lp_grid_top(fam: str) -> float:
     """The most gauge grids a pocket of family ``fam`` may be long (``domain_lp_grid_max``)."""
     return LP_GRID_TOP.get(fam, LP_GRID_BOX[1])
@@ -106,13 +138,17 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     """``(name, value, low, high)`` for every parameter a fit of ``g``'s family uses: the design must
     stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
     first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``); a pocket no more grid
-    lengths long than the study's (``LP_GRID``)."""
+    lengths long than the study's (``LP_GRID``); a pocket no sharper than the study's at its depth
+    (``NOTCH_HULL``)."""
     # a fit's clamp_ratio bounds the first station's (the others are further out)
     values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0], NEAR_STATION: station_ratios(g)[0]}
     box = domain_box(family(g), table)
     out = [(name, values[name], lo, hi) for name, (lo, hi) in box.items()]
     if g.feature == "pocket" and box and g.grid_length > 0:
         out.append((LP_GRID, g.feature_length / g.grid_length, -math.inf, lp_grid_top(family(g))))
+    vertices = getattr(table.fit(family(g), "stress"), "notch_top", ())
+    if len(vertices) >= 2 and "notch_ratio" in values:
+        out.append((NOTCH_HULL, values["notch_ratio"] / notch_top(values["depth_ratio"], vertices), -math.inf, 1.0))
     clamp = clamp_fit(table)
     if clamp is not None:
         for name, (lo, hi) in clamp.domain.items():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from designer import model
+from designer.model.domain import NOTCH_HULL
 from designer.result.evaluation import Evaluation
 
 
@@ -90,6 +91,12 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                    f"allow at least {float(v.value) * mm:.4g} mm, or enlarge limits.width/limits.height")
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
+    if f"domain_{NOTCH_HULL}_max" in violated:
+        g = best.design.geometry
+        least = g.floor_radius * float(violated[f"domain_{NOTCH_HULL}_max"].value) ** 2
+        out.append(f"domain_{NOTCH_HULL}_max: its pockets' floor radius R{g.floor_radius * mm:.3g} mm is sharper for their "
+                   f"{g.depth * mm:.3g} mm depth than the 3-D study's were (docs/model.md §7); cad.corner_radius of at "
+                   f"least {least * mm:.3g} mm would be inside")
     if "natural_frequency" in violated:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "

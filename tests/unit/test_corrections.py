@@ -405,3 +405,71 @@ def test_the_hole_edge_hinge_is_softplus_and_finite_on_a_wild_trial_point():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert corrections.hole_edge(np.array([50.0]))[0] == pytest.approx(50.0 - d0, rel=1e-15)
+
+
+def test_the_upper_hull_is_the_rising_top_of_the_points():
+    """``domain.upper_hull``: of (0, 0), (1, 2), (2, 3), (3, 3.5), (4, 1) and points under them, the
+    concave chain (0, 0)-(1, 2)-(2, 3)-(3, 3.5), slopes 2, 1, 0.5, up to the highest point; (1.5, 2.4)
+    lies under the chord of (1, 2)-(2, 3) (2.5 there) and is not a vertex; ``notch_top`` is the chain
+    (the least of its segments' lines), and its top beyond."""
+    points = [(0, 0), (1, 2), (2, 3), (3, 3.5), (4, 1), (1.5, 2.4), (1, 0.5), (2, 1), (3, 3.5)]
+    vertices = domain.upper_hull(points)
+    assert vertices == ((0, 0), (1, 2), (2, 3), (3, 3.5))
+    assert [domain.notch_top(x, vertices) for x in (0.5, 1.5, 2.5, 3.0, 3.7)] == pytest.approx([1, 2.5, 3.25, 3.5, 3.5])
+    # collinear points are not vertices: the chain is strictly concave
+    assert domain.upper_hull([(0, 0), (1, 1), (2, 2), (3, 2.5)]) == ((0, 0), (2, 2), (3, 2.5))
+
+
+SHALLOW_SLOT_SPEC = """\
+name: sharp-slot
+load: {force: [1 N, 10 N], position: [40 mm, 80 mm]}
+electronics: {excitation: 5 V, gain: 1000, noise: 1.3 mV}
+gauge: BF120-3AA
+bridge: half
+limits: {fatigue: false, safety_factor: 1.5}
+cad: {corner_radius: RADIUS}
+design:
+  material: 2024-T3
+  section: {kind: rectangle, width: 12 mm, height: 4 mm}
+  stations: [8 mm, 30 mm]
+  feature: {kind: pocket, depth: 0.3 mm, width: 6 mm, length: 12 mm}
+  length: 80 mm
+"""
+
+
+@pytest.mark.parametrize("radius, inside", [("0.05 mm", True), ("0.02 mm", False)])
+def test_a_pocket_is_no_sharper_than_the_studys_at_its_depth(radius, inside):
+    """``domain_notch_hull_max``: the box bounds notch_ratio (sqrt(p/r)) and depth_ratio apart, up
+    to 4.76 for a slot, but the study's slots 0.066 h deep are at most 3.02 sharp, its 4.76 is 0.28 h
+    deep (the shipped table's ``notch_top``). A 0.3 mm slot in a 4 mm bar (0.075 h) with an
+    R0.02 mm floor radius has sqrt(15) = 3.87, inside the box, over the 3.10 the study reached at
+    that depth (3.02 + (4.76 - 3.02) (0.075 - 0.066) / (0.283 - 0.066)); with R0.05 mm, sqrt(6) = 2.45."""
+    spec, design, a = _analysis(SHALLOW_SLOT_SPEC.replace("RADIUS", radius), corrections.load())
+    names = {lim.name: lim for lim in model.limits(design.geometry, a, design.material_params(spec), spec)}
+    params = corrections.parameters(design.geometry)
+    assert float(params["notch_ratio"]) == pytest.approx(math.sqrt(0.3 / float(radius.split()[0])))
+    assert float(params["notch_ratio"]) <= names["domain_notch_ratio_max"].limit
+    lim = names[f"domain_{domain.NOTCH_HULL}_max"]
+    top = corrections.load().fit("rectangle-pocket", "stress").notch_top
+    (d0, n0), (d1, n1) = next((a, b) for a, b in zip(top, top[1:]) if a[0] <= 0.075 <= b[0])
+    expected = n0 + (n1 - n0) * (0.075 - d0) / (d1 - d0)
+    assert float(lim.value) == pytest.approx(float(params["notch_ratio"]) / expected, rel=1e-9)
+    assert (float(lim.normalised) <= 0) == inside
+
+
+def test_a_pocket_too_sharp_for_its_depth_is_diagnosed_with_the_radius_that_would_do():
+    """The diagnosis of a design breaking ``domain_notch_hull_max`` names the floor radius and the
+    least ``cad.corner_radius`` inside the bound: sqrt(p/r') = top at r' = r (sqrt(p/r)/top)^2, for
+    the R0.02 mm slot above 0.02 x (3.87/3.10)^2 = 0.031 mm; that radius is inside."""
+    from designer.result.evaluation import evaluate
+    from designer.search.diagnosis import diagnose
+
+    spec = parse_spec_text(SHALLOW_SLOT_SPEC.replace("RADIUS", "0.02 mm"))
+    ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
+    lines = [line for line in diagnose(spec, ev, []) if line.startswith(f"domain_{domain.NOTCH_HULL}_max")]
+    assert len(lines) == 1 and "R0.02 mm" in lines[0]
+    least = float(lines[0].split("at least ")[1].split(" mm")[0])
+    assert least == pytest.approx(0.031, abs=0.001)
+    inside = parse_spec_text(SHALLOW_SLOT_SPEC.replace("RADIUS", f"{least + 0.001:.3f} mm"))
+    ev2 = evaluate(fixed_design(inside).rounded(inside.cad), inside)
+    assert f"domain_{domain.NOTCH_HULL}_max" not in {v.name for v in ev2.violations}

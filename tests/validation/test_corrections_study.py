@@ -692,6 +692,23 @@ def test_the_slot_k_t_reads_deep_long_slots_as_evenly_as_the_rest():
 
 
 @pytest.mark.parametrize("family", ["rectangle-pocket", "round-pocket", "tube-pocket"])
+def test_the_sharpness_bound_is_the_studys_sharpest_pocket_at_each_depth(family):
+    """docs/model.md §7: a pocket's K_t fit ships with the rising top of its study points in
+    (depth_ratio, notch_ratio) (``notch_top``, the limit ``domain_notch_hull_max``): every point it
+    was fitted on lies on or under it, each vertex is one of them, and at the shallowest depth it is
+    well under the box's greatest notch_ratio (the study's sharp radii are on the deeper pockets).
+    Reference: the study's 3-D rows."""
+    fit = corrections.load().fit(family, "stress")
+    rows = [r for r in _rows() if r["family"] == family and _inside(fit, r)
+            and math.isfinite(r.get("stress_ratio", math.nan))]
+    assert len(rows) >= 30 and len(fit.notch_top) >= 3
+    points = {(r["depth_ratio"], r["notch_ratio"]) for r in rows}
+    assert all(p in points for p in fit.notch_top)
+    assert max(r["notch_ratio"] / domain.notch_top(r["depth_ratio"], fit.notch_top) for r in rows) <= 1 + 1e-9
+    assert domain.notch_top(fit.domain["depth_ratio"][0], fit.notch_top) < 0.6 * fit.domain["notch_ratio"][1]
+
+
+@pytest.mark.parametrize("family", ["rectangle-pocket", "round-pocket", "tube-pocket"])
 def test_the_k_t_fit_predicts_the_far_features_it_was_not_fitted_on(family):
     """docs/model.md §4 and §7: the model takes K_t at every feature, each at its own nearness to
     the clamp, but the fits are made from the study's near features alone. Every study beam has a
