@@ -114,8 +114,7 @@ def _share_of_length(*others: str) -> Terms:
 # flat's length: a short flat's two ends both reach its grid. With a fast decay in that term's
 # place (exp(-27 g), the form before) its left-out error was 1.46 %, and it missed 37 round flats
 # outside the fit (4-8 grids long under a shorter grid; benchmarks/round_flat_holdout.csv) by up
-# to 1.81 %, shallow flats of 0.4-0.5 D reading high; this form 1.09 % and 1.29 % (1.54 % left out
-# with the shallow sharp flats, study.SHALLOW_SHARP_FLATS).
+# to 1.81 %, shallow flats of 0.4-0.5 D reading high; this form 1.09 % and 1.29 % (now 1.54 % left out).
 FLAT_GAP = Terms(("depth_ratio", "gap_slow", "length_ratio"),
                  ((0, 0, 0), (1, 0, 0), (2, 0, 0), (0, 1, 0), (1, 1, 0), (0, 1, -1)))
 # A slot's gauge strain: the slot's ends reaching the grid (the slow grid-gap decay), as much as

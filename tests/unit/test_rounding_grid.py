@@ -312,8 +312,8 @@ def test_a_depth_held_on_its_grid_holds_the_section_on_its_grid_too():
     with flats and its mass the objective, where rounding is hard: 0.01 mm of diameter moves the
     force error 0.3 %, the fatigue limit binds, and the stations are only rounded. IPOPT's answer
     breaks a limit on the grid; the depth held at its grid value (``cad.depth_step`` 0.05 mm) and
-    the rest solved again finds the design (without that solve the search reports one 3 % heavier).
-    Reference: every design of the 0.01 mm grid round it (diameter 11.20-11.40 mm, first station
+    the rest solved again finds the design (without that solve the search reports one 2.7 % heavier).
+    Reference: every design of the 0.01 mm grid round it (diameter 11.33-11.53 mm, first station
     20.50-23.50 mm, flats 0.70, 0.75 or 0.80 mm deep, the last station as found) judged by the
     numeric model: the search's design is at least as light as the best of them that meets every
     limit, within the tie band. (With the K_t fits before the study refined its floor radii whole,
@@ -333,7 +333,7 @@ def test_a_depth_held_on_its_grid_holds_the_section_on_its_grid_too():
     design = found.best.design
     g0 = design.geometry
     best = np.inf
-    for depth, d, first in itertools.product((0.70, 0.75, 0.80), np.arange(1120, 1141), np.arange(2050, 2351)):
+    for depth, d, first in itertools.product((0.70, 0.75, 0.80), np.arange(1133, 1154), np.arange(2050, 2351)):
         g = replace(g0, diameter=d * 1e-5, depth=depth * 1e-3, stations=(first * 1e-5, g0.stations[1]))
         ev = evaluate(replace(design, geometry=g).rounded(made.spec.cad), made.spec)
         if ev.feasible:
