@@ -62,11 +62,14 @@ LP_GRID_BOX = (2.4, 4.0)
 LP_GRID_TOP = {"tube-pocket": 8.0}
 
 
-# A pocket's sharpness over the sharpest the study had at its depth: ``notch_ratio`` (sqrt(p/r)) over
-# the rising part of the upper hull of the K_t fit's study points in (depth_ratio, notch_ratio),
-# the fit's ``notch_top``. The box bounds each parameter alone, while the study's sharp radii are
-# on the deeper pockets (a slot's notch_ratio to 3.0 at 0.066 h deep, to 4.8 at 0.28 h): a sharp
-# corner radius on a shallow pocket is inside the box but far from any point the fit was made on.
+# A pocket's sharpness against the sharpest the study had at its depth: ``notch_ratio`` (sqrt(p/r))
+# under each line through two consecutive vertices of the rising part of the upper hull of the K_t
+# fit's study points in (depth_ratio, notch_ratio), the fit's ``notch_top``: one limit per line,
+# ``domain_notch_hull_<k>_max``, linear in the two ratios (a minimum of the lines, or a ratio to
+# it, has kinks and poles that stalled nlopt's COBYLA for good). The box bounds each parameter
+# alone, while the study's sharp radii are on the deeper pockets (a slot's notch_ratio to 3.0 at
+# 0.066 h deep, to 4.8 at 0.28 h): a sharp corner radius on a shallow pocket is inside the box but
+# far from any point the fit was made on. The greatest notch is the box's own bound.
 NOTCH_HULL = "notch_hull"
 
 
@@ -83,14 +86,26 @@ def upper_hull(points) -> tuple:
     return tuple(hull[:top + 1])
 
 
+def notch_lines(depth_ratio, vertices) -> list:
+    """The notch_ratio at ``depth_ratio`` of each line through consecutive ``vertices``
+    (``upper_hull``): a pocket is no sharper than the study's at its depth where it is under all of
+    them (a number or an expression, as ``depth_ratio``)."""
+    return [y0 + (y1 - y0) / (x1 - x0) * (depth_ratio - x0) for (x0, y0), (x1, y1) in zip(vertices, vertices[1:])]
+
+
+def notch_hull_name(k: int) -> str:
+    """The bound of the ``k``-th line of ``notch_lines`` (from 1): ``notch_hull_<k>``."""
+    return f"{NOTCH_HULL}_{k}"
+
+
 def notch_top(depth_ratio, vertices):
     """The sharpest ``notch_ratio`` the study had at ``depth_ratio``: the least of the lines through
     the consecutive ``vertices`` (``upper_hull``), and their greatest notch (a number or an
     expression, as ``depth_ratio``)."""
     ops = ops_for(depth_ratio)
     out = vertices[-1][1]
-    for (x0, y0), (x1, y1) in zip(vertices, vertices[1:]):
-        out = ops.fmin(out, y0 + (y1 - y0) / (x1 - x0) * (depth_ratio - x0))
+    for line in notch_lines(depth_ratio, vertices):
+        out = ops.fmin(out, line)
     return out
 
 
@@ -139,7 +154,7 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     stay inside the box the study covered (infinite bounds are open). Clamp ratios per station; the
     first feature no nearer the clamp than the study's (``NEAR_CLAMP_BOUND``); a pocket no more grid
     lengths long than the study's (``LP_GRID``); a pocket no sharper than the study's at its depth
-    (``NOTCH_HULL``)."""
+    (``NOTCH_HULL``: one bound per hull line, whose high is the line's notch at the pocket's depth)."""
     # a fit's clamp_ratio bounds the first station's (the others are further out)
     values = {**parameters(g), NEAR_CLAMP_BOUND: clamp_ratios(g)[0], NEAR_STATION: station_ratios(g)[0]}
     box = domain_box(family(g), table)
@@ -147,8 +162,9 @@ def domain_bounds(g: Geometry, table: Corrections) -> list[tuple]:
     if g.feature == "pocket" and box and g.grid_length > 0:
         out.append((LP_GRID, g.feature_length / g.grid_length, -math.inf, lp_grid_top(family(g))))
     vertices = getattr(table.fit(family(g), "stress"), "notch_top", ())
-    if len(vertices) >= 2 and "notch_ratio" in values:
-        out.append((NOTCH_HULL, values["notch_ratio"] / notch_top(values["depth_ratio"], vertices), -math.inf, 1.0))
+    if "notch_ratio" in values:
+        out += [(notch_hull_name(k), values["notch_ratio"], -math.inf, line)
+                for k, line in enumerate(notch_lines(values["depth_ratio"], vertices), start=1)]
     clamp = clamp_fit(table)
     if clamp is not None:
         for name, (lo, hi) in clamp.domain.items():

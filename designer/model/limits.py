@@ -169,6 +169,11 @@ def domain_limits(g: Geometry, table=None, spec=None) -> list[Limit]:
             start = g.stations[0] - g.feature_length / 2
             out.append(Limit(f"domain_{name}_min", start, lo * g.size, upper=False, scale=1e-3, unit="m"))
             continue
+        if name.startswith(domain.NOTCH_HULL):
+            # notch_ratio <= a hull line's at the depth, linear in both ratios; the line may be
+            # below zero far under the study's least depth, so the gap itself is the row (ratios 1.5-7)
+            out.append(Limit(f"domain_{name}_max", value, hi, scale=1.0))
+            continue
         if math.isfinite(lo):
             out.append(Limit(f"domain_{name}_min", value, lo, upper=False, scale=max(abs(lo), 0.1)))
         if math.isfinite(hi):

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from designer import model
-from designer.model.domain import NOTCH_HULL
+from designer.model import corrections, domain
 from designer.result.evaluation import Evaluation
 
 
@@ -91,12 +91,9 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                    f"allow at least {float(v.value) * mm:.4g} mm, or enlarge limits.width/limits.height")
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
-    if f"domain_{NOTCH_HULL}_max" in violated:
-        g = best.design.geometry
-        least = g.floor_radius * float(violated[f"domain_{NOTCH_HULL}_max"].value) ** 2
-        out.append(f"domain_{NOTCH_HULL}_max: its pockets' floor radius R{g.floor_radius * mm:.3g} mm is sharper for their "
-                   f"{g.depth * mm:.3g} mm depth than the 3-D study's were (docs/model.md §7); cad.corner_radius of at "
-                   f"least {least * mm:.3g} mm would be inside")
+    hull = [name for name in violated if name.startswith(f"domain_{domain.NOTCH_HULL}_")]
+    if hull:
+        out.append(_sharp_pockets(best.design.geometry, hull))
     if "natural_frequency" in violated:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
@@ -125,3 +122,19 @@ def _long_pockets(spec, limit, g) -> str:
     return (head + f"; the corrections need a pocket at least {least:.2g} times the section's size long on this "
             f"section (docs/model.md §1): a gauge with a grid of at least {g.pocket_length * mm / most:.3g} mm, "
             "search.feature: none (or hole on a rectangle), or a smaller section would be inside")
+
+
+def _sharp_pockets(g, names) -> str:
+    """The pockets sharper for their depth than the study's (``names``: the ``domain_notch_hull_<k>_max``
+    they break) and the least corner radius inside: sqrt(p/r') = top at r' = r (sqrt(p/r)/top)^2,
+    ``top`` the hull's notch at their depth (``domain.notch_top``)."""
+    mm = 1e3
+    params = corrections.parameters(g)
+    vertices = corrections.load().fit(corrections.family(g), "stress").notch_top
+    top = domain.notch_top(float(params["depth_ratio"]), vertices)
+    head = (f"{', '.join(names)}: its pockets' floor radius R{g.floor_radius * mm:.3g} mm is sharper for their "
+            f"{g.depth * mm:.3g} mm depth than the 3-D study's were (docs/model.md §7)")
+    if top <= 0:    # far shallower than the study's shallowest pocket: no radius is inside
+        return f"{head}; no corner radius is inside at that depth: the pockets are shallower than any studied"
+    least = g.floor_radius * (float(params["notch_ratio"]) / top) ** 2
+    return f"{head}; cad.corner_radius of at least {least * mm:.3g} mm would be inside"

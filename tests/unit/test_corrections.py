@@ -439,7 +439,7 @@ design:
 
 @pytest.mark.parametrize("radius, inside", [("0.05 mm", True), ("0.02 mm", False)])
 def test_a_pocket_is_no_sharper_than_the_studys_at_its_depth(radius, inside):
-    """``domain_notch_hull_max``: the box bounds notch_ratio (sqrt(p/r)) and depth_ratio apart, up
+    """``domain_notch_hull_<k>_max``: the box bounds notch_ratio (sqrt(p/r)) and depth_ratio apart, up
     to 4.76 for a slot, but the study's slots 0.066 h deep are at most 3.02 sharp, its 4.76 is 0.28 h
     deep (the shipped table's ``notch_top``). A 0.3 mm slot in a 4 mm bar (0.075 h) with an
     R0.02 mm floor radius has sqrt(15) = 3.87, inside the box, over the 3.10 the study reached at
@@ -449,16 +449,20 @@ def test_a_pocket_is_no_sharper_than_the_studys_at_its_depth(radius, inside):
     params = corrections.parameters(design.geometry)
     assert float(params["notch_ratio"]) == pytest.approx(math.sqrt(0.3 / float(radius.split()[0])))
     assert float(params["notch_ratio"]) <= names["domain_notch_ratio_max"].limit
-    lim = names[f"domain_{domain.NOTCH_HULL}_max"]
     top = corrections.load().fit("rectangle-pocket", "stress").notch_top
-    (d0, n0), (d1, n1) = next((a, b) for a, b in zip(top, top[1:]) if a[0] <= 0.075 <= b[0])
+    hull = [names[f"domain_{domain.NOTCH_HULL}_{k}_max"] for k in range(1, len(top))]
+    assert len(hull) == len(top) - 1 and f"domain_{domain.NOTCH_HULL}_{len(top)}_max" not in names
+    k, ((d0, n0), (d1, n1)) = next((k, (a, b)) for k, (a, b) in enumerate(zip(top, top[1:])) if a[0] <= 0.075 <= b[0])
     expected = n0 + (n1 - n0) * (0.075 - d0) / (d1 - d0)
-    assert float(lim.value) == pytest.approx(float(params["notch_ratio"]) / expected, rel=1e-9)
-    assert (float(lim.normalised) <= 0) == inside
+    assert float(hull[k].value) == pytest.approx(float(params["notch_ratio"]), rel=1e-12)
+    assert float(hull[k].limit) == pytest.approx(expected, rel=1e-9)
+    # the hull is concave: at 0.075 h the other lines are above the one through its neighbours
+    assert min(float(lim.limit) for lim in hull) == pytest.approx(expected, rel=1e-9)
+    assert all(float(lim.normalised) <= 0 for lim in hull) == inside
 
 
 def test_a_pocket_too_sharp_for_its_depth_is_diagnosed_with_the_radius_that_would_do():
-    """The diagnosis of a design breaking ``domain_notch_hull_max`` names the floor radius and the
+    """The diagnosis of a design breaking a ``domain_notch_hull_<k>_max`` names the floor radius and the
     least ``cad.corner_radius`` inside the bound: sqrt(p/r') = top at r' = r (sqrt(p/r)/top)^2, for
     the R0.02 mm slot above 0.02 x (3.87/3.10)^2 = 0.031 mm; that radius is inside."""
     from designer.result.evaluation import evaluate
@@ -466,10 +470,10 @@ def test_a_pocket_too_sharp_for_its_depth_is_diagnosed_with_the_radius_that_woul
 
     spec = parse_spec_text(SHALLOW_SLOT_SPEC.replace("RADIUS", "0.02 mm"))
     ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
-    lines = [line for line in diagnose(spec, ev, []) if line.startswith(f"domain_{domain.NOTCH_HULL}_max")]
+    lines = [line for line in diagnose(spec, ev, []) if line.startswith(f"domain_{domain.NOTCH_HULL}_")]
     assert len(lines) == 1 and "R0.02 mm" in lines[0]
     least = float(lines[0].split("at least ")[1].split(" mm")[0])
     assert least == pytest.approx(0.031, abs=0.001)
     inside = parse_spec_text(SHALLOW_SLOT_SPEC.replace("RADIUS", f"{least + 0.001:.3f} mm"))
     ev2 = evaluate(fixed_design(inside).rounded(inside.cad), inside)
-    assert f"domain_{domain.NOTCH_HULL}_max" not in {v.name for v in ev2.violations}
+    assert not [v.name for v in ev2.violations if v.name.startswith(f"domain_{domain.NOTCH_HULL}_")]

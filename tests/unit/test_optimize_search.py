@@ -210,6 +210,32 @@ def test_every_method_returns_a_verified_result(method):
         assert outcome.best.objective <= ref * 1.01
 
 
+def test_the_derivative_free_method_finishes_where_the_sharpness_bound_is_near():
+    """nlopt's COBYLA can loop for good inside its own linear programs, whatever its evaluation and
+    time budgets (nlopt issue #370): with the sharpness bound written as a ratio to the least of
+    the hull's lines, the bench suite's first spec (seed 0: a titanium slot near the bound) kept
+    it past 7 minutes. With one linear row per hull line it finishes in about a second; run in
+    its own process so that a relapse fails instead of hanging the tests."""
+    import subprocess
+    import sys
+
+    from designer.bench.suite import generate_suite
+
+    code = ("from designer.bench.suite import generate_suite\n"
+            "from designer.search import optimize\n"
+            "item = generate_suite(50, 0)[0]\n"
+            "out = optimize(item.spec, 'cobyla')\n"
+            "print(item.name, out.status, out.best.objective)\n")
+    try:
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    except subprocess.TimeoutExpired:
+        pytest.fail("--method cobyla did not finish the bench suite's first spec in 120 s")
+    assert done.returncode == 0, done.stderr
+    name, status, objective = done.stdout.split()
+    assert name == "001-millinewton" and status == "optimal"
+    assert float(objective) <= search.optimize(generate_suite(50, 0)[0].spec).best.objective * 1.01
+
+
 def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     # The physics is written once: the casadi function of the NLP and the numeric check agree
     # (at the nominal sizes; the tolerance corners' rows: test_tolerances.py).
