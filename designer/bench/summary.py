@@ -142,6 +142,19 @@ def failure_list(result: BenchResult) -> list[dict]:
     return out
 
 
+def outside_the_band(result: BenchResult, method: str) -> list[str]:
+    """The feasible specs on which ``method`` answered outside the tie band of the lowest verified
+    objective: spec, gap, its objective and the best known design's."""
+    out = []
+    for r in result.runs:
+        t = result.truth(r)
+        g = gap(r, t) if r.method == method else None
+        if g:
+            found = "no design" if math.isinf(g) else f"{r.objective:.6g}, {_pct(g)} over"
+            out.append(f"{r.spec} ({found}; the lowest {t.lead:.6g}, best known {t.best:.6g} by {t.best_by})")
+    return out
+
+
 def construction_mismatches(result: BenchResult) -> list[str]:
     """Specs whose verdict differs from the one they were built to have (a model or bench defect)."""
     return [f"{t.spec}: built {t.expected}, found {t.verdict}" for t in result.truths.values()
@@ -281,7 +294,10 @@ def markdown(result: BenchResult, chart_file: str = "bench.png") -> str:
         "",
     ]
     if default is not None:
-        lines += [_default_verdict(default, summary), ""]
+        misses = outside_the_band(result, default["method"])
+        lines += [_default_verdict(default, summary) + " Its answer is outside the tie band "
+                  + (f"on {len(misses)} of {default['feasible_specs']} feasible specs: " + "; ".join(misses) + "."
+                     if misses else f"on none of the {default['feasible_specs']} feasible specs."), ""]
     lines += ["## Stability", "", stability_markdown(result), ""]
     fails = failure_list(result)
     lines += ["## Every pipeline failure", ""]

@@ -81,7 +81,7 @@ def fit_terms(rows: list[dict], terms: Terms, target, weight=None, box=(), quant
 NEUBER = Terms(("notch_ratio", "depth_ratio"), ((0, 0), (1, 0), (1, 1)))
 
 
-def near_clamp_domain(fit, rows: list[dict]):
+def with_study_bounds(fit, rows: list[dict]):
     """``fit`` with its domain bounded below by the study's nearest feature to the clamp
     (``NEAR_CLAMP``), where the rows record it; a pocket K_t's with the rows' sharpest notch_ratio
     by depth (``notch_top``, ``domain.NOTCH_HULL``)."""
@@ -397,7 +397,7 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
                 fit, left_out = fit_terms(data, terms, lambda r: r[column],
                                           weight=lambda r, q=quantity: error_weight(q, r), box=box,
                                           quantity=quantity)
-                fit = near_clamp_domain(fit, data)
+                fit = with_study_bounds(fit, data)
                 report.append((fam, quantity, len(terms.exponents), fit))
                 if fit.loo_max <= FIT_ACCEPT[quantity]:
                     fits.setdefault(fam, {})[quantity] = fit

@@ -38,15 +38,20 @@ def back_off(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
     fronts)."""
     continuous = float(problem.functions(s.x, params)[0])
 
-    def close(e: Evaluation) -> bool:
-        return in_nlp_units(e.objective, problem.spec.objective) <= continuous * (1 + NEARBY_GAP)
+    def close(e: Evaluation, gap: float = NEARBY_GAP) -> bool:
+        return in_nlp_units(e.objective, problem.spec.objective) <= continuous * (1 + gap)
+
+    def tied(e: Evaluation) -> bool:
+        return close(e, model.TIE_TOLERANCE)
 
     near = _nearby_on_the_grid(problem, material, s)
     if near is not None and (front or close(near)):
         fallbacks.append(f"{where}: rounding broke a limit; the best design on the grid around the answer "
                          "taken instead")
         return s, near
-    held = None if front else _depth_held(problem, params, material, s, solves, close)
+    # both neighbouring depths unless the first is within the tie band: the bench suite's
+    # 033-loose-limits met the 1 % at 1.75 mm, 0.1 % above its design at 1.80 mm
+    held = None if front else _depth_held(problem, params, material, s, solves, tied)
     if held is not None and close(held[1]):
         fallbacks.append(f"{where}: rounding broke a limit; the depth held at its neighbouring grid values and "
                          "the rest solved again")
