@@ -92,7 +92,9 @@ def test_refitting_the_study_gives_the_shipped_table():
                 assert again.domain == fit.domain
                 again, fit = again.poly, fit.poly
             assert again.exponents == fit.exponents
-            assert again.coefficients == pytest.approx(fit.coefficients, rel=1e-9, abs=1e-12)
+            # to the last digits a least-squares solve keeps across LAPACK builds: the clamp-share
+            # fit's (rectangle pockets) moved by 7e-9 between two OpenBLAS builds
+            assert again.coefficients == pytest.approx(fit.coefficients, rel=1e-7, abs=1e-12)
 
 
 def _same_clamp(a, b) -> bool:
