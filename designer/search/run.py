@@ -470,8 +470,9 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
     """``candidates`` with each contender (feasible, within CONTENDER_BAND of the best objective)
     solved again from every start, keeping the better verified design."""
     # (a family on stock is searched on its rows later: its continuous design is no lead, as in
-    # ``optimize``; the bench suite's 011-loose-limits: a tube's kept the rectangles out of the
-    # band, whose start at 70 % finds a design 5 % lighter than the tube's stock row)
+    # ``optimize``; on the bench suite's 011-loose-limits the tubes' continuous answer kept the
+    # rectangles out of the band, though their start at 70 % gives a bar 5 % lighter than the
+    # tubes' stock row)
     feasible = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible
                 and stock_system(problems[c.family].spec, c.family) == "none"]
     if not feasible:
