@@ -276,9 +276,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
                 continue
             prior = warm.get((mat.name, fam))
             start = None if prior is None else prior.evaluation
-            # (a family on stock is searched on its rows later: its continuous design is no lead)
-            leads = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible
-                     and stock_system(spec, c.family) == "none"]
+            leads = _continuous_leads(spec, candidates)
             cap = min(leads) * (1 + CONTENDER_BAND) if leads and method == "ipopt" and outrank else None
             rest = [m for m in mats[k + 1:] if (m.name, fam) not in skip and m.name not in done]
             proves = (None if why or method != "ipopt" or any((m.name, fam) in warm for m in [mat] + rest)
@@ -296,7 +294,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     if proved:
         candidates = _proved_infeasible(problems, proved, candidates, method, progress, total)
     if method == "ipopt" and not warm:
-        candidates = every_start_for_contenders(candidates, problems)
+        candidates = every_start_for_contenders(spec, candidates, problems)
     candidates = candidates_on_stock(spec, problems, candidates, skip)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
@@ -466,15 +464,19 @@ CONTENDER_STARTS = (0.35, 0.7, 0.5)
 LEADER_BAND = 0.01
 
 
-def every_start_for_contenders(candidates: list, problems: dict) -> list:
-    """``candidates`` with each contender (feasible, within CONTENDER_BAND of the best objective)
-    solved again from every start, keeping the better verified design."""
-    # (a family on stock is searched on its rows later: its continuous design is no lead, as in
-    # ``optimize``; on the bench suite's 011-loose-limits the tubes' continuous answer kept the
-    # rectangles out of the band, though their start at 70 % gives a bar 5 % lighter than the
-    # tubes' stock row)
-    feasible = [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible
-                and stock_system(problems[c.family].spec, c.family) == "none"]
+def _continuous_leads(spec, candidates: list) -> list[float]:
+    """The objectives of the feasible candidates that bound the others: a family on stock is searched
+    on its rows later, so its continuous design is no lead (on the bench suite's 011-loose-limits the
+    tubes' continuous answer kept the rectangles out of the contenders, though their start at 70 %
+    gives a bar 5 % lighter than the tubes' stock row)."""
+    return [c.evaluation.objective for c in candidates if c.evaluation is not None and c.evaluation.feasible
+            and stock_system(spec, c.family) == "none"]
+
+
+def every_start_for_contenders(spec, candidates: list, problems: dict) -> list:
+    """``candidates`` with each contender (feasible, within CONTENDER_BAND of the best objective of
+    ``_continuous_leads``) solved again from every start, keeping the better verified design."""
+    feasible = _continuous_leads(spec, candidates)
     if not feasible:
         return candidates
     lead = min(feasible)
@@ -486,7 +488,7 @@ def every_start_for_contenders(candidates: list, problems: dict) -> list:
             out.append(c)
             continue
         material = catalogue.material(c.material)
-        stocked = stock_system(problem.spec, c.family) != "none"  # its rows are searched later from this answer
+        stocked = stock_system(spec, c.family) != "none"  # its rows are searched later from this answer
         fractions = CONTENDER_STARTS if ev.objective <= lead * (1 + LEADER_BAND) else CONTENDER_STARTS[:2]
         # (a family on stock: its answer is the rows' start and bound, and its rows are searched from
         # several starts anyway; only the smaller ranges, which the reported continuous optimum needs)
