@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer import interrupt
+from designer.search import watchdog
 from designer.search.problem import Solve
 
 NLOPT_XTOL = 1e-8
@@ -17,6 +18,9 @@ NAN_PENALTY = 1e6
 CCSA_INNER_MAX_EVAL = 50
 CCSA_DUAL_MAX_EVAL = 100
 NLOPT_SAFETY_SECONDS = 5.0    # a stalled run must not stall the search; budgets end runs first
+# A run is watched in a forked child (``watchdog``) and killed at this age: nlopt's own loops can
+# ignore both budgets. Above two runs' safety time (MMA's and CCSAQ's restart is a second run).
+NLOPT_KILL_SECONDS = 3 * NLOPT_SAFETY_SECONDS
 ISRES_SEED = 12345            # nlopt's random generator is global: seeded before each ISRES run
 CCSA_RESTART_OVER = 1e-6      # a constraint over this at MMA's or CCSAQ's stop starts them once more
 
@@ -26,7 +30,20 @@ _NLOPT_ALGORITHMS = {"slsqp": "LD_SLSQP", "mma": "LD_MMA", "ccsaq": "LD_CCSAQ", 
 
 
 def nlopt_solve(problem, method: str, params, x0) -> Solve:
-    """One nlopt run behind the same interface; DIRECT, which takes no constraints, runs in AUGLAG."""
+    """One nlopt run behind the same interface, watched in a child process where the platform
+    forks: a run that has not returned after ``NLOPT_KILL_SECONDS`` is killed and recorded as
+    failed, at its start point."""
+    if not watchdog.can_watch():
+        return _nlopt_run(problem, method, params, x0)
+    try:
+        return watchdog.run_watched(lambda: _nlopt_run(problem, method, params, x0), NLOPT_KILL_SECONDS)
+    except watchdog.Lost as lost:
+        lo, hi = problem.bounds()
+        return Solve(np.clip(np.asarray(x0, dtype=float), lo, hi), False, f"nlopt {method}: {lost}", 0, method)
+
+
+def _nlopt_run(problem, method: str, params, x0) -> Solve:
+    """One nlopt run; DIRECT, which takes no constraints, runs in AUGLAG."""
     import nlopt
 
     lo, hi = problem.bounds()
