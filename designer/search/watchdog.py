@@ -30,8 +30,8 @@ class Lost(Exception):
 
 
 def can_watch() -> bool:
-    """Whether runs can be watched here: fork is POSIX only."""
-    return hasattr(os, "fork")
+    """Whether runs can be watched here: fork and poll are POSIX only."""
+    return hasattr(os, "fork") and hasattr(select, "poll")
 
 
 def run_watched(run: Callable[[], T], seconds: float) -> T:
@@ -54,8 +54,8 @@ def run_watched(run: Callable[[], T], seconds: float) -> T:
                 answer = (False, exc)
             try:
                 data = pickle.dumps(answer)
-            except Exception as exc:  # noqa: BLE001 -- an exception that cannot be pickled
-                data = pickle.dumps((False, RuntimeError(f"{type(answer[1]).__name__}: {answer[1]}"[:2000])))
+            except Exception as exc:  # noqa: BLE001 -- an answer that cannot be pickled, said so
+                data = pickle.dumps((False, RuntimeError(f"the run's answer could not be passed on: {exc}")))
             with os.fdopen(write, "wb") as pipe:
                 pipe.write(data)
         finally:
@@ -84,12 +84,11 @@ def _read_until(fd: int, seconds: float) -> bytes | None:
     """Everything written to ``fd`` until it is closed, or None at the deadline."""
     deadline = time.monotonic() + seconds
     chunks = []
+    poller = select.poll()   # not select.select: it fails on descriptors past 1024
+    poller.register(fd, select.POLLIN)
     while True:
         left = deadline - time.monotonic()
-        if left <= 0:
-            return None
-        ready, _, _ = select.select([fd], [], [], left)
-        if not ready:
+        if left <= 0 or not poller.poll(left * 1000):
             return None
         chunk = os.read(fd, 65536)
         if not chunk:

@@ -112,3 +112,15 @@ def test_ctrl_c_reaches_the_search_while_nlopt_loops_and_leaves_no_process_behin
     assert proc.returncode != 0 and "KeyboardInterrupt" in err
     time.sleep(0.2)
     assert _left_running(marker) == []
+
+
+def test_what_the_run_returns_or_raises_comes_back_to_the_parent():
+    from designer.search import watchdog
+
+    assert watchdog.run_watched(lambda: {"pid": os.getpid()}, 30)["pid"] != os.getpid()
+    with pytest.raises(ZeroDivisionError):
+        watchdog.run_watched(lambda: 1 / 0, 30)
+    with pytest.raises(RuntimeError, match="could not be passed on"):
+        watchdog.run_watched(lambda: (lambda: None), 30)   # a lambda cannot be pickled
+    with pytest.raises(watchdog.Lost, match="without an answer"):
+        watchdog.run_watched(lambda: os._exit(3), 30)
