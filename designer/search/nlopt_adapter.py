@@ -101,7 +101,10 @@ def _nlopt_run(problem, method: str, params, x0) -> Solve:
         if method in ("mma", "ccsaq") and code == 4 and _worst(fn, x, params) > CCSA_RESTART_OVER:
             x = opt.optimize(np.asarray(x))
             code = opt.last_optimize_result()
-        return Solve(np.asarray(x), code > 0, _nlopt_message(code), counter["n"], method)
+        x = np.asarray(x, dtype=float)
+        if not np.all(np.isfinite(x)):  # SLSQP can end on NaN and call it success (nlopt issue #28)
+            return Solve(x_start, False, f"{_nlopt_message(code)} at a non-finite point", counter["n"], method)
+        return Solve(x, code > 0, _nlopt_message(code), counter["n"], method)
     except Exception as exc:  # nlopt's own exception types do not derive from RuntimeError
         # RoundoffLimited, forced stops and failures: the run is recorded as failed, never raised,
         # unless it stopped for a signal.

@@ -71,6 +71,8 @@ class GridBox:
             fields_ = []  # a stock section is what the table says it is
         fields_ += {"pocket": ["depth"], "hole": ["hole"]}.get(g.feature, [])
         stations = [float(s) for s in g.stations]
+        if not all(math.isfinite(v) for v in [*(float(getattr(g, f)) for f in fields_), *stations]):
+            return None  # a solver's non-finite answer (nlopt's SLSQP can end on NaN): nothing to round
         choices = [floor_ceil(float(getattr(g, f)), min(reach, DEPTH_REACH), spec.cad.depth_step) if f == "depth"
                    else floor_ceil(float(getattr(g, f)), reach) for f in fields_]
         station_choices = [floor_ceil(s) for s in stations]
