@@ -24,7 +24,10 @@ pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="runs are watche
 ISSUE_370 = '''
 import sys, time
 import numpy as np
+from designer import interrupt
 from designer.search import nlopt_adapter
+
+interrupt.install()   # the command's own handlers (a shell's background job would start with SIGINT ignored)
 
 
 class Issue370:
