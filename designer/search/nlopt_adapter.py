@@ -38,18 +38,29 @@ def nlopt_solve(problem, method: str, params, x0) -> Solve:
     try:
         return watchdog.run_watched(lambda: _nlopt_run(problem, method, params, x0), NLOPT_KILL_SECONDS)
     except watchdog.Lost as lost:
-        lo, hi = problem.bounds()
-        return Solve(np.clip(np.asarray(x0, dtype=float), lo, hi), False, f"nlopt {method}: {lost}", 0, method)
+        return Solve(_start_point(problem, x0), False, f"nlopt {method}: {lost}", 0, method)
+
+
+def _box(problem):
+    """The bounds nlopt runs in: the problem's, with a finite top for the epigraph's error ratio
+    (global methods sample the whole box; the ratio stays below 1e3)."""
+    lo, hi = problem.bounds()
+    if problem.epigraph:
+        hi = hi.copy()
+        hi[-1] = 1e3
+    return lo, hi
+
+
+def _start_point(problem, x0):
+    """Where a run starts (and where a failed run is recorded): ``x0`` clipped into ``_box``."""
+    return np.clip(np.asarray(x0, dtype=float), *_box(problem))
 
 
 def _nlopt_run(problem, method: str, params, x0) -> Solve:
     """One nlopt run; DIRECT, which takes no constraints, runs in AUGLAG."""
     import nlopt
 
-    lo, hi = problem.bounds()
-    if problem.epigraph:  # a finite box for global methods: the error ratio stays below 1e3
-        hi = hi.copy()
-        hi[-1] = 1e3
+    lo, hi = _box(problem)
     n = problem.size
     fn = problem.functions
     counter = {"n": 0}
@@ -91,7 +102,7 @@ def _nlopt_run(problem, method: str, params, x0) -> Solve:
     if method == "isres":
         opt.set_population(20 * (n + 1))
         nlopt.srand(ISRES_SEED)
-    x_start = np.clip(np.asarray(x0, dtype=float), lo, hi)
+    x_start = _start_point(problem, x0)
     try:
         x = opt.optimize(x_start)
         code = opt.last_optimize_result()

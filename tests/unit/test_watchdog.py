@@ -81,8 +81,9 @@ def test_a_run_that_never_returns_is_stopped_at_its_deadline_and_recorded_as_fai
         proc.kill()
         pytest.fail("nlopt_solve did not return within 60 s on nlopt issue #370's problem")
     assert proc.returncode == 0, err
-    _, _, success, evaluations, seconds, message = out.splitlines()[1].split(" ", 5)
+    x0, x1, success, evaluations, seconds, message = out.splitlines()[1].split(" ", 5)
     assert success == "False" and evaluations == "0"
+    assert (float(x0), float(x1)) == (0.0, 0.0)    # recorded at its start point
     assert "no answer within 2 s" in message
     assert 2.0 <= float(seconds) < 2.0 + 3.0
     if sys.platform == "linux":
