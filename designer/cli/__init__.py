@@ -41,7 +41,18 @@ def build_parser() -> argparse.ArgumentParser:
                 continue  # a command group not built yet
             raise
         module.register(sub)
+    parser.commands = sub.choices
     return parser
+
+
+def parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.Namespace:
+    """``parser.parse_args``, but an argument no command takes is reported by that command's own
+    parser, with its usage (``fpdesign calibrate: error: unrecognized arguments: x.csv``), not by the
+    top level's ``fpdesign COMMAND ...``, which would not show what the command does take."""
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        parser.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
+    return args
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -52,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     sys.stdout = _StandardOutput(stdout)
     try:
         try:
-            args = build_parser().parse_args(argv)
+            args = parse(build_parser(), argv)
         except SystemExit as exc:  # argparse exits 2 on bad usage, 0 on --help
             return int(exc.code or 0)
         code = int(args.func(args) or 0)

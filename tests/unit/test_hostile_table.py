@@ -419,7 +419,7 @@ FLAG_CASES = [
      ("--scheme", "4", "without --readings"), False),
     (("optimize", "{missing}.yaml"), ("no such file",), False),
     (("optimize", "{dir}"), ("cannot be read",), False),
-    (("optimize", "{spec}", "--bogus"), ("--bogus",), True),
+    (("optimize", "{spec}", "--bogus"), ("fpdesign optimize: error: unrecognized arguments: --bogus",), True),
     (("evaluate", "{spec}", "-o", "{spec}"), ("-o", "is a file"), False),
     (("optimize", "{spec}", "-o", "{readings}", "--quiet"), ("-o", "is a file"), False),
     (("verify", "{design}", "-o", "{spec}"), ("-o", "is a file"), False),
@@ -538,6 +538,16 @@ def _fill(text: str, subs: dict) -> str:
     for key, path in subs.items():
         text = text.replace("{" + key + "}", str(path))
     return text
+
+
+def test_an_argument_no_command_takes_is_reported_with_that_commands_usage(capsys):
+    """A positional argument calibrate does not take (its design goes with --design): the message
+    shows calibrate's own usage, which says so, not the top level's ``fpdesign COMMAND ...``."""
+    code = main(["calibrate", "design.json", "readings.csv", "-o", "calibration.json"])
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert lines[0].startswith("usage: fpdesign calibrate [-h] [--design DESIGN]"), lines
+    assert lines[-1] == "fpdesign calibrate: error: unrecognized arguments: readings.csv"
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
