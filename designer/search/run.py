@@ -10,7 +10,7 @@ import numpy as np
 
 from designer import model
 from designer.errors import SolverError, SpecError, describe_allowed
-from designer.result.evaluation import Evaluation
+from designer.result.evaluation import Evaluation, evaluate
 from designer.search.diagnosis import diagnose, no_room
 from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid, onto_the_grid
@@ -156,8 +156,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             elif not s.success:
                 fallbacks.append(f"{m} start {i + 1}: {s.message}")
             elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
-                fallbacks.append(f"{m} start {i + 1}: reported success but violates "
-                                      + ", ".join(v.name for v in ev.violations))
+                fallbacks.append(f"{m} start {i + 1}: {_what_broke(problem, material, s, ev)}")
                 bound = outranked_before_rounding(problem, material, s, cap) if m == "ipopt" and i == 0 else None
                 if bound is not None:
                     fallbacks.append(f"outranked: its answer before rounding, {bound.objective:.4g}, is more than "
@@ -205,6 +204,21 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             break
     return Candidate(material.name, problem.family, evaluation, tuple(solves), tuple(fallbacks), tried=tuple(tried),
                      winner=winner, solution=answers.get(id(evaluation)))
+
+
+def _what_broke(problem: FamilyProblem, material, s: Solve, rounded: Evaluation) -> str:
+    """Why a run that reported success gave no design that meets every limit: its answer itself
+    breaks a limit (the check's verdict, not the solver's), or the answer meets every limit and
+    none of its neighbours on the manufacturing grid (0.01 mm, a depth's step) does, ``rounded``
+    being the one ``round_and_check`` chose."""
+    def broken(ev: Evaluation) -> str:
+        return ", ".join(f"{v.name} (by {100 * float(v.normalised):.2g} %)" for v in ev.violations)
+
+    answer = evaluate(problem.design(s.x, material), problem.spec)
+    if not answer.feasible:
+        return f"reported success but its answer violates {broken(answer)}"
+    return (f"its answer meets every limit, but rounding it to the manufacturing grid breaks {broken(rounded)} "
+            "at the best neighbouring grid point")
 
 
 def _unmachinable(spec, fam: Family) -> str:

@@ -35,6 +35,11 @@ def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
     first = candidate.solves[0]
     assert first.success and not round_and_check(problem.design(first.x, material), spec).feasible
     assert any("rounding broke a limit" in f for f in candidate.fallbacks)
+    # the answer before rounding meets every limit, and the report says rounding broke it
+    from designer.result.evaluation import evaluate
+    assert evaluate(problem.design(first.x, material), spec).feasible
+    assert any("its answer meets every limit, but rounding it to the manufacturing grid breaks" in f
+               for f in candidate.fallbacks)
     ev = candidate.evaluation
     assert ev.feasible
     g = ev.design.geometry
@@ -340,3 +345,38 @@ def test_a_depth_held_on_its_grid_holds_the_section_on_its_grid_too():
             best = min(best, ev.objective)
     assert np.isfinite(best)
     assert float(found.best.objective) <= best * (1 + TIE_TOLERANCE)
+
+
+def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_its_rounding():
+    """The report's solver notes tell the two apart: the answer itself breaking a limit (the
+    solver's success flag is not trusted) and an answer that meets every limit whose grid
+    neighbours do not. The gripper finger's Ti-6Al-4V round bar: its IPOPT answer meets every
+    limit; held at Ø16.8 mm it breaks diameter_max, which the spec's limits.width [4 mm, 16 mm]
+    puts at 16 mm, by 16.8 / 16 - 1 = 5 %."""
+    from dataclasses import replace
+    from pathlib import Path
+
+    from designer.result.evaluation import evaluate
+    from designer.search import material_params
+    from designer.search.methods import solve
+    from designer.search.problem import Family, FamilyProblem
+    from designer.search.run import _what_broke
+    from designer.spec import catalogue
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(Path(__file__).parents[2] / "examples" / "gripper-finger.yaml")
+    problem = FamilyProblem(spec, Family("round", spec.search.feature))
+    material = catalogue.material("Ti-6Al-4V")
+    answer = solve(problem, "ipopt", material_params(material, spec), problem.starts()[0], 0.0)
+    assert answer.success and evaluate(problem.design(answer.x, material), spec).feasible
+    wide = answer.x.copy()
+    wide[problem.names.index("diameter")] = 16.8
+    too_wide = evaluate(problem.design(wide, material), spec)
+
+    broken_answer = _what_broke(problem, material, replace(answer, x=wide), too_wide)
+    assert broken_answer.startswith("reported success but its answer violates ")
+    assert "diameter_max (by 5 %)" in broken_answer
+
+    broken_rounding = _what_broke(problem, material, answer, too_wide)
+    assert broken_rounding.startswith("its answer meets every limit, but rounding it to the manufacturing grid ")
+    assert "diameter_max (by 5 %)" in broken_rounding
