@@ -375,8 +375,10 @@ def markdown(record: dict) -> str:
     solver = record.get("solver", {})
     if solver.get("method") not in (None, "none"):
         lines += ["", "## Solver", "", f"method {solver['method']}, {solver.get('seconds', 0):.3g} s, "
-                  f"{solver.get('evaluations', 0)} model evaluations" +
-                  (f"; fallbacks: {', '.join(solver['fallbacks'])}" if solver.get("fallbacks") else "")]
+                  f"{solver.get('evaluations', 0)} model evaluations."]
+        if solver.get("fallbacks"):
+            lines += ["", "Runs that gave no checked design at once, and what was done (each design above was "
+                      "checked after rounding):", ""] + [f"- {f}" for f in solver["fallbacks"]]
     lines += ["", "## Model", "",
               "Euler–Bernoulli beam theory and closed-form section properties, with factors fitted to 3-D "
               "finite-element results for the features and the clamp (docs/model.md §7); noise is Gaussian "

@@ -53,6 +53,9 @@ def test_reported_design_meets_every_limit_when_rebuilt_from_design_json(name, t
     outranked = [c for c in record["candidates"] if c["status"] == "outranked"]
     assert all(c["continuous_objective"] > record["predicted"]["objective"] for c in outranked)
     assert record["solver"]["method"] == "ipopt" and record["solver"]["evaluations"] > 0
+    # the report lists each of the solver's notes on a line of its own
+    lines = (out / "report.md").read_text(encoding="utf-8").splitlines()
+    assert all(f"- {note}" in lines for note in record["solver"].get("fallbacks", []))
 
 
 def _run(tmp_path, text, capsys):
