@@ -157,6 +157,21 @@ class _Shared:
         return json.loads(path.read_text(encoding="utf-8"))
 
 
+def _unplottable(record: dict) -> str | None:
+    """Why the plots of ``record``'s design cannot be drawn, None if they can. Only an infeasible
+    record's least infeasible design may be so (a slot wider than its bar reads a negative
+    sensitivity); a design that meets every limit and cannot be drawn is a fault, raised."""
+    from designer.outputs.plots.sensor import SensorData
+
+    try:
+        SensorData.from_design(record)
+    except DesignFileError as exc:
+        if record.get("status") != "infeasible":
+            raise
+        return str(exc)
+    return None
+
+
 def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = True, extra_plots=None,
                   writers=(), fronts=None, progress=None, child=None, inputs=()) -> None:
     """design.json, report.md and, when asked, the CAD model, the plots and the outputs of
@@ -180,6 +195,9 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
         raise InputError(f"-o: {out_dir} is a file, not a folder; give a folder for design.json and the report")
     extra = dict(extra_plots or {})
     plot_module = _optional("designer.outputs.plots") if plots else None
+    if plot_module is not None and (why := _unplottable(record)) is not None:
+        record["messages"].append(f"no plots for this infeasible design: {why}")
+        plot_module = None
     with staged_directory(out_dir, stale=previous_outputs(out_dir), inputs=inputs) as scratch:
         files = record.setdefault("files", {})
         cad_job = shared = None

@@ -30,6 +30,11 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
     head = f"no design meets every limit; closest: {label}, violating " + ", ".join(violated) if violated else \
         f"no design meets every limit; closest: {label}"
     out.insert(0, head)
+    if (not_a_beam := model.unbuildable(best.design.geometry)) is not None:
+        # its figures are not a sensor's (a slot wider than its bar reads a negative sensitivity):
+        # the messages below would reason from them
+        out.append(_not_a_beam(spec, *not_a_beam))
+        return out
     check = best.tolerance
     if check is not None:
         at = [f"{lim.name} at {corner}" for lim, corner in zip(check.limits, check.corners)
@@ -98,6 +103,20 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
                    f"lower it to {float(v.value):.4g} Hz or shorten the beam")
+    return out
+
+
+def _not_a_beam(spec, key: str, reason: str) -> str:
+    """Why the least infeasible design is no beam at all (``model.unbuildable``'s rule) and, for a
+    slot wider than the widest bar allowed, what would let one fit."""
+    mm = 1e3
+    out = (f"design.{key}: {reason}: no design the search found is a beam with this feature, so the "
+           "closest one's figures are not a sensor's")
+    if key == "feature.width":
+        out += (f"; a slot is the gauge's width and limits.pocket_margin on each side, "
+                f"{spec.pocket_size()[1] * mm:.4g} mm, and limits.width allows a bar at most "
+                f"{spec.limits.width[1] * mm:.4g} mm wide: a narrower gauge, a smaller pocket_margin, a wider "
+                "limits.width, or search.feature: none would make one")
     return out
 
 
