@@ -13,6 +13,10 @@ With ``--perturbed N`` the specs are instead N of the optimiser examples with on
 figures (load, electronics, limits, targets) each moved by a factor of 10^U(-0.6, 0.6), drawn
 from the seed: the neighbourhood of specs users write, where the bench suite's kinds may not
 reach (such a run found the round flats' far-flat extra length, docs/model.md §7).
+
+With ``--kinds KIND ...`` only the bench suite's specs of those kinds are checked, of every seed
+given (``--seed 1 2 3``), without the examples: the kilonewton lugs' flats up to 6 gauge grids long
+(benchmarks/bench_3d_kilonewton.md).
 """
 
 from __future__ import annotations
@@ -74,8 +78,9 @@ def _numeric_leaves(node, path: str):
             yield node, key, where
 
 
-def designs(count: int, seed: int, refused: list, perturbed: int = 0):
-    """(name, kind, record) for the examples and the generated specs that have a feasible optimum."""
+def designs(count: int, seed: int, refused: list, perturbed: int = 0, kinds=()):
+    """(name, kind, record) for the examples and the generated specs that have a feasible optimum;
+    with ``kinds``, the generated specs of those kinds alone."""
     from designer import bench
     from designer.errors import FpdError
     from designer.result.pipeline import DesignOptions, design, evaluate_fixed
@@ -94,14 +99,14 @@ def designs(count: int, seed: int, refused: list, perturbed: int = 0):
             else:
                 print(f"{name} ({moved}): {result.status}", flush=True)
         return
-    for path in sorted((ROOT / "examples").glob("*.yaml")):
+    for path in [] if kinds else sorted((ROOT / "examples").glob("*.yaml")):
         spec = load_spec(path)
         if spec.design is not None:
             yield path.stem, "fixed", evaluate_fixed(spec).record
         else:
             yield path.stem, "example", design(spec, DesignOptions(tradeoff=False)).record
     for item in bench.generate_suite(count, seed):
-        if item.expected == "infeasible":
+        if item.expected == "infeasible" or (kinds and item.kind not in kinds):
             continue
         try:
             result = design(item.spec, DesignOptions(tradeoff=False))
@@ -142,9 +147,9 @@ def holds(r: dict) -> bool:
             and abs(r["stress"] - 1) <= STRESS_TOLERANCE and not r["failed"])
 
 
-def markdown(rows: list[dict], mesh: str, suite: str = "", refused=()) -> str:
+def markdown(rows: list[dict], mesh: str, suite: str = "", refused=(), examples: bool = True) -> str:
     lines = [f"3-D check (`verify --mesh {mesh}`) of the designs fpdesign reports (optimize without --verify)"
-             + (f": the examples and {suite}" if suite else "") + ".",
+             + (f": {'the examples and ' if examples else ''}{suite}" if suite else "") + ".",
              f"Tolerances: gauge strain ±{STRAIN_TOLERANCE:.0%}, deflection ±{DEFLECTION_TOLERANCE:.0%}, "
              f"peak stress ±{STRESS_TOLERANCE:.0%}.", "",
              "| spec | kind | design | gauge strain 3-D/model | deflection | peak stress (where) | limits broken in 3-D "
@@ -171,7 +176,9 @@ def markdown(rows: list[dict], mesh: str, suite: str = "", refused=()) -> str:
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=40, help="generated specs of the bench suite [40]: over 20 feasible")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, nargs="+", default=[0], help="the bench suite's seeds [0]")
+    p.add_argument("--kinds", nargs="+", default=(), metavar="KIND",
+                   help="only the bench suite's specs of these kinds (no examples)")
     p.add_argument("--mesh", default="normal", choices=("coarse", "normal", "fine"))
     p.add_argument("--perturbed", type=int, default=0, metavar="N",
                    help="instead of the bench suite, N optimiser examples with figures moved (seeded)")
@@ -179,7 +186,10 @@ def main(argv=None) -> int:
     args = p.parse_args(argv)
     rows = []
     refused = []
-    for name, kind, record in designs(args.count, args.seed, refused, args.perturbed):
+    several = len(args.seed) > 1
+    everything = ((f"s{seed}:{name}" if several else name, kind, record) for seed in args.seed
+                  for name, kind, record in designs(args.count, seed, refused, args.perturbed, args.kinds))
+    for name, kind, record in everything:
         try:
             rows.append(row(name, kind, record, args.mesh))
         except Exception as exc:  # noqa: BLE001 - a benchmark reports every failure
@@ -193,10 +203,14 @@ def main(argv=None) -> int:
               f"deflection {r['deflection']:.3f}  stress {r['stress']:.2f}  "
               f"{'holds' if holds(r) else 'breaks ' + ', '.join(r['failed']) if r['failed'] else 'meets every limit, outside the tolerances'}",
               flush=True)
-    suite = (f"the feasible specs of the bench suite's {args.count} generated with seed {args.seed}" if not args.perturbed
-             else f"{args.perturbed} optimiser examples with figures moved (seed {args.seed}; the kind column says "
+    seeds = ", ".join(map(str, args.seed))
+    suite = (f"the feasible specs of the bench suite's {args.count} generated with seed {seeds}" if not args.perturbed
+             else f"{args.perturbed} optimiser examples with figures moved (seed {seeds}; the kind column says "
                   "which; those refused or infeasible are left out), instead of the examples themselves")
-    text = markdown(rows, args.mesh, suite, refused)
+    if args.kinds:
+        suite = (f"the feasible {', '.join(args.kinds)} specs of the bench suite's {args.count} generated with "
+                 f"seed{'s' if several else ''} {seeds} (`sN:` names the seed)")
+    text = markdown(rows, args.mesh, suite, refused, examples=not args.kinds)
     print(text)
     if args.output:
         args.output.write_text(text, encoding="utf-8")

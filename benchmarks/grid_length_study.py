@@ -22,6 +22,9 @@ whose gauge-strain ratios agree with the normal mesh's within 0.1 % on the suite
 With ``--tubes``, tube flats alone (away from the clamp and near it, from one diameter long), 4-8
 grid lengths long under the short grid, at Halton points beyond the first run's: the evidence for
 a tube's flat being allowed 8 grids (``domain.LP_GRID_TOP``; 11 minutes for 20 flats, ``--points 10``).
+With ``--round``, round flats alone (away from the clamp and near it, and as many again 0.4-1 D long),
+4-6 grid lengths long under the short grid, and the corner design at 5 and 6: the evidence for a
+round bar's flat being allowed 6 grids (22 minutes for 24 flats, ``--points 6``).
 
 Its figures: benchmarks/grid_length_study.md.
 """
@@ -44,6 +47,14 @@ GROUPS = (
     ("slot, short for its bar", "rectangle-pocket", study.SHORT_SLOTS),
     ("tube flat", "tube-pocket", {**study.POCKET_BOXES["tube-pocket"], "length_ratio": (1.0, 1.8)}),
 )
+# Round flats short for their bar (0.4-1 D, the shortest the round flats' strain fit takes): there a
+# short grid sits in the floor's uneven middle, where the corner design read 2.8 % off at 11 grids.
+SHORT_ROUND = {"length_ratio": (0.4, 1.0)}
+ROUND_GROUPS = (
+    GROUPS[0], GROUPS[1],
+    ("round flat, short for its bar", "round-pocket", {**study.POCKET_BOXES["round-pocket"], **SHORT_ROUND}),
+    ("round flat, short, near the clamp", "round-pocket", {**study.NEAR_CLAMP_ROUND_FLATS, **SHORT_ROUND}),
+)
 TUBE_GROUPS = (
     GROUPS[-1],
     ("tube flat near the clamp", "tube-pocket", {**study.NEAR_CLAMP_TUBE_FLATS, "length_ratio": (1.0, 1.8)}),
@@ -52,7 +63,11 @@ SKIP = 300          # Halton points the study's own groups may have used
 TUBE_SKIP = 600     # ... and the first run's
 LP_RANGE = (4.0, 10.0)
 TUBE_LP_RANGE = (4.0, 8.0)
-BANDS = ((4.0, 6.0), (6.0, 8.0), (8.0, 10.0))
+ROUND_SKIP = 900    # beyond the tubes' run too
+ROUND_LP_RANGE = (4.0, 6.0)
+BANDS = ((4.0, 5.0), (5.0, 6.0), (6.0, 8.0), (8.0, 10.0))
+# The corner design's flats 5 and 6 grid lengths long.
+ROUND_CORNER_GRIDS = (34.91e-3 / 5, 34.91e-3 / 6)
 
 
 def _cases(box: dict, family: str, count: int, skip: int = SKIP, lp_range: tuple = LP_RANGE):
@@ -82,8 +97,8 @@ def _cases(box: dict, family: str, count: int, skip: int = SKIP, lp_range: tuple
 CORNER_GRIDS = (3.18e-3, 8.72e-3)
 
 
-def corner(mesh: str) -> None:
-    """The corner design's three stations' 3-D/model ratios under CORNER_GRIDS."""
+def corner(mesh: str, grids=CORNER_GRIDS) -> None:
+    """The corner design's three stations' 3-D/model ratios under ``grids`` (m)."""
     from designer.checks.fea import verify_design
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
@@ -92,7 +107,7 @@ def corner(mesh: str) -> None:
 
     print("\n| corner design | grid (mm) | pocket / grid | 3-D/model by station |")
     print("|---|---:|---:|---|")
-    for grid in CORNER_GRIDS:
+    for grid in grids:
         text = LARGE_SPEC.replace("gauge: CEA-06-125UW-120",
                                   f"gauge: {{name: CEA-06-125UW-120, grid_length: {grid * 1e3:g} mm}}")
         record = evaluate_fixed(parse_spec_text(text)).record
@@ -107,11 +122,16 @@ def main(argv=None) -> int:
     parser.add_argument("--mesh", default="coarse", choices=("coarse", "normal", "fine"))
     parser.add_argument("--corner-only", action="store_true", help="only the corner design (CORNER_GRIDS)")
     parser.add_argument("--tubes", action="store_true", help="tube flats alone, 4-8 grid lengths (TUBE_GROUPS)")
+    parser.add_argument("--round", action="store_true",
+                        help="round flats alone, the short ones too, 4-6 grid lengths (ROUND_GROUPS) and the "
+                             "corner design at 5 and 6")
     args = parser.parse_args(argv)
     if args.corner_only:
         corner(args.mesh)
         return 0
     groups, skip, lp_range = (TUBE_GROUPS, TUBE_SKIP, TUBE_LP_RANGE) if args.tubes else (GROUPS, SKIP, LP_RANGE)
+    if args.round:
+        groups, skip, lp_range = ROUND_GROUPS, ROUND_SKIP, ROUND_LP_RANGE
     print("| group | section (mm) | pocket (mm) | depth/size | length/size | 3 mm grid: lp, near, far | "
           "short grid: lp, near, far | change near, far |")
     print("|---|---:|---:|---:|---:|---|---|---|")
@@ -144,7 +164,7 @@ def main(argv=None) -> int:
                 moved = max(abs(c) for s in band for c in s[5])
                 print(f"| {label} | {lo:g}-{hi:g} | {len(band)} | {worst * 100:.2f} % | {moved * 100:.2f} % |")
     if not args.tubes:
-        corner(args.mesh)
+        corner(args.mesh, ROUND_CORNER_GRIDS if args.round else CORNER_GRIDS)
     print(f"study took {time.perf_counter() - start:.0f} s", file=sys.stderr)
     return 0
 

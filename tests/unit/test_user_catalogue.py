@@ -122,7 +122,7 @@ def test_a_user_stock_table_gives_the_section(tmp_path):
     """With ``stock: metric`` the user's 6082-T6 is cut from its own table's round bar: the
     reported diameter is one of the table's rows (8, 10, 12, 16, 20 mm). (Pocket margins of 0.5 mm:
     with the default 1 mm, KFGS-2's 6.4 mm backing makes a pocket 4.2 of its 2 mm grids long, more
-    than the pocket study's 4, the next test.)"""
+    than a slot may be, the next test.)"""
     from designer.search import optimize
     from designer.spec.reader import load_spec
 
@@ -136,15 +136,22 @@ def test_a_user_stock_table_gives_the_section(tmp_path):
 
 def test_a_gauge_whose_backing_makes_long_pockets_is_told_the_margin_that_fits(tmp_path):
     """KFGS-2-120 (2 mm grid, 6.4 mm backing) with the default 1 mm pocket margins: every pocket is
-    8.4 mm = 4.2 grid lengths, beyond the pocket study's 4 (docs/model.md §7), on any section. No
-    design; the message names the margin that fits: (4 x 2 - 6.4) / 2 = 0.8 mm."""
+    8.4 mm = 4.2 grid lengths, beyond the 4 a slot may be (docs/model.md §7). On rectangles alone no
+    design; the message names the margin that fits: (4 x 2 - 6.4) / 2 = 0.8 mm. A round bar's
+    flat may be 6 grid lengths long, so on the round stock bars the same gauge has a design."""
     from designer.search import optimize
     from designer.spec.reader import load_spec
 
-    found = optimize(load_spec(_spec(tmp_path, rest=STOCK_ROUND)))
+    slots = ("search: {materials: [6082-T6], sections: [rectangle]}\n"
+             "targets: {force_error: 1 %, position_error: 1 mm}")
+    found = optimize(load_spec(_spec(tmp_path, rest=slots)))
     assert not found.success
     said = next(m for m in found.messages if m.startswith("domain_lp_grid_max:"))
     assert "4.2 gauge grids long" in said and "a pocket_margin of at most 0.8 mm" in said
+    on_round = optimize(load_spec(_spec(tmp_path, rest=STOCK_ROUND))).best
+    assert on_round.feasible
+    g = on_round.design.geometry
+    assert g.pocket_length / g.grid_length == pytest.approx(4.2)
 
 
 BAD = {
