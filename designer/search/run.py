@@ -211,8 +211,10 @@ def _what_broke(problem: FamilyProblem, material, s: Solve, rounded: Evaluation)
     breaks a limit (the check's verdict, not the solver's), or the answer meets every limit and
     none of its neighbours on the manufacturing grid (0.01 mm, a depth's step) does, ``rounded``
     being the one ``round_and_check`` chose."""
-    def broken(ev: Evaluation) -> str:
-        return ", ".join(f"{v.name} (by {100 * float(v.normalised):.2g} %)" for v in ev.violations)
+    def broken(ev: Evaluation) -> str:   # each limit and how far it is missed: a share of its bound
+        misses = [(v.name, v.record()) for v in ev.violations]
+        return ", ".join(f"{name} (by {-100 * r['margin']:.2g} % of its bound)" if r["limit"] else
+                         f"{name} (by {-r['margin']:.3g} {r['unit']})" for name, r in misses)
 
     answer = evaluate(problem.design(s.x, material), problem.spec)
     if not answer.feasible:

@@ -375,8 +375,8 @@ def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_it
 
     broken_answer = _what_broke(problem, material, replace(answer, x=wide), too_wide)
     assert broken_answer.startswith("reported success but its answer violates ")
-    assert "diameter_max (by 5 %)" in broken_answer
+    assert "diameter_max (by 5 % of its bound)" in broken_answer
 
     broken_rounding = _what_broke(problem, material, answer, too_wide)
     assert broken_rounding.startswith("its answer meets every limit, but rounding it to the manufacturing grid ")
-    assert "diameter_max (by 5 %)" in broken_rounding
+    assert "diameter_max (by 5 % of its bound)" in broken_rounding
