@@ -9,7 +9,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from designer import model
-from designer.errors import SolverError, SpecError, describe_allowed
+from designer.errors import InputError, SolverError, SpecError, describe_allowed
 from designer.result.evaluation import Evaluation, evaluate
 from designer.search.diagnosis import diagnose, no_room
 from designer.search.methods import solve
@@ -216,7 +216,11 @@ def _what_broke(problem: FamilyProblem, material, s: Solve, rounded: Evaluation)
         return ", ".join(f"{name} (by {-100 * r['margin']:.2g} % of its bound)" if r["limit"] else
                          f"{name} (by {-r['margin']:.3g} {r['unit']})" for name, r in misses)
 
-    answer = evaluate(problem.design(s.x, material), problem.spec)
+    try:
+        answer = evaluate(problem.design(s.x, material), problem.spec)
+    except InputError:   # the model gives no number at the answer itself (as outranked_before_rounding)
+        return (f"reported success, at an answer the model cannot judge; rounding it to the manufacturing grid "
+                f"breaks {broken(rounded)} at the best neighbouring grid point")
     if not answer.feasible:
         return f"reported success but its answer violates {broken(answer)}"
     return (f"its answer meets every limit, but rounding it to the manufacturing grid breaks {broken(rounded)} "

@@ -347,7 +347,7 @@ def test_a_depth_held_on_its_grid_holds_the_section_on_its_grid_too():
     assert float(found.best.objective) <= best * (1 + TIE_TOLERANCE)
 
 
-def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_its_rounding():
+def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_its_rounding(monkeypatch):
     """The report's solver notes tell the two apart: the answer itself breaking a limit (the
     solver's success flag is not trusted) and an answer that meets every limit whose grid
     neighbours do not. The gripper finger's Ti-6Al-4V round bar: its IPOPT answer meets every
@@ -380,3 +380,14 @@ def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_it
     broken_rounding = _what_broke(problem, material, answer, too_wide)
     assert broken_rounding.startswith("its answer meets every limit, but rounding it to the manufacturing grid ")
     assert "diameter_max (by 5 % of its bound)" in broken_rounding
+
+    # an answer the model gives no number at is said so, not raised out of the search
+    from designer.errors import InputError
+    from designer.search import run
+
+    def unjudged(*_):
+        raise InputError("the design cannot be evaluated")
+
+    monkeypatch.setattr(run, "evaluate", unjudged)
+    not_judged = _what_broke(problem, material, answer, too_wide)
+    assert "an answer the model cannot judge" in not_judged and "diameter_max (by 5 % of its bound)" in not_judged
