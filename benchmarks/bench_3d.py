@@ -173,6 +173,17 @@ def markdown(rows: list[dict], mesh: str, suite: str = "", refused=(), examples:
     return "\n".join(lines) + "\n"
 
 
+def _of_seeds(args, refused: list):
+    """``designs`` of every seed of ``args.seed``, their names (and those of the specs refused,
+    added to ``refused``) prefixed ``sN:`` when there are several seeds."""
+    for seed in args.seed:
+        prefix = f"s{seed}:" if len(args.seed) > 1 else ""
+        mine = []
+        for name, kind, record in designs(args.count, seed, mine, args.perturbed, args.kinds):
+            yield prefix + name, kind, record
+        refused += [prefix + name for name in mine]
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--count", type=int, default=40, help="generated specs of the bench suite [40]: over 20 feasible")
@@ -187,9 +198,7 @@ def main(argv=None) -> int:
     rows = []
     refused = []
     several = len(args.seed) > 1
-    everything = ((f"s{seed}:{name}" if several else name, kind, record) for seed in args.seed
-                  for name, kind, record in designs(args.count, seed, refused, args.perturbed, args.kinds))
-    for name, kind, record in everything:
+    for name, kind, record in _of_seeds(args, refused):
         try:
             rows.append(row(name, kind, record, args.mesh))
         except Exception as exc:  # noqa: BLE001 - a benchmark reports every failure
