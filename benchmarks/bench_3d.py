@@ -17,6 +17,10 @@ reach (such a run found the round flats' far-flat extra length, docs/model.md §
 With ``--kinds KIND ...`` only the bench suite's specs of those kinds are checked, of every seed
 given (``--seed 1 2 3``), without the examples: the kilonewton lugs' flats up to 6 gauge grids long
 (benchmarks/bench_3d_kilonewton.md).
+
+With ``--designs SECTION+FEATURE ...`` (e.g. ``round+pocket``) only the designs of those families
+are checked, the examples' and the specs' of every seed given: a family's designs after its fits
+changed (benchmarks/bench_3d_round_flats.md).
 """
 
 from __future__ import annotations
@@ -78,9 +82,9 @@ def _numeric_leaves(node, path: str):
             yield node, key, where
 
 
-def designs(count: int, seed: int, refused: list, perturbed: int = 0, kinds=()):
+def designs(count: int, seed: int, refused: list, perturbed: int = 0, kinds=(), examples: bool = True):
     """(name, kind, record) for the examples and the generated specs that have a feasible optimum;
-    with ``kinds``, the generated specs of those kinds alone."""
+    with ``kinds`` (or not ``examples``), the generated specs of those kinds alone."""
     from designer import bench
     from designer.errors import FpdError
     from designer.result.pipeline import DesignOptions, design, evaluate_fixed
@@ -99,7 +103,7 @@ def designs(count: int, seed: int, refused: list, perturbed: int = 0, kinds=()):
             else:
                 print(f"{name} ({moved}): {result.status}", flush=True)
         return
-    for path in [] if kinds else sorted((ROOT / "examples").glob("*.yaml")):
+    for path in [] if kinds or not examples else sorted((ROOT / "examples").glob("*.yaml")):
         spec = load_spec(path)
         if spec.design is not None:
             yield path.stem, "fixed", evaluate_fixed(spec).record
@@ -175,12 +179,14 @@ def markdown(rows: list[dict], mesh: str, suite: str = "", refused=(), examples:
 
 def _of_seeds(args, refused: list):
     """``designs`` of every seed of ``args.seed``, their names (and those of the specs refused,
-    added to ``refused``) prefixed ``sN:`` when there are several seeds."""
+    added to ``refused``) prefixed ``sN:`` when there are several seeds; the examples once."""
     for seed in args.seed:
         prefix = f"s{seed}:" if len(args.seed) > 1 else ""
         mine = []
-        for name, kind, record in designs(args.count, seed, mine, args.perturbed, args.kinds):
-            yield prefix + name, kind, record
+        # the examples once, with the first seed's specs
+        for name, kind, record in designs(args.count, seed, mine, args.perturbed, args.kinds,
+                                          examples=seed == args.seed[0]):
+            yield (prefix if kind not in ("example", "fixed") else "") + name, kind, record
         refused += [prefix + name for name in mine]
 
 
@@ -190,6 +196,8 @@ def main(argv=None) -> int:
     p.add_argument("--seed", type=int, nargs="+", default=[0], help="the bench suite's seeds [0]")
     p.add_argument("--kinds", nargs="+", default=(), metavar="KIND",
                    help="only the bench suite's specs of these kinds (no examples)")
+    p.add_argument("--designs", nargs="+", default=(), metavar="SECTION+FEATURE",
+                   help="only the designs of these families, e.g. round+pocket (examples included)")
     p.add_argument("--mesh", default="normal", choices=("coarse", "normal", "fine"))
     p.add_argument("--perturbed", type=int, default=0, metavar="N",
                    help="instead of the bench suite, N optimiser examples with figures moved (seeded)")
@@ -199,11 +207,13 @@ def main(argv=None) -> int:
     refused = []
     several = len(args.seed) > 1
     for name, kind, record in _of_seeds(args, refused):
+        d = record["design"]
+        if args.designs and f"{d['section']['kind']}+{d['feature']['kind']}" not in args.designs:
+            continue
         try:
             rows.append(row(name, kind, record, args.mesh))
         except Exception as exc:  # noqa: BLE001 - a benchmark reports every failure
             print(f"{name}: the 3-D check failed: {type(exc).__name__}: {exc}", flush=True)
-            d = record["design"]
             rows.append({"name": name, "kind": kind, "design": f"{d['material']} {d['section']['kind']}+"
                          f"{d['feature']['kind']}", "error": f"{type(exc).__name__}: {str(exc).splitlines()[0]}"})
             continue
@@ -219,6 +229,8 @@ def main(argv=None) -> int:
     if args.kinds:
         suite = (f"the feasible {', '.join(args.kinds)} specs of the bench suite's {args.count} generated with "
                  f"seed{'s' if several else ''} {seeds} (`sN:` names the seed)")
+    if args.designs:
+        suite += f", of them the {' and '.join(args.designs)} designs"
     text = markdown(rows, args.mesh, suite, refused, examples=not args.kinds)
     print(text)
     if args.output:

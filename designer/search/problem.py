@@ -233,8 +233,11 @@ def pocket_as_needed(g: Geometry, least: float, step: float = 0.0) -> Geometry:
     smooth = (least + need + ops_for(need).sqrt((need - least) ** 2 + width ** 2)) / 2
     if not step:
         return replace(g, pocket_length=smooth)
-    need, smooth = np.asarray(need, dtype=float), np.asarray(smooth, dtype=float)
-    length = np.where(need > least, np.ceil(smooth / step - 1e-9) * step, least)
+    # on the grid the need itself, rounded up: the smooth maximum lies a little above it (0.7 um
+    # on the weigh-bar's flat), which can round up a grid step further (11.80 mm where its
+    # Ø29.47 mm bar needs 11.79 mm)
+    need = np.asarray(need, dtype=float)
+    length = np.where(need > least, np.ceil(need / step - 1e-9) * step, least)
     return replace(g, pocket_length=float(length) if length.ndim == 0 else length)
 
 
