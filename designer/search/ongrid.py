@@ -118,8 +118,8 @@ WIDE_REACH = 8
 NEARBY_GAP = 1e-2
 
 
-def closer_on_the_grid(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation,
-                       neighbour: Evaluation | None = None, solves: list | None = None) -> Evaluation:
+def closer_on_the_grid(problem: FamilyProblem, params, material, s: Solve, ev: Evaluation, solves: list,
+                       neighbour: Evaluation | None = None) -> Evaluation:
     """``ev``, the rounded answer that meets every limit, or a better design on the grid around the
     answer (``_nearby_on_the_grid``) when rounding cost more than the tie band against the
     continuous answer: rounding each size down or up need not find the grid's best point. If the
@@ -147,7 +147,7 @@ def closer_on_the_grid(problem: FamilyProblem, params, material, s: Solve, ev: E
         return near if near.feasible and model.ranks_before(near, ev) else ev
     near = _nearby_on_the_grid(problem, material, s)
     best = near if near is not None and model.ranks_before(near, ev) else ev
-    if solves is None or close(best):
+    if close(best):
         return best
     held = _depth_held(problem, params, material, s, solves, close)
     # kept only where it costs less: within the tie band a design with less deflection ranks first

@@ -227,12 +227,11 @@ def pocket_as_needed(g: Geometry, least: float, step: float = 0.0) -> Geometry:
     if g.feature != "pocket":
         return g
     need = domain.least_pocket_length(g, corrections.load())
-    # a smooth maximum, never below either (IPOPT stalls at a kink of max(): the bench suite's
-    # 011-loose-limits slot, 4.9 % above COBYLA's): at most POCKET_SMOOTHING x the rule above it
-    width = POCKET_SMOOTHING * least
-    smooth = (least + need + ops_for(need).sqrt((need - least) ** 2 + width ** 2)) / 2
     if not step:
-        return replace(g, pocket_length=smooth)
+        # a smooth maximum, never below either (IPOPT stalls at a kink of max(): the bench suite's
+        # 011-loose-limits slot, 4.9 % above COBYLA's): at most POCKET_SMOOTHING x the rule above it
+        width = POCKET_SMOOTHING * least
+        return replace(g, pocket_length=(least + need + ops_for(need).sqrt((need - least) ** 2 + width ** 2)) / 2)
     # on the grid the need itself, rounded up: the smooth maximum lies a little above it (0.7 um
     # on the weigh-bar's flat), which can round up a grid step further (11.80 mm where its
     # Ø29.47 mm bar needs 11.79 mm)

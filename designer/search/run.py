@@ -173,7 +173,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 else:
                     ev = onto_the_grid(problem, material, s, ev)
             if m == "ipopt" and s.success and ev.feasible and repair:
-                ev = closer_on_the_grid(problem, params, material, s, ev, neighbour, solves)
+                ev = closer_on_the_grid(problem, params, material, s, ev, solves, neighbour)
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)

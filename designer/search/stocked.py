@@ -124,10 +124,10 @@ def continuous_optimum(spec, problems: dict, candidates: list) -> Evaluation | N
             if not ev.feasible:
                 _, ev = back_off(problem, params, material, c.solution, ev, [], [], "")
             if ev.feasible:
-                # with its depth-held re-solves, as the search without stock repairs its answers:
-                # without them the gripper finger's continuous optimum was a Ø7.94 mm bar with
-                # 1.60 mm flats, 0.4 % behind the Ø8.00 mm bar with 1.65 mm flats the search finds
-                ev = closer_on_the_grid(problem, params, material, c.solution, ev, solves=[])
+                # with the depth-held re-solves (their record unkept), as the search without stock
+                # repairs its answers: without them the gripper finger's continuous optimum was a
+                # Ø7.94 mm bar with 1.60 mm flats, 0.4 % behind the Ø8.00 mm bar the search finds
+                ev = closer_on_the_grid(problem, params, material, c.solution, ev, [])
         if ev is not None and ev.feasible:
             found.append(ev)
     return pick(found)
