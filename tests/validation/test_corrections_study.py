@@ -665,6 +665,16 @@ def test_the_slot_k_t_fit_reads_shallow_slots_with_a_sharp_floor_radius_on_its_s
     assert min(fits.judged_error("stress", r, prediction(shipped, "stress", r)) for r in inside) >= 0
 
 
+def _shifted_k_t(data, terms, box=()):
+    """A K_t form fitted to ``data`` as the table ships a rough one: the fit, its left-out
+    predictions, its shift to the safe side (fits.shifted) and each row's left-out over-read
+    after that shift (predicted over 3-D, less one)."""
+    fit, left_out = fits.fit_terms(data, terms, lambda r: r["stress_ratio"],
+                                   weight=lambda r: fits.error_weight("stress", r), box=box, quantity="stress")
+    margin = fits.shifted(fit, "stress", data, left_out).margin
+    return fit, left_out, margin, [p * (1 + margin) / r["stress_ratio"] - 1 for p, r in zip(left_out, data)]
+
+
 def test_the_slot_k_t_reads_deep_long_slots_as_evenly_as_the_rest():
     """docs/model.md §7: the slot K_t's term in notch_ratio x depth x length (fit_forms.SLOT_KT_DEEP).
     Left out one at a time and shifted to the safe side as the table ships them, the form without
@@ -680,10 +690,7 @@ def test_the_slot_k_t_reads_deep_long_slots_as_evenly_as_the_rest():
     assert sum(deep) >= 25
 
     def over_read(terms):
-        fit, left_out = fits.fit_terms(data, terms, lambda r: r["stress_ratio"],
-                                       weight=lambda r: fits.error_weight("stress", r), box=box, quantity="stress")
-        margin = fits.shifted(fit, "stress", data, left_out).margin
-        over = [p * (1 + margin) / r["stress_ratio"] - 1 for p, r in zip(left_out, data)]
+        fit, _, _, over = _shifted_k_t(data, terms, box)
         return fit, sum(o for o, d in zip(over, deep) if d) / sum(deep)
 
     without, mean_without = over_read(fit_forms.SLOT_KT_CLAMP)
@@ -709,10 +716,7 @@ def test_the_round_flat_k_t_reads_flats_near_the_clamp_by_their_depth():
     assert sum(shallow_near) >= 10
 
     def over_read(terms):
-        fit, left_out = fits.fit_terms(data, terms, lambda r: r["stress_ratio"],
-                                       weight=lambda r: fits.error_weight("stress", r), quantity="stress")
-        margin = fits.shifted(fit, "stress", data, left_out).margin
-        over = [p * (1 + margin) / r["stress_ratio"] - 1 for p, r in zip(left_out, data)]
+        fit, left_out, margin, over = _shifted_k_t(data, terms)
         near = sum(o for o, s in zip(over, shallow_near) if s) / sum(shallow_near)
         return (fit, data, left_out), margin, near, sum(over) / len(over)
 
