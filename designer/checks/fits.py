@@ -61,7 +61,14 @@ def with_study_bounds(fit, rows: list[dict]):
         domain[CLAMP_NEAR] = (0.0, domain[CLAMP_NEAR][1])
     if near:
         domain[NEAR_CLAMP] = (min(near), math.inf)
-    hull = upper_hull((r["depth_ratio"], r["notch_ratio"]) for r in rows) if "notch_ratio" in fit.variables else ()
+    if corrections.SHOULDER in domain:
+        # a flat without a wire channel keeps its whole shoulder, which the rows' smallest channels approach
+        domain[corrections.SHOULDER] = (domain[corrections.SHOULDER][0], 1.0)
+    sharp = "notch_ratio" in fit.variables or corrections.SHOULDER_NOTCH in fit.variables
+    if sharp:
+        # a fit read at the shoulder still holds only as sharp as the study's pockets (the box's bound)
+        domain.setdefault("notch_ratio", (min(r["notch_ratio"] for r in rows), max(r["notch_ratio"] for r in rows)))
+    hull = upper_hull((r["depth_ratio"], r["notch_ratio"]) for r in rows) if sharp else ()
     return replace(fit, domain=domain, notch_top=hull)
 
 

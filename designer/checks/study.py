@@ -70,6 +70,7 @@ class Case:
     corner_radius: float = CORNER_RADIUS      # ... and the end mill's corner radius at its floor
     gap: float = FAR_GAP                      # between the two features, end to end, in section sizes
     grid_length: float = GRID_LENGTH          # the gauge's grid (BF350-3AA's, or shorter on the same backing)
+    channel: tuple = ()                       # the wire channel's (width, depth), else the CAD's default
 
     @property
     def section(self) -> str:
@@ -115,7 +116,9 @@ class Case:
                 f"clamp_clearance: {mm(min(self.clamp_clearance, CLAMP_CLEARANCE))}}}\n"
                 f"design:\n  material: {MATERIAL}\n  section: {section}\n  stations: [{mm(near)}, {mm(far)}]\n"
                 f"  feature: {feature}\n"
-                + (f"cad: {{corner_radius: {mm(self.corner_radius)}}}\n" if self.feature == "pocket" else ""))
+                + (f"cad: {{corner_radius: {mm(self.corner_radius)}"
+                   + (f", channel_width: {mm(self.channel[0])}, channel_depth: {mm(self.channel[1])}" if self.channel else "")
+                   + "}\n" if self.feature == "pocket" else ""))
 
 
 # The pocket families' grids: boxes of the dimensionless parameters the fits need, sampled by a
@@ -211,6 +214,12 @@ SHALLOW_SHARP_SLOT_GROUPS = (("rectangle-pocket", SHALLOW_SHARP_SLOTS, 32, 0, SH
 SHALLOW_SHARP_FLATS = {"depth_ratio": (0.05, 0.08), "length_ratio": (0.28, 1.0), "notch_ratio": (2.2, 4.6),
                        "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 1.0)}
 SHALLOW_SHARP_FLAT_GROUPS = (("round-pocket", SHALLOW_SHARP_FLATS, 20),)
+# Round flats whose wire channel takes a quarter to three fifths of the chord at half the depth (a
+# miniature bar's channel is half its flat's width and depth): it takes the middle off the flat's
+# clamp-side shoulder, leaving its highest part 0.7-0.95 of the depth (``sections.shoulder_ratio``).
+CHANNEL_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.9, 2.5), "notch_ratio": (1.55, 7.0),
+                 "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 1.0), "channel_share": (0.25, 0.6)}
+CHANNEL_FLAT_GROUPS = (("round-pocket", CHANNEL_FLATS, 24),)
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -260,6 +269,9 @@ def pocket_case(family: str, u: dict, box: dict | None = None, min_corner: float
             return None
         case = Case(family, diameter=size, wall=wall, depth=depth, clamp_clearance=clearance, pocket_length=l_p,
                     pocket_width=min(POCKET_WIDTH, round(0.9 * chord, 6)), corner_radius=corner)
+    if "channel_share" in u:    # a wire channel that share of the flat's chord wide and half its depth deep
+        case = dataclasses.replace(case, channel=(min(round(u["channel_share"] * chord, 6), case.pocket_width),
+                                                  round(depth / 2, 6)))
     if "grid_lp" in u:    # the same pocket under a grid grid_lp times shorter (benchmarks/round_flat_holdout.py)
         case = dataclasses.replace(case, grid_length=l_p / u["grid_lp"])
     return case if l_p - 2 * case.corner_radius >= GAUGE_LENGTH else None
@@ -290,7 +302,7 @@ def cases(families=None) -> list[Case]:
     mm = 1e-3
     out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS + NEAR_CLAMP_SHORT_GROUPS
                       + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS + SHALLOW_NARROW_SLOT_GROUPS
-                      + SHALLOW_SHARP_SLOT_GROUPS + SHALLOW_SHARP_FLAT_GROUPS)
+                      + SHALLOW_SHARP_SLOT_GROUPS + SHALLOW_SHARP_FLAT_GROUPS + CHANNEL_FLAT_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -532,6 +544,7 @@ PARTS = {
                             "the shallow slots with a micro end mill's sharp floor radius"),
     "shallow-sharp-flats": (lambda: group_cases(SHALLOW_SHARP_FLAT_GROUPS),
                             "the shallow round flats with a sharp floor radius"),
+    "channel-flats": (lambda: group_cases(CHANNEL_FLAT_GROUPS), "the round flats with wide wire channels"),
 }
 
 

@@ -18,6 +18,6 @@ from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, SECONDA
 from designer.model.ops import NUMERIC, Ops, casadi_ops
 from designer.model.sections import (Geometry, SectionProperties, default_channel, feature_length, features_apart,
                                      flat_half_angle, section_properties, segment_area, segment_inertia_across,
-                                     segment_inertia_normal, stations_before_load, unbuildable)
+                                     segment_inertia_normal, shoulder_ratio, stations_before_load, unbuildable)
 
 __all__ = [name for name in dir() if not name.startswith("_")]

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from designer.model.ops import ops_for
-from designer.model.sections import Geometry
+from designer.model.sections import Geometry, shoulder_ratio
 
 TABLE = "corrections.yaml"
 _last: list = [None, None]   # the geometry ``parameters`` last gave (kept alive: its id is no other's), its answer
@@ -65,6 +65,8 @@ def _parameters(g: Geometry) -> dict:
             # Peterson's Stress Concentration Factors, 3rd ed., ch. 3 curve fits), as K_t - 1
             # grows like sqrt(t/r) for a sharp fillet (Neuber)
             out["notch_ratio"] = (g.depth / g.floor_radius) ** 0.5
+        if g.section != "rectangle":
+            out[SHOULDER] = shoulder_ratio(g)
         if g.section == "rectangle":
             out["pocket_width_ratio"] = g.pocket_width / g.width
     if g.feature == "hole":
@@ -83,10 +85,16 @@ def derived_parameters(values: dict, clamp_ratio=None, ops=None) -> dict:
     - a pocket's grid-gap decays (``grid_gap_decays``);
     - a slot's ``side_wall_ratio`` = (b - w_p)/h: the side walls that carry the load past a
       part-width slot;
-    - a hole's ``hole_edge`` (``hole_edge``)."""
+    - a hole's ``hole_edge`` (``hole_edge``);
+    - a flat's ``shoulder_notch`` = sqrt(s/r), ``notch_ratio`` of the highest shoulder ``s`` its
+      wire channel leaves (``shoulder_ratio``)."""
+    from designer.model.ops import NUMERIC
+
     out = {}
     if clamp_ratio is not None:
         out[CLAMP_NEAR] = clamp_nearness(clamp_ratio, ops)
+    if SHOULDER in values and "notch_ratio" in values:
+        out[SHOULDER_NOTCH] = values["notch_ratio"] * (ops or NUMERIC).sqrt(values[SHOULDER])
     if "hole_ratio" in values:
         out[HOLE_EDGE] = hole_edge(values["hole_ratio"], ops)
     if "depth_ratio" in values:
@@ -135,8 +143,12 @@ def hole_edge(hole_ratio, ops=None):
     return (ops.fmax(z, 0) + ops.log(1 + ops.exp(-ops.fabs(z)))) / HOLE_EDGE_RATE
 
 
+# A flat's K_t read at the highest shoulder its wire channel leaves (``sections.shoulder_ratio``):
+# Neuber's sqrt(t/r) there is ``shoulder_notch``, sqrt(p/r) sqrt(shoulder_ratio).
+SHOULDER = "shoulder_ratio"
+SHOULDER_NOTCH = "shoulder_notch"
 # The parameters ``derived_parameters`` computes from the others (the study's table leaves them out).
-DERIVED = (CLAMP_NEAR, *GAP_RATES, "side_wall_ratio", HOLE_EDGE)
+DERIVED = (CLAMP_NEAR, *GAP_RATES, "side_wall_ratio", HOLE_EDGE, SHOULDER_NOTCH)
 
 
 def clamp_nearness(clamp_ratio, ops=None):

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.model.ops import NUMERIC, Ops
+from designer.model.ops import NUMERIC, Ops, ops_for
 
 
 def feature_length(feature: str, pocket_length, hole, gauge_length):
@@ -164,6 +164,18 @@ def channel_inertia(g: Geometry, ops: Ops = NUMERIC):
     a = ops.fmin(w / 2, ops.sqrt(R * R - z0 * z0))
     big = a / 8 * (5 * R * R - 2 * a * a) * ops.sqrt(R * R - a * a) + 3 * R ** 4 / 8 * (math.pi / 2 - ops.acos(a / R))
     return 2 * 2 / 3 * (big - z0 ** 3 * a)
+
+
+# A flat's clamp-side end wall, where its K_t peaks, is highest (the depth p) in the middle of the
+# flat, where the wire channel runs into it: the channel, w_c wide and t_c deep, leaves a shoulder
+# p - t_c high there, and beside it, at |y| = w_c/2 on the round, sqrt(R^2 - w_c^2/4) - (R - p).
+def shoulder_ratio(g: Geometry):
+    """The highest shoulder a round bar's or tube's flat keeps at its end wall beside the wire
+    channel, over the flat's depth; 1 without a channel."""
+    ops = ops_for(g.depth, g.diameter, g.channel_depth)
+    R, p, half = g.diameter / 2, g.depth, g.channel_width / 2
+    beside = ops.sqrt(ops.fmax(R * R - half * half, 0.0)) - (R - p)
+    return ops.fmax(p - g.channel_depth, beside) / p
 
 
 # Beam theory over-counts a wire channel's compliance: where a channel begins or ends (at the clamp

@@ -485,3 +485,55 @@ def test_a_pocket_too_sharp_for_its_depth_is_diagnosed_with_the_radius_that_woul
     inside = parse_spec_text(SHALLOW_SLOT_SPEC.replace("RADIUS", f"{least + 0.001:.3f} mm"))
     ev2 = evaluate(fixed_design(inside).rounded(inside.cad), inside)
     assert not [v.name for v in ev2.violations if v.name.startswith(f"domain_{domain.NOTCH_HULL}_")]
+
+
+def _end_wall_top(R, p, w_c, t_c, n=200001):
+    """The highest point of a round flat's end wall over its floor, sampled across the chord: the
+    bar's circle, cut down to the channel's floor (R - t_c) within |y| < w_c/2, less the floor R - p."""
+    half_chord = math.sqrt(R * R - (R - p) ** 2)
+    y = np.linspace(-half_chord, half_chord, n)
+    top = np.sqrt(R * R - y * y)
+    top = np.where(np.abs(y) < w_c / 2, np.minimum(top, R - t_c), top)
+    return float(np.max(top - (R - p)))
+
+
+@pytest.mark.parametrize("w_c, t_c", [(0.0, 0.0), (1.5e-3, 0.5e-3), (3.0e-3, 1.0e-3), (4.0e-3, 0.1e-3), (2.5e-3, 0.6e-3)])
+def test_a_flat_s_shoulder_is_the_highest_end_wall_its_wire_channel_leaves(w_c, t_c):
+    """``sections.shoulder_ratio``: the end wall of a 1.2 mm deep flat on a Ø8 mm bar (chord
+    5.33 mm), sampled across its chord, against the closed form max(p - t_c, sqrt(R^2 - w_c^2/4) -
+    (R - p)) / p: 1 without a channel; the default 1.5 x 0.5 mm channel leaves the shoulder beside
+    it (0.99); a channel half the chord wide and half the depth deep (a miniature bar's) takes about
+    a quarter off; a shallow wide one (0.1 mm) leaves its own floor the highest."""
+    g = model.Geometry("round", "pocket", (5e-3, 20e-3), 60e-3, diameter=8e-3, depth=1.2e-3, pocket_length=8e-3,
+                       pocket_width=5e-3, floor_radius=0.2e-3, channel_width=w_c, channel_depth=t_c)
+    expected = _end_wall_top(4e-3, 1.2e-3, w_c, t_c) / 1.2e-3
+    assert float(model.shoulder_ratio(g)) == pytest.approx(expected, abs=2e-5)
+    params = corrections.parameters(g)
+    assert params["shoulder_notch"] == pytest.approx(math.sqrt(1.2 / 0.2) * math.sqrt(expected), rel=1e-4)
+    if (w_c, t_c) == (3.0e-3, 1.0e-3):
+        assert 0.70 < expected < 0.80
+
+
+ROUND_FLAT_SPEC = """\
+name: round-flat
+load: {force: [1 N, 10 N], position: [70 mm, 80 mm]}
+electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
+gauge: BF350-3AA
+bridge: half
+search: {sections: [round], feature: pocket}
+"""
+
+
+def test_the_round_flats_shipped_table_gives_exact_derivatives_to_the_optimiser():
+    """The round flats' K_t reads the shoulder the wire channel leaves, whose depth follows the
+    flat's (min(0.5 mm, p/2)): the casadi gradient against central finite differences."""
+    from designer.search import Family, FamilyProblem, material_params
+    from designer.spec import catalogue
+
+    spec = parse_spec_text(ROUND_FLAT_SPEC)
+    problem = FamilyProblem(spec, Family("round", "pocket"))
+    assert "shoulder_notch" in corrections.load().fit("round-pocket", "stress").variables
+    params = material_params(catalogue.material("6061-T6"), spec)
+    for x in problem.starts()[:2]:
+        assert_exact_jacobian(problem, x, params)
+    assert "domain_shoulder_ratio_min" in problem.limit_names
