@@ -104,9 +104,9 @@ def test_the_readme_s_error_budget_is_the_budget_example_s():
 
     section = README[README.index("## The whole error budget"):README.index("## Compared with the paper")]
     raw = yaml.safe_load((ROOT / "examples" / "budget" / "gripper-finger-hx711.yaml").read_text(encoding="utf-8"))
-    raw["design"] = {"material": "17-7PH-RH950", "section": {"kind": "round", "diameter": "7.08 mm"},
+    raw["design"] = {"material": "17-7PH-RH950", "section": {"kind": "round", "diameter": "7.09 mm"},
                      "stations": ["9.46 mm", "30.55 mm"], "feature": {"kind": "pocket", "depth": "1.35 mm"}}
-    assert "17-7PH-RH950 round Ø7.08 mm, flats 1.35 mm deep" in section
+    assert "17-7PH-RH950 round Ø7.09 mm, flats 1.35 mm deep" in section
     spec = parse_spec(raw)
     ev = evaluate(fixed_design(spec), spec)
     b = build_record("feasible", spec, ev)["predicted"]["budget"]
