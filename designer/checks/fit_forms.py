@@ -98,11 +98,11 @@ HOLE_EDGE_WIDTH_KT = Terms(("hole_edge", "hole_ratio", "clamp_near", "width_rati
 # 10 % over their 3-D K_t (left out, shifted x1.061 as shipped); with this one 4 % (x1.024; §7).
 FLAT_KT_CLAMP = Terms(("notch_ratio", "depth_ratio", "clamp_near"),
                       ((0, 0, 0), (1, 0, 0), (1, 1, 0), (1, 0, 1), (1, 1, 1)))
-# ... with Neuber's sqrt(t/r) read at the highest shoulder the flat's wire channel leaves at its
-# end wall (``sections.shoulder_ratio`` s, ``shoulder_notch`` sqrt(s p / r)) rather than at the
-# full depth, the less the deeper the flat (the term in sqrt(s p / r) p s): a channel half the
-# flat's width and depth leaves 0.75-0.9 of the shoulder, and FLAT_KT_CLAMP read a miniature bar's
-# flat with one 12 % over its 3-D K_t; a deep flat's K_t falls less than sqrt(s) with it.
+# ... with Neuber's sqrt(t/r) read at the highest shoulder s p the flat's wire channel leaves at its
+# end wall (s = ``sections.shoulder_ratio``; ``shoulder_notch`` = sqrt(s p / r)) rather than at the
+# full depth p, the less the deeper the flat (the term shoulder_notch x depth_ratio x s): a channel
+# half the flat's width and depth leaves 0.8-0.9 of the shoulder, and FLAT_KT_CLAMP read a miniature
+# bar's flat with one 12 % over its 3-D K_t; a deep flat's K_t falls less than sqrt(s) with it.
 FLAT_KT_SHOULDER = Terms(("shoulder_notch", "depth_ratio", "clamp_near", "shoulder_ratio"),
                          tuple(e + (0,) for e in FLAT_KT_CLAMP.exponents) + ((1, 1, 0, 1),))
 FIT_FORMS = {
@@ -167,8 +167,8 @@ FIT_DOMAINS: dict = {
     # while from 0.4 D the grid-gap form meets the 2 % rule (1.5 %; a quadratic in depth and length
     # 1.9 %, which read 1.02 for the weigh-bar's flat in 3-D: the grid-gap form goes first)
     "round-pocket": {"strain": {"length_ratio": (0.4, math.inf)},
-                     # its K_t where the study's wire channels left the flat's shoulder (up to a
-                     # quarter of it taken: a channel half the flat's width and depth)
+                     # its K_t where the study's wire channels left the flat's shoulder (down to
+                     # 0.7 of it: study.CHANNEL_FLATS)
                      "stress": {"shoulder_ratio": (0.0, math.inf)}},
     # A slot's K_t where its side walls are together at least 0.15 of the bar's height: thinner
     # ones take the peak off the floor's radius (a slot 0.86 of a bar's width, its walls 0.14 h:

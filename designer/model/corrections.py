@@ -65,10 +65,10 @@ def _parameters(g: Geometry) -> dict:
             # Peterson's Stress Concentration Factors, 3rd ed., ch. 3 curve fits), as K_t - 1
             # grows like sqrt(t/r) for a sharp fillet (Neuber)
             out["notch_ratio"] = (g.depth / g.floor_radius) ** 0.5
-        if g.section != "rectangle":
-            out[SHOULDER] = shoulder_ratio(g)
         if g.section == "rectangle":
             out["pocket_width_ratio"] = g.pocket_width / g.width
+        else:
+            out[SHOULDER] = shoulder_ratio(g)
     if g.feature == "hole":
         out["hole_ratio"] = g.hole / size
     if g.section == "tube":
