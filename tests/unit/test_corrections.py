@@ -502,7 +502,7 @@ def test_a_flat_s_shoulder_is_the_highest_end_wall_its_wire_channel_leaves(w_c, 
     """``sections.shoulder_ratio``: the end wall of a 1.2 mm deep flat on a Ø8 mm bar (chord
     5.33 mm), sampled across its chord, against the closed form max(p - t_c, sqrt(R^2 - w_c^2/4) -
     (R - p)) / p: 1 without a channel; the default 1.5 x 0.5 mm channel leaves the shoulder beside
-    it (0.99); a channel half the chord wide and half the depth deep (a miniature bar's) takes about
+    it (0.94); a channel half the chord wide and half the depth deep (a miniature bar's) takes about
     a quarter off; a shallow wide one (0.1 mm) leaves its own floor the highest."""
     g = model.Geometry("round", "pocket", (5e-3, 20e-3), 60e-3, diameter=8e-3, depth=1.2e-3, pocket_length=8e-3,
                        pocket_width=5e-3, floor_radius=0.2e-3, channel_width=w_c, channel_depth=t_c)
