@@ -744,7 +744,7 @@ def test_the_round_flat_k_t_reads_a_flat_by_the_shoulder_its_wire_channel_leaves
     with a smaller left-out error (10.8 % against 11.3 %). Reference: the study's 3-D rows."""
     rows = _rows()
     assert len(_group_rows(study.CHANNEL_FLAT_GROUPS, rows)) == 21
-    data = [r for r in fits.with_nearness(rows)
+    data = [r for r in rows
             if r["family"] == "round-pocket" and math.isfinite(r.get("stress_ratio", math.nan))]
     wide = [r["shoulder_ratio"] < 0.85 for r in data]
     assert sum(wide) >= 15
