@@ -37,7 +37,8 @@ def left_out_errors(path: Path) -> list[tuple[float, dict]]:
             and all(lo <= r.get(k, math.nan) <= hi for k, (lo, hi) in box.items())]
     _, left_out = fits.fit_terms(rows, fit_forms.SLOT_KT_DEEP, lambda r: r["stress_ratio"],
                                  weight=lambda r: fits.error_weight("stress", r), box=box, quantity="stress")
-    return sorted((((p - r["stress_ratio"]) / r["stress_ratio"], r) for p, r in zip(left_out, rows)), key=lambda t: t[0])
+    errors = [((p - r["stress_ratio"]) / r["stress_ratio"], r) for p, r in zip(left_out, rows)]
+    return sorted(errors, key=lambda t: t[0])
 
 
 def matching_case(row: dict, cases: list) -> object | None:
