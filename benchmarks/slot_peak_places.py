@@ -7,7 +7,8 @@ prediction (the shipped form fitted without them) reads lowest and highest again
 solves each again (``verify``'s 3-D check, normal mesh) and says where its peak sits: on the floor
 radius (over or beside the wire channel, which enters the clamp-side end wall, or out by the side
 wall), or on the top face at the slot's edge (a thin side wall's top, or the rim of a slot in a
-wide bar), and at which end of the slot. Run by hand (one to two minutes a slot on 2 cores):
+wide bar), and at which end of the slot (the check's peak, which sits at the near slot, where the
+moment is larger). Run by hand (one to two minutes a slot on 2 cores):
 
     python benchmarks/slot_peak_places.py [--count 12] [--study materials/corrections_study.csv]
 
@@ -27,15 +28,19 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def left_out_errors(path: Path) -> list[tuple[float, dict]]:
     """``(left-out error, row)`` of every slot row of the K_t fit's domain, the error
-    (prediction - 3-D) / 3-D of the shipped form fitted without the row, lowest first."""
+    (prediction - 3-D) / 3-D of the shipped table's form (today fit_forms.SLOT_KT_DEEP) fitted
+    without the row, before its shift, lowest first."""
     from designer.checks import fit_forms, fits, study
+    from designer.model import corrections
 
     family = "rectangle-pocket"
     box = fit_forms.FIT_DOMAINS[family]["stress"]
     rows = [r for r in fits.with_nearness(study.read_csv(path))
             if r["family"] == family and math.isfinite(r.get("stress_ratio", math.nan))
             and all(lo <= r.get(k, math.nan) <= hi for k, (lo, hi) in box.items())]
-    _, left_out = fits.fit_terms(rows, fit_forms.SLOT_KT_DEEP, lambda r: r["stress_ratio"],
+    shipped = corrections.load().fits[family]["stress"]
+    form = fit_forms.Terms(shipped.variables, shipped.exponents)
+    _, left_out = fits.fit_terms(rows, form, lambda r: r["stress_ratio"],
                                  weight=lambda r: fits.error_weight("stress", r), box=box, quantity="stress")
     errors = [((p - r["stress_ratio"]) / r["stress_ratio"], r) for p, r in zip(left_out, rows)]
     return sorted(errors, key=lambda t: t[0])
