@@ -215,6 +215,17 @@ def with_nearness(rows: list[dict]) -> list[dict]:
     return out
 
 
+def far_features(rows: list[dict], fam: str) -> list[dict]:
+    """The second feature of each of ``fam``'s study beams as a row of its own: its K_t
+    (``stress_far``) at its own nearness to the clamp. The fits are made from the near features,
+    but the model takes K_t at every feature, so a K_t shifted to its safe side is shifted until
+    it reads these, in-sample, no more than FIT_ACCEPT under their 3-D peak either."""
+    from designer.model.corrections import CLAMP_NEAR
+
+    return [{**r, "stress_ratio": r["stress_far"], "clamp_ratio": r["far_clamp_ratio"], CLAMP_NEAR: r["clamp_near_far"]}
+            for r in rows if r["family"] == fam and math.isfinite(r.get("stress_far", math.nan)) and "clamp_near_far" in r]
+
+
 def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None):
     """The corrections of every family from the study's rows: for each feature family and
     quantity, the form of fewest terms (over FIT_FORMS) whose leave-one-out error meets
@@ -257,7 +268,11 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
             else:
                 best = _parsimonious(tried, quantity)
                 if best is not None and rough_ships(quantity, best[0].loo_max, uncorrected_error(quantity, best[1])):
-                    rough = shifted(best[0], quantity, best[1], best[2]) if quantity in SAFE_SIDE else best[0]
+                    fit, data, left_out = best
+                    if quantity == "stress":    # the far features guard the shift too (``far_features``)
+                        far = [r for r in far_features(rows, fam) if _in_domain(r, fit.domain)]
+                        data, left_out = data + far, list(left_out) + [float(fit(r)) for r in far]
+                    rough = shifted(fit, quantity, data, left_out) if quantity in SAFE_SIDE else fit
                     fits.setdefault(fam, {})[quantity] = rough
                     if rough is not best[0]:
                         report.append((fam, quantity, len(rough.exponents), rough))

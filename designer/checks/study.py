@@ -24,15 +24,15 @@ table; ``cases()`` lists the grid. The fitted factors live beside the catalogue 
 from __future__ import annotations
 
 import argparse
-import csv
 import dataclasses
 import math
 import sys
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 
 from designer.checks.extra_length import beyond_euler, euler_deflection, extra_length, feature_weights
+from designer.checks.study_table import read_csv, write_csv, write_rows
 from designer.model.domain import LP_GRID_BOX
 
 MATERIAL = "6061-T6"
@@ -41,6 +41,8 @@ GAUGE_LENGTH = 6.9e-3    # BF350-3AA's backing and grid (materials/gauges.yaml)
 GRID_LENGTH = 3.0e-3
 POCKET_LENGTH = GAUGE_LENGTH + 2 * 1e-3   # + 2 x the spec's default 1 mm pocket margin
 POCKET_WIDTH = 5.5e-3                     # the gauge's 3.5 mm backing + 2 x the margin
+GAUGE_WIDTH = 3.5e-3                      # BF350-3AA's backing and grid across the beam
+GRID_WIDTH = 2.2e-3
 CORNER_RADIUS = 2e-4                      # the spec's default cad.corner_radius
 CLAMP_CLEARANCE = 5e-3
 # The pocket families' first station is at least this many section sizes from the clamp, so that
@@ -70,6 +72,7 @@ class Case:
     corner_radius: float = CORNER_RADIUS      # ... and the end mill's corner radius at its floor
     gap: float = FAR_GAP                      # between the two features, end to end, in section sizes
     grid_length: float = GRID_LENGTH          # the gauge's grid (BF350-3AA's, or shorter on the same backing)
+    backing_width: float = 0.0                # the gauge's backing across the beam, if narrower than BF350-3AA's
     channel: tuple = ()                       # the wire channel's (width, depth), else the CAD's default
 
     @property
@@ -109,8 +112,9 @@ class Case:
         return (f"name: study-{self.family}\n"
                 f"load: {{force: [{FORCE / 10:g} N, {FORCE:g} N], position: [{mm(x - 1e-3)}, {mm(x)}]}}\n"
                 "electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}\n"
-                + (f"gauge: {GAUGE}\n" if self.grid_length == GRID_LENGTH
-                   else f"gauge: {{name: {GAUGE}, grid_length: {mm(self.grid_length)}}}\n")
+                + (f"gauge: {{name: {GAUGE}"
+                   + (f", grid_length: {mm(self.grid_length)}" if self.grid_length != GRID_LENGTH else "")
+                   + (f", width: {mm(self.backing_width)}" if self.backing_width else "") + "}\n")
                 + "bridge: half\n"
                 f"limits: {{max_pocket_fraction: 0.49, min_wall: 0.3 mm, load_clearance: 0 mm, "
                 f"clamp_clearance: {mm(min(self.clamp_clearance, CLAMP_CLEARANCE))}}}\n"
@@ -220,6 +224,16 @@ SHALLOW_SHARP_FLAT_GROUPS = (("round-pocket", SHALLOW_SHARP_FLATS, 20),)
 CHANNEL_FLATS = {"depth_ratio": (0.05, 0.35), "length_ratio": (0.9, 2.5), "notch_ratio": (1.55, 7.0),
                  "lp_grid": LP_GRID_BOX, "clamp_ratio": (0.1, 1.0), "channel_share": (0.25, 0.6)}
 CHANNEL_FLAT_GROUPS = (("round-pocket", CHANNEL_FLATS, 24),)
+# Slots narrower than the others' 5.5 mm (a narrower gauge, or a smaller pocket margin), so that the
+# slot's width over the bar's height and over its own length vary apart from its share of the bar's
+# width: a 4 mm slot in a 2.4 x 15.7 mm bar read its 3-D K_t 6-7 % above the model of 5.5 mm slots
+# alone (benchmarks/slot_peak_places.md). ``slot_width`` is the slot's own width (m). The gauge keeps
+# its 3 x 2.2 mm grid on a backing ``SLOT_MARGIN`` inside the slot's sides, or its floor radius and a
+# fifth of that (at most its 3.5 mm); a slot too narrow for the grid so is left out.
+NARROW_SLOTS = {"depth_ratio": (0.05, 0.32), "slot_width": (2.7e-3, 5.5e-3), "length_ratio": (0.9, 5.0),
+                "pocket_width_ratio": (0.2, 0.88), "lp_grid": LP_GRID_BOX, "notch_ratio": (1.55, 7.0)}
+NARROW_SLOT_GROUPS = (("rectangle-pocket", NARROW_SLOTS, 48),)
+SLOT_MARGIN = 0.25e-3
 NEAR_CLAMP_CLEARANCE = 1e-3
 MIN_FLAT_WIDTH = 2.5e-3    # a flat at least the gauge grid's 2.2 mm wide, with a little to spare
 # Floor radii are kept at least this (at the study's scale, a 3 mm gauge grid) where the pocket is
@@ -260,8 +274,13 @@ def pocket_case(family: str, u: dict, box: dict | None = None, min_corner: float
     hi = max(lo, min(hi, math.sqrt(depth / min_corner)))
     corner = depth / (lo + u["notch_ratio"] * (hi - lo)) ** 2
     if family == "rectangle-pocket":
-        case = Case(family, width=POCKET_WIDTH / u["pocket_width_ratio"], height=size, depth=depth,
-                    clamp_clearance=clearance, pocket_length=l_p, corner_radius=corner)
+        w_p = u.get("slot_width", POCKET_WIDTH)
+        case = Case(family, width=w_p / u["pocket_width_ratio"], height=size, depth=depth, clamp_clearance=clearance,
+                    pocket_length=l_p, pocket_width=w_p, corner_radius=corner,
+                    backing_width=min(GAUGE_WIDTH, w_p - 2 * max(SLOT_MARGIN, corner + SLOT_MARGIN / 5))
+                    if w_p < POCKET_WIDTH else 0.0)
+        if case.backing_width and case.backing_width < GRID_WIDTH:
+            return None
     else:
         radius = size / 2
         chord = 2 * math.sqrt(radius ** 2 - (radius - depth) ** 2)
@@ -302,7 +321,8 @@ def cases(families=None) -> list[Case]:
     mm = 1e-3
     out = group_cases(POCKET_GROUPS + NEAR_CLAMP_GROUPS + MID_TUBE_GROUPS + NEAR_CLAMP_SHORT_GROUPS
                       + MID_SLOT_GROUPS + NEAR_CLAMP_WIDE_SLOT_GROUPS + SHALLOW_NARROW_SLOT_GROUPS
-                      + SHALLOW_SHARP_SLOT_GROUPS + SHALLOW_SHARP_FLAT_GROUPS + CHANNEL_FLAT_GROUPS)
+                      + SHALLOW_SHARP_SLOT_GROUPS + SHALLOW_SHARP_FLAT_GROUPS + CHANNEL_FLAT_GROUPS
+                      + NARROW_SLOT_GROUPS)
     for h in (8 * mm, 10 * mm, 12.7 * mm, 16 * mm, 20 * mm):
         for d in (0.3, 0.4, 0.5, 0.6, 0.7, 0.8):
             out.append(Case("rectangle-hole", width=h, height=h, hole=d * h))
@@ -458,18 +478,6 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
                *feature_weights(g, raw, design.material, spec, extra))
 
 
-def write_csv(rows: list[Row], path: Path) -> None:
-    keys = sorted({k for r in rows for k in r.parameters})
-    names = [f.name for f in fields(Row) if f.name != "parameters"]
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(names[:2] + keys + names[2:])
-        for r in rows:
-            values = [getattr(r, n) for n in names]
-            w.writerow(values[:2] + [f"{r.parameters[k]:.6g}" if k in r.parameters else "" for k in keys]
-                       + [f"{v:.6g}" if isinstance(v, float) else v for v in values[2:]])
-
-
 def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
     """``rows`` with each pocket row's ``extra_length`` solved again from its 3-D deflection
     (``deflection_ratio`` times ``euler_deflection``) with today's beam model and ``stiffness``
@@ -505,27 +513,6 @@ def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
     return out
 
 
-def write_rows(rows: list[dict], path: Path) -> None:
-    """Table rows as ``read_csv`` gives them, written back in the table's column order (a new
-    column, such as ``base_ratio``, last)."""
-    with open(path, newline="", encoding="utf-8") as fh:
-        header = next(csv.reader(fh))
-    header += [k for r in rows for k in r if k not in header]
-    header = list(dict.fromkeys(header))
-    with open(path, "w", newline="", encoding="utf-8") as fh:
-        w = csv.writer(fh)
-        w.writerow(header)
-        for r in rows:
-            w.writerow([(f"{r[k]:.6g}" if isinstance(r[k], float) else r[k]) if k in r else "" for k in header])
-
-
-def read_csv(path: Path) -> list[dict]:
-    """The study table as dictionaries of floats (the family as text)."""
-    with open(path, newline="", encoding="utf-8") as fh:
-        return [{k: (v if k in ("family", "mesh") else float(v)) for k, v in row.items() if v != ""}
-                for row in csv.DictReader(fh)]
-
-
 # Parts of the study that ``--only`` runs alone: name -> (their cases, what they are).
 PARTS = {
     "near-clamp": (near_clamp_cases, "the features near the clamp (NEAR_CLAMP_GROUPS)"),
@@ -545,6 +532,7 @@ PARTS = {
     "shallow-sharp-flats": (lambda: group_cases(SHALLOW_SHARP_FLAT_GROUPS),
                             "the shallow round flats with a sharp floor radius"),
     "channel-flats": (lambda: group_cases(CHANNEL_FLAT_GROUPS), "the round flats with wide wire channels"),
+    "narrow-slots": (lambda: group_cases(NARROW_SLOT_GROUPS), "the slots narrower than 5.5 mm"),
 }
 
 

@@ -165,11 +165,12 @@ def test_a_deviation_larger_than_the_pocket_leaves_no_pocket_at_that_corner_and_
 
 
 def test_a_search_that_the_tolerances_make_infeasible_says_so_and_at_which_corner():
-    # a bench-suite beam 0.7 mm high: ISO 2768-m's ±0.1 mm on its height and pocket leaves no
-    # design that meets every limit at its thin, deep corners (the smallest signal there, at
-    # b max, h min, p max; the fatigue limit at b min, h min, p max before the slot fits of
-    # docs/model.md §7 were refitted): the message names the limit and the corner
-    spec = next(m.spec for m in generate_suite(50, 0) if m.name == "049-short-beam")
+    # a bench-suite millinewton beam: ISO 2768-m's ±0.1 mm on its height and pocket leaves no
+    # design that meets every limit at its thin, deep corners (the fatigue limit at the slots, at
+    # b min, h min, p max; seed 0's 049-short-beam, which had broken it there, is met at every
+    # corner since the slot study took in narrower slots, docs/model.md §7): the message names the
+    # limit and the corner
+    spec = next(m.spec for m in generate_suite(50, 1) if m.name == "045-millinewton")
     assert optimize(replace(spec, tolerances=Tolerances("none"))).success
     result = optimize(replace(spec, tolerances=Tolerances("m")))
     assert not result.success
