@@ -414,6 +414,7 @@ class Row:
     strain_mesh_change: float
     stress_mesh_change: float
     seconds: float
+    base_ratio: float = math.nan         # the 3-D deflection over the model's without Δ (``fits.deflection_per_extra``)
     far_share: float = math.nan          # the far feature's share of the deflection's slope in Δ
     far_clamp_ratio: float = math.nan    # the far feature's clamp ratio (``clamp_ratios``)
 
@@ -472,9 +473,11 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
     nominal = [f_max * (x_max - a) * float(raw.props.y_e) / float(raw.props.I_s) for a, _ in g.reduced_spans]
     stiffness = corrections.stiffness_fit(corrections.load())
     extra = extra_length(g, raw, design.material, spec, v.deflection_fea, stiffness)
-    return Row(case.family, mesh, params, near, far, v.deflection_fea / euler_deflection(g, raw, design.material, spec),
+    euler = euler_deflection(g, raw, design.material, spec)
+    return Row(case.family, mesh, params, near, far, v.deflection_fea / euler,
                extra / case.size, near_peak / nominal[0], far_peak / nominal[1],
                max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0,
+               v.deflection_fea / (euler + beyond_euler(g, raw, design.material, spec, stiffness)),
                *feature_weights(g, raw, design.material, spec, extra))
 
 
