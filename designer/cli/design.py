@@ -159,11 +159,14 @@ class _Shared:
 
 def _unplottable(record: dict) -> str | None:
     """Why the plots of ``record``'s design cannot be drawn, None if they can. Only an infeasible
-    record's least infeasible design may be so (a slot wider than its bar reads a negative
-    sensitivity); a design that meets every limit and cannot be drawn is a fault, raised."""
+    record's least infeasible design may be so: one that is no beam (a slot wider than its bar,
+    ``model.unbuildable``) has no sensor's figures to plot, whatever their signs; a design that
+    meets every limit and cannot be drawn is a fault, raised."""
     from designer.outputs.plots.sensor import SensorData
+    from designer.result.designfile import validate
 
     try:
+        validate(record)
         SensorData.from_design(record)
     except DesignFileError as exc:
         if record.get("status") != "infeasible":

@@ -232,9 +232,10 @@ tolerances: {class: none}
 
 
 def test_a_spec_whose_closest_design_is_no_beam_is_reported_infeasible_with_why(tmp_path, capsys):
-    """No design is a beam, so the closest one's figures (a negative sensitivity) can be neither
-    plotted nor reasoned from: exit 1 with design.json and the report, not exit 2 as if the spec
-    were malformed, and the diagnosis names the slot's width against the widest bar."""
+    """No design is a beam, so the closest one's figures can be neither plotted nor reasoned from,
+    whatever their signs (the slot fits, extrapolated to a slot wider than its bar, once read it a
+    negative sensitivity and now a positive one): exit 1 with design.json and the report, not exit 2
+    as if the spec were malformed, and the diagnosis names the slot's width against the widest bar."""
     path = tmp_path / "spec.yaml"
     path.write_text(SLOT_WIDER_THAN_BAR_SPEC)
     out = tmp_path / "out"
