@@ -241,7 +241,8 @@ def test_a_non_finite_answer_is_a_failed_run_not_a_crash(monkeypatch):
     the bench suite's 043-infeasible-deflection (seed 1) its first start once did, and rounding that
     answer raised ValueError, so ``optimize`` failed. An nlopt run made to end so (issue #370's
     problem, the one the watchdog's tests solve) is recorded as a failed run at its finite start,
-    as a run nlopt ends by raising is, and the search goes on from there."""
+    as a run nlopt ends by raising is (on today's model that spec's SLSQP runs end so, roundoff-
+    limited, and the search calls it infeasible, as IPOPT does)."""
     import nlopt
 
     from designer.search import nlopt_adapter
