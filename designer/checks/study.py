@@ -14,7 +14,8 @@ on it, and the case yields, in dimensionless form:
 - ``stress_ratio``: the 3-D peak stress at the near station's feature over the beam model's
   nominal stress at its clamp-side edge (K_t: the 3-D check resolves the floor radius there), and
   ``stress_far``, the same at the far station's feature (resolved as well: the check refines
-  every feature's floor radius);
+  every feature's floor radius); ``stress_floor``/``stress_face`` (``_far``), the same on the
+  floor radius and on the loaded outer face (a slot's rim) alone (``checks.peak_places``);
 - the mesh-convergence figures of the check, so that a fit can weight or drop poor points.
 
 ``python -m designer.checks.study -o FILE.csv [--mesh normal] [--family F ...]`` regenerates the
@@ -417,6 +418,10 @@ class Row:
     base_ratio: float = math.nan         # the 3-D deflection over the model's without Δ (``fits.deflection_per_extra``)
     far_share: float = math.nan          # the far feature's share of the deflection's slope in Δ
     far_clamp_ratio: float = math.nan    # the far feature's clamp ratio (``clamp_ratios``)
+    stress_floor: float = math.nan       # the near feature's peak on its floor radius, over stress_ratio's nominal
+    stress_face: float = math.nan        # ... on the loaded outer face (a slot's rim)
+    stress_floor_far: float = math.nan   # the far feature's, over stress_far's nominal
+    stress_face_far: float = math.nan
 
 
 def geometry_parameters(g) -> dict:
@@ -469,8 +474,8 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
     g = design.geometry
     params = geometry_parameters(g)
     near_peak, far_peak = v.stress_stations_fea
-    f_max, x_max = spec.load.force_max, spec.load.position_max
-    nominal = [f_max * (x_max - a) * float(raw.props.y_e) / float(raw.props.I_s) for a, _ in g.reduced_spans]
+    nominal = nominal_stresses(g, raw, spec)
+    places = tuple(peak / n for n, station in zip(nominal, v.stress_stations_places) for peak in station)
     stiffness = corrections.stiffness_fit(corrections.load())
     extra = extra_length(g, raw, design.material, spec, v.deflection_fea, stiffness)
     euler = euler_deflection(g, raw, design.material, spec)
@@ -478,7 +483,14 @@ def run_case(case: Case, mesh: str = "normal") -> Row:
                extra / case.size, near_peak / nominal[0], far_peak / nominal[1],
                max(gc.mesh_change for gc in v.gauges), v.stress_change, time.perf_counter() - t0,
                v.deflection_fea / (euler + beyond_euler(g, raw, design.material, spec, stiffness)),
-               *feature_weights(g, raw, design.material, spec, extra))
+               *feature_weights(g, raw, design.material, spec, extra), *places)
+
+
+def nominal_stresses(g, raw, spec) -> list[float]:
+    """The plain beam model's stress at each feature's clamp-side edge under the spec's largest
+    force at its farthest position, ``M y_e / I_s``: what the table's stress figures are over."""
+    f_max, x_max = spec.load.force_max, spec.load.position_max
+    return [f_max * (x_max - a) * float(raw.props.y_e) / float(raw.props.I_s) for a, _ in g.reduced_spans]
 
 
 def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:

@@ -18,8 +18,8 @@ def write_csv(rows: list, path: Path) -> None:
         w.writerow(names[:2] + keys + names[2:])
         for r in rows:
             values = [getattr(r, n) for n in names]
-            w.writerow(values[:2] + [f"{r.parameters[k]:.6g}" if k in r.parameters else "" for k in keys]
-                       + [f"{v:.6g}" if isinstance(v, float) else v for v in values[2:]])
+            w.writerow(values[:2] + [_cell(r.parameters[k]) if k in r.parameters else "" for k in keys]
+                       + [_cell(v) for v in values[2:]])
 
 
 def write_rows(rows: list[dict], path: Path) -> None:
@@ -33,7 +33,12 @@ def write_rows(rows: list[dict], path: Path) -> None:
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(header)
         for r in rows:
-            w.writerow([(f"{r[k]:.6g}" if isinstance(r[k], float) else r[k]) if k in r else "" for k in header])
+            w.writerow([_cell(r[k]) if k in r else "" for k in header])
+
+
+def _cell(value) -> str:
+    """A table cell: a float to 6 significant figures, text as it is."""
+    return f"{value:.6g}" if isinstance(value, float) else value
 
 
 def read_csv(path: Path) -> list[dict]:

@@ -21,6 +21,14 @@ def _rows():
     return fits.with_nearness(study.read_csv(STUDY))
 
 
+def _far_rows(rows):
+    """The second feature of each row as a row of its own: its K_t at its own clamp ratio and
+    nearness (the test's own reading of the columns, apart from ``fits.far_features``)."""
+    return [{**r, "stress_ratio": r["stress_far"], "clamp_ratio": r["far_clamp_ratio"],
+             corrections.CLAMP_NEAR: r["clamp_near_far"]}
+            for r in rows if math.isfinite(r.get("stress_far", math.nan)) and "clamp_near_far" in r]
+
+
 def _inside(fit, row) -> bool:
     if "clamp_ratio" in row and "length_ratio" in row:     # the near station's distance (a near-clamp fit's)
         row = {domain.NEAR_STATION: clamp_study.near_station(row), **row}
@@ -704,8 +712,7 @@ def test_slots_narrower_than_the_others_read_the_fits_made_without_them():
     assert sum(before["stress"]) / len(before["stress"]) > 0.05
     assert min(before["stress"]) < -fits.FIT_ACCEPT["stress"]
     shipped = table.fit("rectangle-pocket", "stress")
-    far = [{**r, "stress_ratio": r["stress_far"], "clamp_ratio": r["far_clamp_ratio"],
-            corrections.CLAMP_NEAR: r["clamp_near_far"]} for r in narrow]
+    far = _far_rows(narrow)
     after = [fits.judged_error("stress", r, prediction(shipped, "stress", r)) for r in narrow + far if _inside(shipped, r)]
     assert len(after) >= 80
     assert min(after) >= -fits.FIT_ACCEPT["stress"]
@@ -840,14 +847,7 @@ def test_the_k_t_fit_predicts_the_far_features_it_was_not_fitted_on(family):
     safe side, reads each of them at most FIT_ACCEPT under the 3-D peak, as it does the features
     it was fitted on. Reference: the study's 3-D rows."""
     fit = corrections.load().fit(family, "stress")
-    far = []
-    for r in _rows():
-        if r["family"] != family or not math.isfinite(r.get("stress_far", math.nan)):
-            continue
-        row = {**r, "stress_ratio": r["stress_far"], "clamp_ratio": r["far_clamp_ratio"],
-               corrections.CLAMP_NEAR: r["clamp_near_far"]}
-        if _inside(fit, row):
-            far.append(row)
+    far = [r for r in _far_rows(r for r in _rows() if r["family"] == family) if _inside(fit, r)]
     assert len(far) >= 30
     errors = [fits.judged_error("stress", r, prediction(fit, "stress", r)) for r in far]
     assert min(errors) >= -fits.FIT_ACCEPT["stress"]

@@ -48,6 +48,23 @@ def test_plain_cantilever_gauge_strain_is_beam_theory(slender):
         assert g.ratio == pytest.approx(1.0, abs=0.01)
 
 
+def test_a_plain_bars_station_zones_peak_on_the_top_face_at_their_clamp_side_end(slender):
+    """Each station's stress zone (its span, the gauge's length here, widened by half a depth each
+    way) of a plain bar: its largest stress is the top fibre's at the zone's clamp-side end,
+    ``M (h/2) / I`` (Gere & Goodno, Appendix H, case 5), three depths and more from the clamp;
+    the outer face's peak is that one, and there is no floor radius to read."""
+    from designer.result.designfile import parse_design
+
+    spans = parse_design(bar(310, (60, 300))).design.geometry.reduced_spans
+    I = 10 * MM * (10 * MM) ** 3 / 12
+    assert len(slender.stress_stations_places) == len(spans) == 2
+    for (a, _), peak, (floor, face) in zip(spans, slender.stress_stations_fea, slender.stress_stations_places):
+        closed = 20 * (0.300 - (a - 5 * MM)) * 5 * MM / I
+        # the coarse mesh's vertex stresses on a linear field: 2 %
+        assert face == pytest.approx(closed, rel=0.02)
+        assert face == peak and floor == 0.0
+
+
 def test_plain_cantilever_surface_strain_along_the_beam(slender):
     x = np.asarray(slender.profile_x)
     I = 10 * MM * (10 * MM) ** 3 / 12
@@ -207,6 +224,11 @@ def test_slot_pockets_agree_with_beam_theory_within_a_few_percent():
     assert r.stress_peak.where.startswith("pocket at station 1")
     assert r.stress_peak.value > 1.2 * r.stress_feature_nominal
     assert r.stress_concentration_model > 1.2
+    # the peak is the floor radius's; the slot's rim on the outer face carries at least the net
+    # section's top-fibre stress M (h/2) / I_s (the model's nominal) and less than the radius
+    floor, face = r.stress_stations_places[0]
+    assert r.stress_peak.on_floor_radius and floor == r.stress_peak.value == r.stress_stations_fea[0]
+    assert r.stress_feature_nominal <= face < floor
 
 
 def test_a_narrow_slot_with_a_tiny_floor_radius_meshes_and_reads_its_net_section():

@@ -41,6 +41,7 @@ class Figures:
     profile: tuple
     run: MeshRun
     mesh_adapt: bool        # faces with a flat surface mesh were meshed by MeshAdapt
+    station_places: tuple = ()  # each station's (floor radius, outer face) peak (readout.stress_peaks)
 
 
 def _run(step_path: Path, pb: Problem, level: str, refinement: float, mesh_adapt: bool = False):
@@ -52,13 +53,14 @@ def _run(step_path: Path, pb: Problem, level: str, refinement: float, mesh_adapt
     sol = solve(points, tets, pb)
     gauges = tuple(gauge_strains(sol, pb))
     deflection = free_end_deflection(sol, pb)
-    peak, feature_peak, station_peaks = stress_peaks(sol, pb, refinement)
+    peak, feature_peak, station_peaks, station_places = stress_peaks(sol, pb, refinement)
     profile = surface_profile(sol, pb, refinement)
     run = MeshRun(level=level, refinement=refinement, global_size=pb.global_size / refinement,
                   detail_size=pb.detail_size / refinement, elements=int(tets.shape[1]),
                   vertices=int(points.shape[1]), dofs=int(3 * sol.basis.N), cg_iterations=sol.iterations,
                   seconds=time.perf_counter() - start)
-    return Figures(gauges, deflection, peak, feature_peak, station_peaks, None, profile, run, adapted), sol
+    return Figures(gauges, deflection, peak, feature_peak, station_peaks, None, profile, run, adapted,
+                   station_places), sol
 
 
 def _partner_run(step_path: Path, pb: Problem, level: str, refinement: float):
@@ -128,19 +130,9 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     SolverError when meshing or solving fails.
     """
     from designer import model
-    from designer.outputs import cad
-    from designer.result.designfile import parse_design
-    from designer.result.evaluation import evaluate
 
-    if mesh not in MESH_LEVELS:
-        raise InputError(f"mesh: {mesh!r} is not allowed; must be {describe_allowed(MESH_LEVELS)}")
     start = time.perf_counter()
-    record = parse_design(design)
-    spec, model_design = record.spec, record.design
-    ev = evaluate(model_design, spec)
-    beam = cad.resolve(design)
-    pb = build_problem(design, beam, ev.analysis, spec, model_design.material, model_design.geometry)
-
+    spec, model_design, ev, beam, pb = _problem(design, mesh)
     refinement = MESH_LEVELS[mesh]
     with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
         step_path = Path(tmp) / f"{beam.file_stem}.step"
@@ -159,6 +151,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         gauges=gauges, deflection_fea=main.deflection, deflection_model=float(a.deflection),
         deflection_coarse=partner.deflection, stress_peak=main.peak, stress_peak_coarse=partner.at_peak,
         stress_feature_fea=main.feature_peak, stress_stations_fea=main.station_peaks,
+        stress_stations_places=main.station_places,
         stress_model=float(max(a.stress_root, a.stress_peak)),
         stress_concentration_model=float(a.stress_concentration),
         stress_feature_nominal=float(a.stress_feature),
@@ -229,3 +222,32 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
         out.append(LimitCheck(lim.name, model_value, value, float(lim.part_limit), lim.upper, source, lim.unit,
                               scale))
     return tuple(out)
+
+
+def _problem(design: dict, mesh: str):
+    """A design.json record's spec, model design, evaluation, CAD beam and 3-D Problem; InputError
+    for an unknown mesh level."""
+    from designer.outputs import cad
+    from designer.result.designfile import parse_design
+    from designer.result.evaluation import evaluate
+
+    if mesh not in MESH_LEVELS:
+        raise InputError(f"mesh: {mesh!r} is not allowed; must be {describe_allowed(MESH_LEVELS)}")
+    record = parse_design(design)
+    spec, model_design = record.spec, record.design
+    ev = evaluate(model_design, spec)
+    beam = cad.resolve(design)
+    pb = build_problem(design, beam, ev.analysis, spec, model_design.material, model_design.geometry)
+    return spec, model_design, ev, beam, pb
+
+
+def one_mesh(design: dict, mesh: str = "normal") -> Figures:
+    """The figures of a design.json record on the ``mesh`` level alone: no convergence mesh, no
+    verdict. For a study that reads a figure again on designs whose check it has already made
+    (``checks.peak_places``); a design's check is ``verify_design``."""
+    _, _, _, beam, pb = _problem(design, mesh)
+    with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
+        step_path = Path(tmp) / f"{beam.file_stem}.step"
+        write_step_apart(design, step_path)
+        figures, _ = _run(step_path, pb, mesh, MESH_LEVELS[mesh])
+    return figures

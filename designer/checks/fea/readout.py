@@ -255,17 +255,22 @@ def _where(point: np.ndarray, pb: Problem) -> str:
 
 
 def _on_floor_radius(point: np.ndarray, pb: Problem) -> bool:
-    """Whether ``point`` lies on a pocket's floor radius: within FLOOR_RADIUS_REACH radii of a
-    pocket's end along the beam and of its floor's level (+Z: the loaded face), where the end
+    """Whether ``point`` lies on a pocket's floor radius (``_floor_radius_mask``)."""
+    return bool(_floor_radius_mask(np.asarray(point, float).reshape(3, 1), pb)[0])
+
+
+def _floor_radius_mask(points: np.ndarray, pb: Problem) -> np.ndarray:
+    """Which of ``points`` (3, n) lie on a pocket's floor radius: within FLOOR_RADIUS_REACH radii
+    of a pocket's end along the beam and of its floor's level (+Z: the loaded face), where the end
     mill's corner radius joins floor and end wall. A peak elsewhere in a pocket (a slot's side
     wall, a wire channel's edge) is not the radius's."""
     r = pb.floor_radius
     if r <= 0:
-        return False
-    x, z = point[0], point[2]
+        return np.zeros(points.shape[1], dtype=bool)
+    x, z = points[0], points[2]
     reach = FLOOR_RADIUS_REACH * r
-    near_end = any(min(abs(x - a), abs(x - b)) <= reach for a, b in pb.spans)
-    return bool(near_end and -PLANE_TOLERANCE * pb.size <= z - pb.gauge_z <= reach)
+    near_end = np.any([np.minimum(abs(x - a), abs(x - b)) <= reach for a, b in pb.spans], axis=0)
+    return near_end & (z - pb.gauge_z >= -PLANE_TOLERANCE * pb.size) & (z - pb.gauge_z <= reach)
 
 
 def _element_size_at(mesh, vertex: int) -> float:
@@ -290,10 +295,13 @@ def _kept(sol: Solution, pb: Problem, refinement: float) -> np.ndarray:
     return ((x >= margin) | (in_span & ~at_clamp)) & (x <= pb.cut - margin)
 
 
-def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float, tuple]:
+def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float, tuple, tuple]:
     """The peak von Mises stress away from the clamp and cut faces (``_kept``), the largest within
-    the feature zones (the whole kept beam when no vertex lies in one) and the largest within each
-    station's zone (its reduced span widened by half a section depth; 0 where none is kept)."""
+    the feature zones (the whole kept beam when no vertex lies in one), the largest within each
+    station's zone (its reduced span widened by half a section depth; 0 where none is kept), and
+    each station's zone's two places a pocket's peak may sit: ``(floor radius, outer face)``, the
+    largest on its floor radius (``_floor_radius_mask``) and on the loaded outer face (Z = half
+    the depth: a slot's rim and the top of its side walls), 0 where the zone has none."""
     vm = vertex_von_mises(sol, pb)
     x = sol.mesh.p[0]
     keep = _kept(sol, pb, refinement)
@@ -306,11 +314,15 @@ def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressP
     zone = keep & _stress_zone(x, pb)
     feature_peak = float(vm[zone].max()) if zone.any() else float(vm[keep].max())
     margin = pb.depth / 2
-    stations = []
+    floor = _floor_radius_mask(sol.mesh.p, pb)
+    face = sol.mesh.p[2] >= pb.depth / 2 - PLANE_TOLERANCE * pb.size
+    largest = lambda mask: float(vm[mask].max()) if mask.any() else 0.0  # noqa: E731 - a local reader
+    stations, places = [], []
     for a, b in pb.spans:
         here = keep & (x >= a - margin) & (x <= b + margin)
-        stations.append(float(vm[here].max()) if here.any() else 0.0)
-    return peak, feature_peak, tuple(stations)
+        stations.append(largest(here))
+        places.append((largest(here & floor), largest(here & face)))
+    return peak, feature_peak, tuple(stations), tuple(places)
 
 
 def stress_near(sol: Solution, pb: Problem, refinement: float, point) -> float:

@@ -135,6 +135,7 @@ class VerifyResult:
     stress_concentration_model: float = 1.0  # the model's K_t
     stress_feature_nominal: float = 0.0    # the beam model's nominal stress at the feature's clamp-side edge
     stress_stations_fea: tuple = ()  # FEA peak within each station's feature zone
+    stress_stations_places: tuple = ()  # ... and its (floor radius, outer face) peaks (readout.stress_peaks)
 
     @property
     def stress_feature_model(self) -> float:
@@ -201,6 +202,8 @@ class VerifyResult:
             "stress": {"fea_peak": self.stress_peak.value, "location": list(self.stress_peak.location),
                        "where": self.stress_peak.where, "fea_feature": self.stress_feature_fea,
                        "fea_stations": list(self.stress_stations_fea),
+                       "fea_stations_floor_radius": [f for f, _ in self.stress_stations_places],
+                       "fea_stations_outer_face": [o for _, o in self.stress_stations_places],
                        "coarse_peak": self.stress_peak_coarse, "mesh_change": self.stress_change,
                        "converged": self.stress_converged, "converged_within": CONVERGED_STRESS,
                        "element_size": self.stress_peak.element_size, "on_floor_radius": self.stress_peak.on_floor_radius,
