@@ -144,6 +144,14 @@ FIT_FORMS = {
                                ("notch_ratio", "depth_ratio", "wall_ratio"),
                                ("notch_ratio", "depth_ratio", "clamp_near")]},
 }
+# A slot's K_t at its rim on the loaded outer face (``fits.FACE``), beside its floor radius's: the
+# slot's plan shape, how much of the top layer it cuts and what its side walls carry. Not in
+# FIT_FORMS yet: ``benchmarks/two_place_kt.py`` fits the slots' K_t with them (docs/model.md §7).
+SLOT_FACE_FORMS = [("depth_ratio", "length_ratio"), ("length_ratio", "side_wall_ratio"),
+                   ("depth_ratio", "side_wall_ratio"), ("depth_ratio", "length_ratio", "side_wall_ratio"),
+                   ("depth_ratio", "length_ratio", "pocket_width_ratio"), ("length_ratio", "width_ratio", "side_wall_ratio"),
+                   ("depth_ratio", "width_ratio", "side_wall_ratio"), ("depth_ratio", "length_ratio", "clamp_near"),
+                   ("length_ratio", "side_wall_ratio", "clamp_near")]
 # Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
 # kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
 # A slot from 0.9 of its bar's height long (below, the slots' gauge strain; its K_t likewise).
@@ -177,7 +185,7 @@ FIT_DOMAINS: dict = {
     # shorter slots, whose ends interact, would take its shift from x1.075 to x1.096 (its left-out
     # error from 13.3 % to 19.3 %) for designs that cannot be made
     "rectangle-pocket": {"strain": {**SLOT_LENGTH},
-                         "stress": {"side_wall_ratio": (0.15, math.inf), **SLOT_LENGTH}},
+                         **{q: {"side_wall_ratio": (0.15, math.inf), **SLOT_LENGTH} for q in ("stress", "stress_face")}},
     # a hole's K_t varies little with the bar's width over the study's 0.3-2 (1.03 to 1.00 for a
     # small hole far from the clamp), so its fit leaves the width out; designs stay inside it
     "rectangle-hole": {"stress": {"width_ratio": (0.3, 2.0)}},

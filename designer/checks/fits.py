@@ -88,7 +88,7 @@ NEAR_CLAMP = "clamp_ratio"
 # centre's) distance from the clamp face, which the clamp ratio alone does not bound: a flat short
 # for its bar puts the grid nearer the clamp than any study row's did, where the decay is steepest.
 # Its domain bounds that distance from below too (``NEAR_STATION``).
-TARGETS = {"strain": "strain_far", "extra_length": "extra_length", "stress": "stress_ratio"}
+TARGETS = {"strain": "strain_far", "extra_length": "extra_length", "stress": "stress_ratio", "stress_face": "stress_face"}
 
 
 def deflection_per_extra(row: dict) -> float:
@@ -107,7 +107,7 @@ def error_weight(quantity: str, row: dict) -> float:
     """What a unit error in the fitted quantity costs at ``row``, in FIT_ACCEPT's terms."""
     if quantity == "extra_length":
         return abs(deflection_per_extra(row))
-    if quantity == "stress":
+    if quantity in ("stress", "stress_face"):
         return 1 / abs(row[TARGETS[quantity]])
     return 1.0
 
@@ -131,13 +131,13 @@ def _in_domain(row: dict, box: dict) -> bool:
 # the extra length, and so the deflection, raised. The gauge strain has no safe side (a larger
 # factor is safe for the strain limit and unsafe for the predicted error): it ships unshifted, and
 # the gauge-strain limit keeps its left-out error as room (``corrections.strain_allowance``).
-SAFE_SIDE = {"stress": "scale", "extra_length": "offset"}
-FIT_CEILING = {"strain": 0.04, "stress": 0.25, "extra_length": 0.10}
+SAFE_SIDE = {"stress": "scale", "stress_face": "scale", "extra_length": "offset"}
+FIT_CEILING = {"strain": 0.04, "stress": 0.25, "stress_face": 0.25, "extra_length": 0.10}
 
 
 def uncorrected_error(quantity: str, rows: list[dict]) -> float:
     """The largest error, as FIT_ACCEPT judges it, of leaving ``quantity`` uncorrected."""
-    plain = {"strain": 1.0, "stress": 1.0, "extra_length": 0.0}[quantity]
+    plain = {"strain": 1.0, "stress": 1.0, "stress_face": 1.0, "extra_length": 0.0}[quantity]
     return max(abs(judged_error(quantity, r, plain)) for r in rows)
 
 
@@ -226,12 +226,87 @@ def far_features(rows: list[dict], fam: str) -> list[dict]:
             for r in rows if r["family"] == fam and math.isfinite(r.get("stress_far", math.nan)) and "clamp_near_far" in r]
 
 
-def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None):
+def _choose(fam: str, quantity: str, candidates, rows: list[dict], report: list) -> tuple:
+    """``(fit, rows, left-out predictions, meets its rule)`` of ``quantity`` over ``fam``'s ``rows``:
+    the form of fewest terms (over ``candidates``) whose leave-one-out error meets FIT_ACCEPT with
+    at least two points per term, fitted over FIT_DOMAINS where one is given; where none does, the
+    best form (``_parsimonious``) if it ships rough (``rough_ships``), unshifted; else ``fit`` None.
+    Every form tried goes to ``report``."""
+    column = TARGETS[quantity]
+    box = FIT_DOMAINS.get(fam, {}).get(quantity, {})
+    tried = []
+    for terms in sorted(_forms(candidates), key=lambda t: len(t.exponents)):
+        data = [r for r in rows if math.isfinite(r.get(column, math.nan))
+                and all(v in r for v in terms.variables) and _in_domain(r, box)]
+        if 2 * len(terms.exponents) > len(data):
+            continue
+        fit, left_out = fit_terms(data, terms, lambda r: r[column], weight=lambda r, q=quantity: error_weight(q, r),
+                                  box=box, quantity=quantity)
+        fit = with_study_bounds(fit, data)
+        report.append((fam, quantity, len(terms.exponents), fit))
+        if fit.loo_max <= FIT_ACCEPT[quantity]:
+            return fit, data, left_out, True
+        tried.append((fit, data, left_out))
+    best = _parsimonious(tried, quantity)
+    if best is not None and rough_ships(quantity, best[0].loo_max, uncorrected_error(quantity, best[1])):
+        return (*best, False)
+    return None, [], [], False
+
+
+# A slot's peak sits on its floor radius or on the loaded outer face at its rim (docs/model.md §7,
+# ``checks.peak_places``): its K_t is the larger of two fits, each made to its own place's peak
+# (the study's ``stress_floor`` and ``stress_face``) as a K_t is, ``stress`` the floor's and
+# FACE the rim's; a family has both where FIT_FORMS gives FACE forms.
+FACE = "stress_face"
+KT = ("stress", FACE)
+PLACE_COLUMNS = {"stress": ("stress_floor", "stress_floor_far"), FACE: ("stress_face", "stress_face_far")}
+
+
+def place_row(row: dict, quantity: str) -> dict | None:
+    """``row`` with the peak on ``quantity``'s place (PLACE_COLUMNS) as its K_t (``stress_ratio``
+    and ``stress_face``, near; ``stress_far``, far); None where the row does not record it."""
+    near, far = (row.get(k, math.nan) for k in PLACE_COLUMNS[quantity])
+    if not math.isfinite(near):
+        return None
+    return {**row, "stress_ratio": near, FACE: near, "stress_far": far, "_of": id(row)}
+
+
+def shifted_pair(chosen: list, rows: list[dict], far: list[dict]) -> tuple:
+    """The two fits of a two-place K_t (``chosen``: KT's ``(fit, rows, left-out, met)``) shifted
+    to the safe side together, by the one scale that keeps their larger, left out, from reading
+    any of ``rows``' near features' 3-D peaks (wherever it sits: ``stress_ratio``) more than
+    FIT_ACCEPT under, nor in-sample any of the ``far`` features inside both fits' domains: the
+    model takes the larger of the two at every feature."""
+    (floor, floor_rows, floor_out, _), (face, face_rows, face_out, _) = chosen
+    out_floor = {id_of(r): p for r, p in zip(floor_rows, floor_out)}
+    out_face = {id_of(r): p for r, p in zip(face_rows, face_out)}
+    pairs = []
+    for r in rows:
+        key = id_of(r)
+        if key in out_floor and key in out_face:
+            pairs.append((r["stress_ratio"], max(out_floor[key], out_face[key])))
+    for r in far:
+        if _in_domain(r, floor.domain) and _in_domain(r, face.domain):
+            pairs.append((r["stress_ratio"], max(float(floor(r)), float(face(r)))))
+    tol = FIT_ACCEPT["stress"]
+    margin = max(0.0, max(y * (1 - tol) / p for y, p in pairs) - 1)
+    return tuple(replace(f, coefficients=tuple(float(c * (1 + margin)) for c in f.coefficients), margin=margin)
+                 for f in (floor, face))
+
+
+def id_of(row: dict) -> int:
+    """A study row's identity across its copies (``place_row``)."""
+    return row.get("_of", id(row))
+
+
+def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | None = None, forms: dict | None = None):
     """The corrections of every family from the study's rows: for each feature family and
-    quantity, the form of fewest terms (over FIT_FORMS) whose leave-one-out error meets
+    quantity, the form of fewest terms (over FIT_FORMS, or ``forms``) whose leave-one-out error meets
     ``FIT_ACCEPT`` with at least two points per term, fitted over FIT_DOMAINS where one is given;
     where none does, the best form within FIT_CEILING that beats no correction, shifted to the
-    quantity's safe side where it has one (``shifted``); otherwise the quantity stays uncorrected."""
+    quantity's safe side where it has one (``shifted``); otherwise the quantity stays uncorrected.
+    A family with FACE forms has a K_t of two places, each fitted so and both shifted together
+    (``shifted_pair``)."""
     from designer.model.corrections import Corrections
 
     rows = with_nearness(rows)
@@ -246,36 +321,29 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
         report.append(("plain", "stiffness", "plate+shear", stiffness))
         if stiffness.loo_max <= FIT_ACCEPT["extra_length"]:
             fits["plain"] = {"stiffness": stiffness}
-    for fam, quantities in FIT_FORMS.items():
+    for fam, quantities in (FIT_FORMS if forms is None else forms).items():
+        chosen = {}
         for quantity, candidates in quantities.items():
-            column = TARGETS[quantity]
-            box = FIT_DOMAINS.get(fam, {}).get(quantity, {})
-            tried = []
-            for terms in sorted(_forms(candidates), key=lambda t: len(t.exponents)):
-                data = [r for r in rows if r["family"] == fam and math.isfinite(r.get(column, math.nan))
-                        and all(v in r for v in terms.variables) and _in_domain(r, box)]
-                if 2 * len(terms.exponents) > len(data):
-                    continue
-                fit, left_out = fit_terms(data, terms, lambda r: r[column],
-                                          weight=lambda r, q=quantity: error_weight(q, r), box=box,
-                                          quantity=quantity)
-                fit = with_study_bounds(fit, data)
-                report.append((fam, quantity, len(terms.exponents), fit))
-                if fit.loo_max <= FIT_ACCEPT[quantity]:
-                    fits.setdefault(fam, {})[quantity] = fit
-                    break
-                tried.append((fit, data, left_out))
-            else:
-                best = _parsimonious(tried, quantity)
-                if best is not None and rough_ships(quantity, best[0].loo_max, uncorrected_error(quantity, best[1])):
-                    fit, data, left_out = best
-                    if quantity == "stress":    # the far features guard the shift too (``far_features``)
-                        far = [r for r in far_features(rows, fam) if _in_domain(r, fit.domain)]
-                        data, left_out = data + far, list(left_out) + [float(fit(r)) for r in far]
-                    rough = shifted(fit, quantity, data, left_out) if quantity in SAFE_SIDE else fit
-                    fits.setdefault(fam, {})[quantity] = rough
-                    if rough is not best[0]:
-                        report.append((fam, quantity, len(rough.exponents), rough))
+            mine = [r for r in rows if r["family"] == fam]
+            if FACE in quantities and quantity in KT:     # each of a two-place K_t on its own place's peak
+                mine = [r for r in (place_row(r, quantity) for r in mine) if r is not None]
+            chosen[quantity] = _choose(fam, quantity, candidates, mine, report)
+        for quantity, (fit, data, left_out, met) in chosen.items():
+            if fit is None or (FACE in quantities and quantity in KT):
+                continue
+            if not met and quantity == "stress":    # the far features guard the shift too (``far_features``)
+                far = [r for r in far_features(rows, fam) if _in_domain(r, fit.domain)]
+                data, left_out = data + far, list(left_out) + [float(fit(r)) for r in far]
+            rough = shifted(fit, quantity, data, left_out) if not met and quantity in SAFE_SIDE else fit
+            fits.setdefault(fam, {})[quantity] = rough
+            if rough is not fit:
+                report.append((fam, quantity, len(rough.exponents), rough))
+        if FACE in quantities and all(chosen[q][0] is not None for q in KT):
+            pair = shifted_pair([chosen[q] for q in KT], [r for r in rows if r["family"] == fam], far_features(rows, fam))
+            for quantity, fit in zip(KT, pair):
+                fits.setdefault(fam, {})[quantity] = fit
+                if fit.margin:
+                    report.append((fam, quantity, len(fit.exponents), fit))
     clamp = None
     if any(r["family"] == "rectangle-none" for r in rows):
         from designer.checks import clamp_study

@@ -14,7 +14,7 @@ from designer.model.beam import channel_deflection, natural_frequency, tip_defle
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
 from designer.model.estimator import sigmas
-from designer.model.ops import NUMERIC, Ops
+from designer.model.ops import NUMERIC, PEAK_SMOOTHING, Ops, rounded_max  # noqa: F401 - PEAK_SMOOTHING: ours to give
 from designer.model.sections import Geometry, SectionProperties, channel_inertia, section_properties
 
 # The optimiser passes the material as parameters in GPa, MPa and kg/m^3 so that the NLP's
@@ -24,11 +24,6 @@ STRESS_UNIT = 1e6
 LENGTH_UNIT = 1e-3
 PPM = 1e-6
 PERCENT = 1e-2
-# The features' peak stresses are within this share of the first feature's K_t of each other
-# where their maximum is rounded off (``peak_concentration``): IPOPT stalls at the kink of a plain
-# max(). Beyond it the maximum is exact, so that a design whose first feature governs by more
-# is judged, and searched, as before.
-PEAK_SMOOTHING = 0.002
 
 
 @dataclass(frozen=True)
@@ -204,18 +199,15 @@ def peak_concentration(kts, arms, ops: Ops = NUMERIC):
     ``x - a_1``, the sections being the same). The first feature carries the largest moment, but
     one further from the clamp may have the higher K_t (a fit in the clamp's nearness) and so the
     peak; where every K_t is the same, the first's is the peak. The maximum is rounded off where
-    two features come within ``w`` = PEAK_SMOOTHING of the first's K_t of each other:
-    ``max(a, b) + max(w - |a - b|, 0)^2 / (4 w)`` is ``(a + b)/2 + (w^2 + (a - b)^2)/(4 w)`` there
-    (smooth, never below the maximum, at most ``w / 4`` above it) and the maximum itself beyond,
-    where its value and derivatives are exactly those of the feature that governs. Taking K_f from
+    two features come within PEAK_SMOOTHING of the first's K_t of each other (``ops.rounded_max``:
+    never below the maximum, the maximum itself beyond). Taking K_f from
     this K_t errs safe: ``1 + q (K_t,i r_i - 1) >= r_i (1 + q (K_t,i - 1))`` for ``r_i <= 1``."""
     if all(k is kts[0] for k in kts[1:]):  # one K_t shared by every feature (no clamp term)
         return kts[0]
     width = PEAK_SMOOTHING * kts[0]
     out = kts[0]
     for k, arm in zip(kts[1:], arms[1:]):
-        v = k * arm / arms[0]
-        out = ops.fmax(out, v) + ops.fmax(width - ops.fabs(out - v), 0.0) ** 2 / (4 * width)
+        out = rounded_max(out, k * arm / arms[0], width, ops)
     return out
 
 

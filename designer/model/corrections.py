@@ -16,6 +16,7 @@ shipped as ``materials/corrections.yaml``:
   ``DecayFit`` and ``EdgeFit``; a slot's share of the plain bar's loss, ``ClampShareFit``);
 - ``stress``: K_t, the 3-D peak stress at the feature (a pocket's or flat's floor radius at its
   ends, a hole's edge) over the beam model's nominal stress at the feature's clamp-side edge;
+  a slot's ``stress_face`` the same at its rim on the loaded outer face (K_t the larger);
 - ``stiffness`` (under ``plain``, ``StiffnessFit``): the plain bar's free-end deflection beyond
   Euler-Bernoulli theory, the clamp's plate effect on a wide bar and the shear deflection of a
   stubby one (``checks.stiffness_study``).
@@ -32,8 +33,8 @@ import math
 from dataclasses import dataclass
 from functools import lru_cache
 
-from designer.model.ops import ops_for
-from designer.model.sections import Geometry, shoulder_ratio
+from designer.model.ops import PEAK_SMOOTHING, ops_for, rounded_max
+from designer.model.sections import Geometry, Widened, shoulder_ratio  # noqa: F401 - Widened: ours to give
 
 TABLE = "corrections.yaml"
 _last: list = [None, None]   # the geometry ``parameters`` last gave (kept alive: its id is no other's), its answer
@@ -527,7 +528,7 @@ def strain_allowance(g: Geometry, table: Corrections) -> float:
 # A fit meets its rule when it predicts each study point left out of it within these (the gauge-
 # strain factor on itself, the extra length by the free-end deflection it implies, K_t relative to
 # itself); a fit shifted to its safe side misses on the unsafe side by at most as much.
-ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05}
+ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05, "stress_face": 0.05}
 
 
 def _unsafe_error(fit, quantity: str) -> float:
@@ -545,21 +546,32 @@ def deflection_allowance(g: Geometry, table: Corrections) -> float:
 
 
 def stress_allowance(g: Geometry, table: Corrections) -> float:
-    """How far above the model the 3-D peak stress at the feature may lie: the unsafe-side error of
-    the feature's ``stress`` fit (K_t). The fatigue limit at the feature keeps this much room."""
-    fit = table.fit(family(g), "stress")
-    return 0.0 if fit is None else _unsafe_error(fit, "stress")
+    """How far above the model the 3-D peak stress at the feature may lie: the largest unsafe-side
+    error of its K_t fits (KT_FITS). The fatigue limit at the feature keeps this much room."""
+    fits = [table.fit(family(g), q) for q in KT_FITS]
+    return max((_unsafe_error(f, "stress") for f in fits if f is not None), default=0.0)
+
+
+# K_t's fits: ``stress`` (a slot's floor radius; a flat's, a hole's) and a slot's ``stress_face``,
+# at its rim on the loaded outer face (``checks.fits.FACE``); K_t is the larger.
+KT_FITS = ("stress", "stress_face")
 
 
 def stress_concentrations(g: Geometry, table: Corrections) -> tuple:
-    """K_t at each feature: the ``stress`` fit at the feature's own parameters (a fit in the
-    clamp's nearness gives a feature far from the clamp a higher K_t), or 1 where the table has none."""
-    fit = table.fit(family(g), "stress")
-    if fit is None:
+    """K_t at each feature: the larger of its family's KT_FITS at the feature's own parameters (a
+    fit in the clamp's nearness gives a feature far from the clamp a higher K_t), or 1 where the
+    table has none."""
+    fits = [f for f in (table.fit(family(g), q) for q in KT_FITS) if f is not None]
+    if not fits:
         return (1.0,) * len(g.stations)
-    if CLAMP_NEAR not in fit.variables:
-        return (fit(parameters(g)),) * len(g.stations)
-    return tuple(fit(p) for p in feature_parameters(g))
+
+    def kt(values):     # the larger, rounded off as the features' peaks are (``ops.rounded_max``)
+        k = [f(values) for f in fits]
+        return k[0] if len(k) == 1 else rounded_max(k[0], k[1], PEAK_SMOOTHING * k[0], ops_for(*k))
+
+    if all(CLAMP_NEAR not in f.variables for f in fits):
+        return (kt(parameters(g)),) * len(g.stations)     # one K_t, the same object, at every feature
+    return tuple(kt(p) for p in feature_parameters(g))
 
 
 def widened(g: Geometry, table: Corrections) -> Geometry:
@@ -579,19 +591,3 @@ def feature_parameters(g: Geometry) -> list:
     p = parameters(g)
     return [{**p, CLAMP_NEAR: clamp_nearness(u, ops_for(u))} for u in clamp_ratios(g)]
 
-
-class Widened:
-    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end); ``delta`` one
-    length for every span, or a tuple of one per span."""
-
-    def __init__(self, g: Geometry, delta):
-        self._g, self._delta = g, delta
-
-    def __getattr__(self, name):
-        return getattr(self._g, name)
-
-    @property
-    def reduced_spans(self) -> tuple:
-        spans = self._g.reduced_spans
-        deltas = self._delta if isinstance(self._delta, tuple) else (self._delta,) * len(spans)
-        return tuple((a - d / 2, b + d / 2) for (a, b), d in zip(spans, deltas))

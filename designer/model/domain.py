@@ -121,7 +121,7 @@ def domain_box(fam: str, table: Corrections) -> dict:
     """``{parameter: (low, high)}``: where every fit of family ``fam`` holds (where fits share a
     parameter, inside all of their ranges); the first station's clamp ratio as ``NEAR_CLAMP_BOUND``."""
     box = {}
-    for quantity in ("strain", "extra_length", "stress", "near_clamp"):
+    for quantity in ("strain", "extra_length", "stress", "stress_face", "near_clamp"):
         fit = table.fit(fam, quantity)
         for name, (lo, hi) in (fit.domain.items() if fit is not None else ()):
             if name == CLAMP_NEAR:      # the same bound as the first feature's clamp ratio's

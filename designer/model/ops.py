@@ -39,3 +39,17 @@ def ops_for(*values) -> Ops:
     """The operations for ``values``: casadi's where any of them is a casadi expression (numpy's
     functions on casadi values are deprecated by casadi), numpy's otherwise."""
     return casadi_ops() if any(type(v).__module__.startswith("casadi") for v in values) else NUMERIC
+
+
+# Two peaks within this share of the first of each other have their maximum rounded off
+# (``rounded_max``): IPOPT stalls at the kink of a plain max(). Beyond it the maximum is exact, so
+# that a design one peak governs by more is judged, and searched, as with the plain maximum.
+PEAK_SMOOTHING = 0.002
+
+
+def rounded_max(a, b, width, ops: Ops = NUMERIC):
+    """``max(a, b)`` rounded off within ``w`` = ``width`` of each other:
+    ``max(a, b) + max(w - |a - b|, 0)^2 / (4 w)`` is ``(a + b)/2 + (w^2 + (a - b)^2)/(4 w)`` there
+    (smooth, never below the maximum, at most ``w / 4`` above it) and the maximum itself beyond,
+    where its value and derivatives are exactly those of the larger."""
+    return ops.fmax(a, b) + ops.fmax(width - ops.fabs(a - b), 0.0) ** 2 / (4 * width)

@@ -364,3 +364,20 @@ def features_apart(stations, length, l_f, feature: str) -> tuple[str, str] | Non
                                           f"{_mm(stations[i])}: the {_mm(l_f)} {what}s would overlap; stations "
                                           f"must increase by more than {_mm(l_f)}")
     return None
+
+
+class Widened:
+    """A Geometry whose reduced spans are ``delta`` longer (``delta/2`` at each end); ``delta`` one
+    length for every span, or a tuple of one per span."""
+
+    def __init__(self, g: Geometry, delta):
+        self._g, self._delta = g, delta
+
+    def __getattr__(self, name):
+        return getattr(self._g, name)
+
+    @property
+    def reduced_spans(self) -> tuple:
+        spans = self._g.reduced_spans
+        deltas = self._delta if isinstance(self._delta, tuple) else (self._delta,) * len(spans)
+        return tuple((a - d / 2, b + d / 2) for (a, b), d in zip(spans, deltas))

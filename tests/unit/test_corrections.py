@@ -537,3 +537,50 @@ def test_the_round_flats_shipped_table_gives_exact_derivatives_to_the_optimiser(
     for x in problem.starts()[:2]:
         assert_exact_jacobian(problem, x, params)
     assert "domain_shoulder_ratio_min" in problem.limit_names
+
+
+def test_a_slot_s_k_t_is_the_larger_of_its_floor_radius_fit_and_its_rim_fit():
+    """docs/model.md §7: a slot's 3-D peak sits on its floor radius or at its rim on the loaded outer
+    face; the model's K_t is the larger of the two fits (``stress``, ``stress_face``) at each
+    feature, and the fatigue limit keeps the larger of their unsafe-side errors as room. Made-up
+    fits: the floor's 2 - 2 p, the rim's 1 + p over p = depth_ratio, equal at p = 1/3."""
+    floor = Fit(("depth_ratio",), ((0,), (1,)), (2.0, -2.0), {"depth_ratio": (0.0, 0.5)}, loo_max=0.03)
+    rim = Fit(("depth_ratio",), ((0,), (1,)), (1.0, 1.0), {"depth_ratio": (0.0, 0.5)}, loo_max=0.2, margin=0.1)
+    table = Corrections({"rectangle-pocket": {"stress": floor, "stress_face": rim}})
+    for depth, expected in (("0.3 mm", 2 - 2 * 0.075), ("1.6 mm", 1 + 0.4)):    # the bar is 4 mm high
+        _, design, a = _analysis(SHALLOW_SLOT_SPEC.replace("RADIUS", "0.2 mm").replace("0.3 mm", depth), table)
+        kts = corrections.stress_concentrations(design.geometry, table)
+        assert kts == pytest.approx((expected, expected), rel=1e-12)
+        assert float(a.stress_concentration) == pytest.approx(expected, rel=1e-12)
+    # the floor's fit alone, as every other family's K_t
+    alone = Corrections({"rectangle-pocket": {"stress": floor}})
+    assert corrections.stress_concentrations(design.geometry, alone) == pytest.approx((1.2, 1.2), rel=1e-12)
+    # room: the floor's left-out 3 %, the shifted rim's rule (5 %)
+    assert corrections.stress_allowance(design.geometry, table) == pytest.approx(corrections.ACCEPT["stress"])
+    assert corrections.stress_allowance(design.geometry, alone) == pytest.approx(0.03)
+
+
+def test_a_two_place_k_t_is_shifted_once_for_the_larger_of_its_fits():
+    """``fits.shifted_pair``: the floor's and the rim's fits are scaled by the one factor that keeps
+    their larger, left out, at most 5 % under each near feature's 3-D peak (wherever it sits), and
+    in-sample under each far feature's. Near: left-out floor 2.0 and 1.0, rim 1.0 and 1.5 against
+    peaks 2.2 and 1.6 (2.2 x 0.95 / 2.0 = 1.045 and 1.6 x 0.95 / 1.5 = 1.0133); a far feature
+    reading 2.0 from both constant fits (the floor's) against 2.31: 2.31 x 0.95 / 2.0 = 1.09725."""
+    from designer.checks import fits
+
+    floor = Fit(("depth_ratio",), ((0,),), (2.0,), {"depth_ratio": (0.0, 1.0)})
+    rim = Fit(("depth_ratio",), ((0,),), (1.0,), {"depth_ratio": (0.0, 1.0)})
+    rows = [{"family": "rectangle-pocket", "depth_ratio": 0.2, "stress_ratio": 2.2, "stress_floor": 2.2,
+             "stress_face": 1.1},
+            {"family": "rectangle-pocket", "depth_ratio": 0.3, "stress_ratio": 1.6, "stress_floor": 1.2,
+             "stress_face": 1.6}]
+    floors = [fits.place_row(r, "stress") for r in rows]
+    rims = [fits.place_row(r, fits.FACE) for r in rows]
+    assert [r["stress_ratio"] for r in rims] == [1.1, 1.6]
+    chosen = [(floor, floors, [2.0, 1.0], False), (rim, rims, [1.0, 1.5], False)]
+    pair = fits.shifted_pair(chosen, rows, [])
+    assert [f.margin for f in pair] == pytest.approx([0.045, 0.045])
+    assert pair[0]({"depth_ratio": 0.5}) == pytest.approx(2.0 * 1.045)
+    far = [{"family": "rectangle-pocket", "depth_ratio": 0.5, "stress_ratio": 2.31},
+           {"family": "rectangle-pocket", "depth_ratio": 1.5, "stress_ratio": 9.0}]   # outside the fits: not read
+    assert [f.margin for f in fits.shifted_pair(chosen, rows, far)] == pytest.approx([0.09725, 0.09725])
