@@ -256,7 +256,7 @@ def _choose(fam: str, quantity: str, candidates, rows: list[dict], report: list)
 # A slot's peak sits on its floor radius or on the loaded outer face at its rim (docs/model.md §7,
 # ``checks.peak_places``): its K_t is the larger of two fits, each made to its own place's peak
 # (the study's ``stress_floor`` and ``stress_face``) as a K_t is, ``stress`` the floor's and
-# FACE the rim's; a family has both where FIT_FORMS gives FACE forms.
+# FACE the rim's; a family has both where its forms (FIT_FORMS, or ``fit_table``'s) give FACE forms.
 FACE = "stress_face"
 KT = ("stress", FACE)
 PLACE_COLUMNS = {"stress": ("stress_floor", "stress_floor_far"), FACE: ("stress_face", "stress_face_far")}
