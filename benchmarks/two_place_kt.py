@@ -9,6 +9,11 @@ rules the table is made by (``fits.fit_table``):
 - two places: the floor radius's peak over the same forms, the rim's over
   ``fit_forms.SLOT_FACE_FORMS``, K_t the larger of the two, both shifted to the safe side
   together (``fits.shifted_pair``);
+- two places with the slot's corner radius in plan, the end mill's radius ``r_m`` (not a study
+  parameter: each row's end mill is the CAD's, ``outputs.cad.mills.pocket_tool``, for its case,
+  found again as ``checks.peak_places`` finds it): the rim's over the depth, the slot's share of
+  the width and ``plan_notch = sqrt(p/r_m)`` (Neuber's variable in plan), the floor radius's as
+  above;
 
 and prints where the study's peaks sit, each fit's form, residuals and shift, and how the
 study's 3-D peaks read against each K_t (3-D over model: below 0.90 the 3-D check calls the
@@ -52,6 +57,35 @@ def readings(rows: list[dict], predicted: list[float]) -> str:
             f"{sum(v < 0.90 for v in ratios)} of {len(ratios)} | {sum(v > unsafe * (1 + 1e-9) for v in ratios)}")
 
 
+def with_plan_notch(raw: list[dict]) -> list[dict]:
+    """The table's rows, each slot's with ``plan_notch`` = sqrt(p/r_m) of the end mill the CAD cuts
+    its case with."""
+    from designer.checks import peak_places
+    from designer.outputs.cad.mills import pocket_tool
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    stripped = [{k: v for k, v in r.items() if k not in peak_places.COLUMNS} for r in raw]
+    out = [dict(r) for r in raw]
+    for i, case in peak_places.pending(stripped, [FAMILY]):
+        spec = parse_spec_text(case.spec_text(), source=case.family)
+        g = evaluate_fixed(spec).evaluation.design.geometry
+        out[i]["plan_notch"] = math.sqrt(g.depth / (pocket_tool(spec, g).diameter / 2))
+    return out
+
+
+def with_plan_notch_rows(rows: list[dict], with_mill: list[dict]) -> list[dict]:
+    """``rows`` (near or far features of the table's slots) with their slot's ``plan_notch``."""
+    notch = {key(r): r["plan_notch"] for r in with_mill if "plan_notch" in r}
+    return [{**r, "plan_notch": notch[key(r)]} for r in rows]
+
+
+def key(row: dict) -> tuple:
+    """A slot row's identity by the parameters the table records (its far feature's the same)."""
+    return tuple(row.get(k) for k in ("width_ratio", "depth_ratio", "length_ratio", "pocket_width_ratio",
+                                      "notch_ratio", "grid_ratio", "seconds"))
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--table", type=Path, default=ROOT / "materials" / "corrections_study.csv")
@@ -70,21 +104,24 @@ def main(argv=None) -> int:
         count = places(data, columns)
         print(f"| {name} ({len(data)}) | {count['floor radius']} | {count['outer face']} | {count['elsewhere']} |")
 
-    forms = {fam: dict(q) for fam, q in fit_forms.FIT_FORMS.items()}
-    two = {**forms, FAMILY: {**forms[FAMILY], fits.FACE: fit_forms.SLOT_FACE_FORMS}}
+    slots = fit_forms.FIT_FORMS[FAMILY]
+    variants = {"one form": slots, "two places": {**slots, fits.FACE: fit_forms.SLOT_FACE_FORMS},
+                "two places, r_m": {**slots, fits.FACE: [("depth_ratio", "pocket_width_ratio", "plan_notch")]}}
+    with_mill = with_plan_notch(raw)
     print("\n| K_t | fit | terms | variables | RMS | left-out max | shift |\n|---|---|---:|---|---:|---:|---:|")
     tables = {}
-    for name, chosen in (("one form", forms), ("two places", two)):
-        table, _ = fits.fit_table(raw, forms={FAMILY: chosen[FAMILY]})
+    for name, chosen in variants.items():
+        table, _ = fits.fit_table(with_mill if "r_m" in name else raw, forms={FAMILY: chosen})
         tables[name] = table
         for quantity in fits.KT:
             f = table.fit(FAMILY, quantity)
             if f is not None:
-                what = {"stress": "floor radius" if name == "two places" else "zone's peak", fits.FACE: "outer face"}[quantity]
+                what = {"stress": "floor radius" if name != "one form" else "zone's peak", fits.FACE: "outer face"}[quantity]
                 print(f"| {name} | {what} | {len(f.exponents)} | {', '.join(f.variables)} | {f.rms:.3f} | "
                       f"{f.loo_max:.3f} | x{1 + f.margin:.3f} |")
 
     print("\n| K_t | features | 3-D / model: least | median | largest | below 0.90 | above 1/0.95 |\n|---|---|---:|---:|---:|---:|---:|")
+    near, far = (with_plan_notch_rows(data, with_mill) for data in (near, far))
     for name, table in tables.items():
         kts = [table.fit(FAMILY, q) for q in fits.KT if table.fit(FAMILY, q) is not None]
         inside = lambda r: all(fits._in_domain(r, f.domain) for f in kts)  # noqa: E731 - a local test
