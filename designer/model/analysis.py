@@ -14,7 +14,7 @@ from designer.model.beam import channel_deflection, natural_frequency, tip_defle
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
 from designer.model.estimator import sigmas
-from designer.model.ops import NUMERIC, PEAK_SMOOTHING, Ops, rounded_max  # noqa: F401 - PEAK_SMOOTHING: ours to give
+from designer.model.ops import NUMERIC, PEAK_SMOOTHING, Ops, rounded_max
 from designer.model.sections import Geometry, SectionProperties, channel_inertia, section_properties
 
 # The optimiser passes the material as parameters in GPa, MPa and kg/m^3 so that the NLP's
