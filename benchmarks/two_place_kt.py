@@ -74,23 +74,12 @@ def with_plan_notch(raw: list[dict]) -> list[dict]:
     return out
 
 
-def with_plan_notch_rows(rows: list[dict], with_mill: list[dict]) -> list[dict]:
-    """``rows`` (near or far features of the table's slots) with their slot's ``plan_notch``."""
-    notch = {key(r): r["plan_notch"] for r in with_mill if "plan_notch" in r}
-    return [{**r, "plan_notch": notch[key(r)]} for r in rows]
-
-
-def key(row: dict) -> tuple:
-    """A slot row's identity by the parameters the table records (its far feature's the same)."""
-    return tuple(row.get(k) for k in ("width_ratio", "depth_ratio", "length_ratio", "pocket_width_ratio",
-                                      "notch_ratio", "grid_ratio", "seconds"))
-
-
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--table", type=Path, default=ROOT / "materials" / "corrections_study.csv")
     args = p.parse_args(argv)
-    raw = read_csv(args.table)
+    # every slot row with its end mill's plan_notch, which only the third variant's forms read
+    raw = with_plan_notch(read_csv(args.table))
     rows = [r for r in fits.with_nearness(raw) if r["family"] == FAMILY]
     recorded = [r for r in rows if math.isfinite(r.get("stress_floor", math.nan))]
     print(f"{len(recorded)} of the study's {len(rows)} slots record both places.\n")
@@ -107,11 +96,10 @@ def main(argv=None) -> int:
     slots = fit_forms.FIT_FORMS[FAMILY]
     variants = {"one form": slots, "two places": {**slots, fits.FACE: fit_forms.SLOT_FACE_FORMS},
                 "two places, r_m": {**slots, fits.FACE: [("depth_ratio", "pocket_width_ratio", "plan_notch")]}}
-    with_mill = with_plan_notch(raw)
     print("\n| K_t | fit | terms | variables | RMS | left-out max | shift |\n|---|---|---:|---|---:|---:|---:|")
     tables = {}
     for name, chosen in variants.items():
-        table, _ = fits.fit_table(with_mill if "r_m" in name else raw, forms={FAMILY: chosen})
+        table, _ = fits.fit_table(raw, forms={FAMILY: chosen})
         tables[name] = table
         for quantity in fits.KT:
             f = table.fit(FAMILY, quantity)
@@ -121,7 +109,6 @@ def main(argv=None) -> int:
                       f"{f.loo_max:.3f} | x{1 + f.margin:.3f} |")
 
     print("\n| K_t | features | 3-D / model: least | median | largest | below 0.90 | above 1/0.95 |\n|---|---|---:|---:|---:|---:|---:|")
-    near, far = (with_plan_notch_rows(data, with_mill) for data in (near, far))
     for name, table in tables.items():
         kts = [table.fit(FAMILY, q) for q in fits.KT if table.fit(FAMILY, q) is not None]
         inside = lambda r: all(fits._in_domain(r, f.domain) for f in kts)  # noqa: E731 - a local test

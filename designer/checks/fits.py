@@ -259,16 +259,16 @@ def _choose(fam: str, quantity: str, candidates, rows: list[dict], report: list)
 # FACE the rim's; a family has both where its forms (FIT_FORMS, or ``fit_table``'s) give FACE forms.
 FACE = "stress_face"
 KT = ("stress", FACE)
-PLACE_COLUMNS = {"stress": ("stress_floor", "stress_floor_far"), FACE: ("stress_face", "stress_face_far")}
+PLACE_COLUMNS = {"stress": "stress_floor", FACE: "stress_face"}
 
 
 def place_row(row: dict, quantity: str) -> dict | None:
-    """``row`` with the peak on ``quantity``'s place (PLACE_COLUMNS) as its K_t (``stress_ratio``
-    and ``stress_face``, near; ``stress_far``, far); None where the row does not record it."""
-    near, far = (row.get(k, math.nan) for k in PLACE_COLUMNS[quantity])
-    if not math.isfinite(near):
+    """``row`` with its near feature's peak on ``quantity``'s place (PLACE_COLUMNS) as its K_t
+    (``stress_ratio``); None where the row does not record it."""
+    peak = row.get(PLACE_COLUMNS[quantity], math.nan)
+    if not math.isfinite(peak):
         return None
-    return {**row, "stress_ratio": near, FACE: near, "stress_far": far, "_of": id(row)}
+    return {**row, "stress_ratio": peak, "_of": id(row)}
 
 
 def shifted_pair(chosen: list, rows: list[dict], far: list[dict]) -> tuple:
@@ -280,18 +280,18 @@ def shifted_pair(chosen: list, rows: list[dict], far: list[dict]) -> tuple:
     (floor, floor_rows, floor_out, _), (face, face_rows, face_out, _) = chosen
     out_floor = {id_of(r): p for r, p in zip(floor_rows, floor_out)}
     out_face = {id_of(r): p for r, p in zip(face_rows, face_out)}
-    pairs = []
+    read, larger = [], []
     for r in rows:
         key = id_of(r)
         if key in out_floor and key in out_face:
-            pairs.append((r["stress_ratio"], max(out_floor[key], out_face[key])))
+            read.append(r)
+            larger.append(max(out_floor[key], out_face[key]))
     for r in far:
         if _in_domain(r, floor.domain) and _in_domain(r, face.domain):
-            pairs.append((r["stress_ratio"], max(float(floor(r)), float(face(r)))))
-    tol = FIT_ACCEPT["stress"]
-    margin = max(0.0, max(y * (1 - tol) / p for y, p in pairs) - 1)
-    return tuple(replace(f, coefficients=tuple(float(c * (1 + margin)) for c in f.coefficients), margin=margin)
-                 for f in (floor, face))
+            read.append(r)
+            larger.append(max(float(floor(r)), float(face(r))))
+    # ``shifted``'s scale depends on the peaks and the predictions alone: the same for both fits
+    return tuple(shifted(f, "stress", read, larger) for f in (floor, face))
 
 
 def id_of(row: dict) -> int:
@@ -323,10 +323,11 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
             fits["plain"] = {"stiffness": stiffness}
     for fam, quantities in (FIT_FORMS if forms is None else forms).items():
         chosen = {}
+        family_rows = [r for r in rows if r["family"] == fam]
         for quantity, candidates in quantities.items():
-            mine = [r for r in rows if r["family"] == fam]
+            mine = family_rows
             if FACE in quantities and quantity in KT:     # each of a two-place K_t on its own place's peak
-                mine = [r for r in (place_row(r, quantity) for r in mine) if r is not None]
+                mine = [r for r in (place_row(r, quantity) for r in family_rows) if r is not None]
             chosen[quantity] = _choose(fam, quantity, candidates, mine, report)
         for quantity, (fit, data, left_out, met) in chosen.items():
             if fit is None or (FACE in quantities and quantity in KT):
@@ -339,7 +340,7 @@ def fit_table(rows: list[dict], source: str = "", stiffness_rows: list[dict] | N
             if rough is not fit:
                 report.append((fam, quantity, len(rough.exponents), rough))
         if FACE in quantities and all(chosen[q][0] is not None for q in KT):
-            pair = shifted_pair([chosen[q] for q in KT], [r for r in rows if r["family"] == fam], far_features(rows, fam))
+            pair = shifted_pair([chosen[q] for q in KT], family_rows, far_features(rows, fam))
             for quantity, fit in zip(KT, pair):
                 fits.setdefault(fam, {})[quantity] = fit
                 if fit.margin:
