@@ -149,7 +149,7 @@ def main(argv=None) -> int:
         return 0
     errors = left_out_errors(args.study)
     picked = errors[:args.count] + errors[-args.count:]
-    cases = [(c, study.case_parameters(c)) for c in study.cases(["rectangle-pocket"])]
+    cases = study.cases_with_parameters(["rectangle-pocket"])
     print("| left-out error | 3-D K_t (study) | 3-D K_t (now) | where the peak sits | h (mm) | b (mm) | depth / h "
           "| notch_ratio | side walls / h | slot width / h | clamp_near | peak's mesh change | peak at (mm) |")
     print("|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")

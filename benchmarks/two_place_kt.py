@@ -5,14 +5,14 @@ records both peaks of every slot (``study.Row.stress_floor`` and ``stress_face``
 ``python -m designer.checks.peak_places``). This fits the slots' K_t both ways with the fitting
 rules the table is made by (``fits.fit_table``):
 
-- one form, as shipped: the largest peak of the slot's zone (``stress_ratio``) over its forms;
-- two places: the floor radius's peak over the same forms, the rim's over
-  ``fit_forms.SLOT_FACE_FORMS``, K_t the larger of the two, both shifted to the safe side
-  together (``fits.shifted_pair``);
-- two places with the slot's corner radius in plan, the end mill's radius ``r_m`` (not a study
-  parameter: each row's end mill is the CAD's, ``outputs.cad.mills.pocket_tool``, for its case,
-  found again as ``checks.peak_places`` finds it): the rim's over the depth, the slot's share of
-  the width and ``plan_notch = sqrt(p/r_m)`` (Neuber's variable in plan), the floor radius's as
+- one form: the largest peak of the slot's zone (``stress_ratio``) over its forms (as it
+  shipped before the two places);
+- two places without the end mill: the floor radius's peak over the same forms, the rim's over
+  polynomials in the slot's plan shape, depth, side walls and the bar's width (WITHOUT_PLAN), K_t
+  the larger of the two, both shifted to the safe side together (``fits.shifted_pair``);
+- two places as shipped (``fit_forms.FIT_FORMS``): the rim's over the depth, the slot's share of
+  the width and ``plan_notch = sqrt(p/r_m)``, Neuber's variable of the slot's corner in plan, whose
+  radius is the end mill's (``outputs.cad.mills``; the study records it), the floor radius's as
   above;
 
 and prints where the study's peaks sit, each fit's form, residuals and shift, and how the
@@ -35,6 +35,13 @@ from designer.checks.study_table import read_csv
 
 ROOT = Path(__file__).resolve().parent.parent
 FAMILY = "rectangle-pocket"
+# The rim's forms without the end mill's radius (the second variant): the slot's plan shape, how
+# much of the top layer it cuts and what its side walls carry.
+WITHOUT_PLAN = [("depth_ratio", "length_ratio"), ("length_ratio", "side_wall_ratio"),
+                ("depth_ratio", "side_wall_ratio"), ("depth_ratio", "length_ratio", "side_wall_ratio"),
+                ("depth_ratio", "length_ratio", "pocket_width_ratio"), ("length_ratio", "width_ratio", "side_wall_ratio"),
+                ("depth_ratio", "width_ratio", "side_wall_ratio"), ("depth_ratio", "length_ratio", "clamp_near"),
+                ("length_ratio", "side_wall_ratio", "clamp_near")]
 SAME = 0.999    # a place's peak within this share of the zone's is the zone's peak
 
 
@@ -57,29 +64,11 @@ def readings(rows: list[dict], predicted: list[float]) -> str:
             f"{sum(v < 0.90 for v in ratios)} of {len(ratios)} | {sum(v > unsafe * (1 + 1e-9) for v in ratios)}")
 
 
-def with_plan_notch(raw: list[dict]) -> list[dict]:
-    """The table's rows, each slot's with ``plan_notch`` = sqrt(p/r_m) of the end mill the CAD cuts
-    its case with."""
-    from designer.checks import peak_places
-    from designer.outputs.cad.mills import pocket_tool
-    from designer.result.pipeline import evaluate_fixed
-    from designer.spec.reader import parse_spec_text
-
-    stripped = [{k: v for k, v in r.items() if k not in peak_places.COLUMNS} for r in raw]
-    out = [dict(r) for r in raw]
-    for i, case in peak_places.pending(stripped, [FAMILY]):
-        spec = parse_spec_text(case.spec_text(), source=case.family)
-        g = evaluate_fixed(spec).evaluation.design.geometry
-        out[i]["plan_notch"] = math.sqrt(g.depth / (pocket_tool(spec, g).diameter / 2))
-    return out
-
-
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--table", type=Path, default=ROOT / "materials" / "corrections_study.csv")
     args = p.parse_args(argv)
-    # every slot row with its end mill's plan_notch, which only the third variant's forms read
-    raw = with_plan_notch(read_csv(args.table))
+    raw = read_csv(args.table)
     rows = [r for r in fits.with_nearness(raw) if r["family"] == FAMILY]
     recorded = [r for r in rows if math.isfinite(r.get("stress_floor", math.nan))]
     print(f"{len(recorded)} of the study's {len(rows)} slots record both places.\n")
@@ -94,8 +83,8 @@ def main(argv=None) -> int:
         print(f"| {name} ({len(data)}) | {count['floor radius']} | {count['outer face']} | {count['elsewhere']} |")
 
     slots = fit_forms.FIT_FORMS[FAMILY]
-    variants = {"one form": slots, "two places": {**slots, fits.FACE: fit_forms.SLOT_FACE_FORMS},
-                "two places, r_m": {**slots, fits.FACE: [("depth_ratio", "pocket_width_ratio", "plan_notch")]}}
+    one = {q: forms for q, forms in slots.items() if q != fits.FACE}
+    variants = {"one form": one, "two places": {**one, fits.FACE: WITHOUT_PLAN}, "two places, r_m": slots}
     print("\n| K_t | fit | terms | variables | RMS | left-out max | shift |\n|---|---|---:|---|---:|---:|---:|")
     tables = {}
     for name, chosen in variants.items():

@@ -43,11 +43,15 @@ def material(E=E_AL):
 
 # A pocket's floor radius: the spec's default end-mill corner radius (cad.corner_radius, R0.2).
 FLOOR_RADIUS = 0.2 * MM
+# A 5.5 mm slot's corner radius in plan: its end mill's, Ø3 (outputs.cad.mills: the largest
+# catalogue end mill at most 0.6 of the slot's width).
+PLAN_RADIUS = 1.5 * MM
 
 
 def rectangle(b, h, feature="none", stations=(0.02, 0.08), length=0.4, **kw):
     if feature == "pocket":
         kw.setdefault("floor_radius", FLOOR_RADIUS)
+        kw.setdefault("plan_radius", PLAN_RADIUS)
     return Geometry(section="rectangle", feature=feature, stations=stations, length=length,
                     width=b, height=h, gauge_length=6.9 * MM, pocket_length=8.9 * MM,
                     pocket_width=kw.pop("pocket_width", 5.5 * MM), **kw)

@@ -1,7 +1,7 @@
 """A pocket study row's extra length (docs/model.md §7): the extension of each reduced span for
 which the beam model gives the row's 3-D free-end deflection, solved when the row is run
-(``study.run_case``) and again after a change of the beam model
-(``study.refresh_extra_lengths``), and how a row's two features share it (``feature_weights``,
+(``study.run_case``) and again after a change of the beam model (``refresh``,
+which records the parameters the model has come to read as well), and how a row's two features share it (``feature_weights``,
 ``features``) where a fit takes each feature's own clamp nearness, as the model does
 (``corrections.widened``)."""
 
@@ -95,3 +95,48 @@ def features(row: dict, variables, quantity: str) -> list[tuple[float, dict]]:
 def prediction(fit, quantity: str, row: dict) -> float:
     """What ``fit`` of ``quantity`` predicts for ``row``, its features weighted as ``features`` says."""
     return sum(share * float(fit(q)) for share, q in features(row, fit.variables, quantity))
+
+
+def refresh(rows: list[dict], stiffness, cases, parameters) -> list[dict]:
+    """``rows`` with each pocket row's ``extra_length`` solved again from its 3-D deflection
+    (``deflection_ratio`` times ``euler_deflection``) with today's beam model and ``stiffness``
+    fit, and the parameters today's model reads that it does not record, without the 3-D check:
+    each row is matched to its case (``cases(families)``: ``study.cases``) by the parameters it
+    records (``parameters(geometry)``: ``study.geometry_parameters``)."""
+    from designer import model
+    from designer.errors import FpdError
+    from designer.model import corrections
+    from designer.result.pipeline import evaluate_fixed
+    from designer.spec.reader import parse_spec_text
+
+    out = list(rows)
+    index = {}
+    for i, r in enumerate(rows):
+        if r["family"].endswith("pocket"):
+            index.setdefault(r["family"], []).append(i)
+    for case in cases([*index]):
+        spec = parse_spec_text(case.spec_text(), source=case.family)
+        try:
+            design = evaluate_fixed(spec).evaluation.design
+        except FpdError:    # a case no end mill cuts: the study left it out (``study.main``)
+            continue
+        g = design.geometry
+        params = parameters(g)
+        match = [i for i in index[case.family] if all(math.isclose(rows[i][k], v, rel_tol=1e-5, abs_tol=1e-9)
+                                                      for k, v in params.items() if _recorded(rows[i], k))]
+        if len(match) != 1:
+            continue
+        raw = model.analyse(g, design.material_params(spec), spec, table=corrections.Corrections({}))
+        row = {**rows[match[0]], **{k: v for k, v in params.items() if not _recorded(rows[match[0]], k)}}
+        euler = euler_deflection(g, raw, design.material, spec)
+        fea = row["deflection_ratio"] * euler
+        extra = extra_length(g, raw, design.material, spec, fea, stiffness)
+        row["extra_length"] = extra / case.size
+        row["far_share"], row["far_clamp_ratio"] = feature_weights(g, raw, design.material, spec, extra)
+        row["base_ratio"] = fea / (euler + beyond_euler(g, raw, design.material, spec, stiffness))
+        out[match[0]] = row
+    return out
+
+
+def _recorded(row: dict, key: str) -> bool:
+    return not math.isnan(row.get(key, math.nan))

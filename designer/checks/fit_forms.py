@@ -8,6 +8,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+FACE = "stress_face"    # a slot's K_t at its rim (``fits.FACE``)
+
 
 def monomials(n: int, degree: int) -> list[tuple]:
     """Exponent tuples of every monomial of ``n`` variables up to total ``degree``, constant first."""
@@ -144,14 +146,15 @@ FIT_FORMS = {
                                ("notch_ratio", "depth_ratio", "wall_ratio"),
                                ("notch_ratio", "depth_ratio", "clamp_near")]},
 }
-# A slot's K_t at its rim on the loaded outer face (``fits.FACE``), beside its floor radius's: the
-# slot's plan shape, how much of the top layer it cuts and what its side walls carry. Not in
-# FIT_FORMS yet: ``benchmarks/two_place_kt.py`` fits the slots' K_t with them (docs/model.md §7).
-SLOT_FACE_FORMS = [("depth_ratio", "length_ratio"), ("length_ratio", "side_wall_ratio"),
-                   ("depth_ratio", "side_wall_ratio"), ("depth_ratio", "length_ratio", "side_wall_ratio"),
-                   ("depth_ratio", "length_ratio", "pocket_width_ratio"), ("length_ratio", "width_ratio", "side_wall_ratio"),
-                   ("depth_ratio", "width_ratio", "side_wall_ratio"), ("depth_ratio", "length_ratio", "clamp_near"),
-                   ("length_ratio", "side_wall_ratio", "clamp_near")]
+# A slot's K_t at its rim on the loaded outer face (``fits.FACE``), beside its floor radius's
+# (``stress``, then fitted to the floor radius's own peak): the slot's corner in plan is a notch of
+# the end mill's radius r_m, and the rim's K_t follows Neuber's variable of it, ``plan_notch`` =
+# sqrt(p/r_m), with the depth and the slot's share of the width (a quadratic; left out 6.4 %).
+# Without r_m (polynomials in the depth, the length, the side walls' and the slot's share and the
+# bar's width) its left-out error was 15.5 % and two places shifted K_t more than one form did
+# (x1.132 against x1.100; benchmarks/two_place_kt.md, docs/model.md §7).
+SLOT_FACE_FORMS = [("depth_ratio", "pocket_width_ratio", "plan_notch")]
+FIT_FORMS["rectangle-pocket"][FACE] = SLOT_FACE_FORMS
 # Where a fit that cannot meet its rule over the whole study is fitted instead (the optimiser is
 # kept inside by the domain limits): family -> quantity -> parameter -> (low, high).
 # A slot from 0.9 of its bar's height long (below, the slots' gauge strain; its K_t likewise).

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from designer.checks.clamp_study import near_station
 from designer.checks.extra_length import features
-from designer.checks.fit_forms import FIT_DEGREES, FIT_DOMAINS, FIT_FORMS, MAX_TERMS, Terms, monomials
+from designer.checks.fit_forms import FACE, FIT_DEGREES, FIT_DOMAINS, FIT_FORMS, MAX_TERMS, Terms, monomials
 from designer.model import corrections
 from designer.model.domain import NEAR_STATION, upper_hull
 
@@ -257,7 +257,6 @@ def _choose(fam: str, quantity: str, candidates, rows: list[dict], report: list)
 # ``checks.peak_places``): its K_t is the larger of two fits, each made to its own place's peak
 # (the study's ``stress_floor`` and ``stress_face``) as a K_t is, ``stress`` the floor's and
 # FACE the rim's; a family has both where its forms (FIT_FORMS, or ``fit_table``'s) give FACE forms.
-FACE = "stress_face"
 KT = ("stress", FACE)
 PLACE_COLUMNS = {"stress": "stress_floor", FACE: "stress_face"}
 

@@ -39,8 +39,7 @@ def pending(rows: list[dict], families) -> list[tuple[int, study.Case]]:
     """``(row index, case)`` of each row of ``families`` without the place columns whose case
     ``study.cases()`` still makes (found by the parameters the case's design gives)."""
     by_key, names = {}, {}
-    for case in study.cases(families):
-        params = study.case_parameters(case)
+    for case, params in study.cases_with_parameters(families):
         names.setdefault(case.family, sorted(params))
         by_key.setdefault((case.family, key(params)), case)
     out = []

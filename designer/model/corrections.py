@@ -68,6 +68,10 @@ def _parameters(g: Geometry) -> dict:
             out["notch_ratio"] = (g.depth / g.floor_radius) ** 0.5
         if g.section == "rectangle":
             out["pocket_width_ratio"] = g.pocket_width / g.width
+            if g.plan_radius > 0:
+                # sqrt(p/r_m): Neuber's variable of the slot's corner in plan (the end mill's radius),
+                # which orders its K_t at the rim on the loaded face (docs/model.md §7)
+                out["plan_notch"] = (g.depth / g.plan_radius) ** 0.5
         else:
             out[SHOULDER] = shoulder_ratio(g)
     if g.feature == "hole":

@@ -38,6 +38,7 @@ class Geometry:
     grid_width: float = 0.0        # ... and across it
     axes: int = 1
     floor_radius: float = 0.0      # the end mill's corner radius where a pocket's floor meets its end walls
+    plan_radius: float = 0.0       # a slot's corner radius in plan: the radius of the end mill that cuts it
     channel_width: float = 0.0     # the wire channel along each pocketed face, clamp to last station (0: none)
     channel_depth: Any = 0.0
 

@@ -110,6 +110,7 @@ class BeamCad:
                               depth=self.pocket_depth, hole=self.hole_diameter, pocket_length=self.pocket_length,
                               pocket_width=self.pocket_width, gauge_length=self.gauge_length, axes=self.axes,
                               floor_radius=self.floor_radius if self.feature == "pocket" else 0.0,
+                              plan_radius=self.corner_radius if self.feature == "pocket" and rectangle else 0.0,
                               channel_width=self.channels.width if self.channels else 0.0,
                               channel_depth=self.channels.depth if self.channels else 0.0)
 

@@ -217,7 +217,7 @@ def channelled(g: Geometry, cad) -> Geometry:
 def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometry:
     """A Geometry from spec dataclasses (Section, Feature) and station positions."""
     lp, wp = spec.pocket_size()
-    return channelled(Geometry(
+    return milled(Geometry(
         section=section.kind, feature=feature.kind, stations=tuple(stations), length=length,
         width=section.width, height=section.height, diameter=section.diameter, wall=section.wall,
         depth=feature.depth if feature.kind == "pocket" else 0.0,
@@ -226,7 +226,19 @@ def geometry_for(spec, section, feature, stations, length, axes=None) -> Geometr
         pocket_width=feature.width if feature.kind == "pocket" else wp,
         gauge_length=spec.gauge.length, grid_length=spec.gauge.grid_length,
         grid_width=spec.gauge.grid_width, axes=axes or spec.axes,
-        floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0), spec.cad)
+        floor_radius=spec.cad.corner_radius if feature.kind == "pocket" else 0.0), spec)
+
+
+def milled(g: Geometry, spec) -> Geometry:
+    """``g`` with its wire channels (``channelled``) and a slot's corner radius in plan, the radius
+    of the end mill the CAD cuts it with (``outputs.cad.mills.pocket_tool``; DesignFileError where
+    none can)."""
+    g = channelled(g, spec.cad)
+    if g.section != "rectangle" or g.feature != "pocket":
+        return g
+    from designer.outputs.cad.mills import pocket_tool
+
+    return replace(g, plan_radius=pocket_tool(spec, g).diameter / 2)
 
 
 def fixed_design(spec) -> Design:

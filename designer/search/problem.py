@@ -121,6 +121,7 @@ class FamilyVariables:
     lower: np.ndarray
     upper: np.ndarray
     adjustment: object = None  # model.Adjustment: the model adjusted to a 3-D check, carried by every design
+    plan_radius: float = 0.0   # a slot's corner radius in plan, its end mill's radius (the spec's alone)
 
     @classmethod
     def of(cls, spec, family: Family, adjustment=None) -> "FamilyVariables":
@@ -155,7 +156,12 @@ class FamilyVariables:
         if lo and any(a > b for a, b in zip(lo, hi)):
             bad = names[[a > b for a, b in zip(lo, hi)].index(True)]
             raise SpecError(f"limits: the bounds leave no room for {bad}; check limits.width and limits.height")
-        return cls(spec, family, tuple(names), np.array(lo), np.array(hi), adjustment)
+        plan_radius = 0.0
+        if fam.section == "rectangle" and fam.feature == "pocket":
+            from designer.outputs.cad.mills import slot_plan_radius
+
+            plan_radius = slot_plan_radius(spec)
+        return cls(spec, family, tuple(names), np.array(lo), np.array(hi), adjustment, plan_radius)
 
     def geometry(self, v) -> Geometry:
         """A Geometry from variable values in SI (floats, arrays or casadi)."""
@@ -173,7 +179,7 @@ class FamilyVariables:
                      pocket_length=lp, pocket_width=wp, gauge_length=spec.gauge.length,
                      grid_length=spec.gauge.grid_length, grid_width=spec.gauge.grid_width, axes=spec.axes,
                      floor_radius=spec.cad.corner_radius if fam.feature == "pocket" else 0.0,
-                     channel_width=channel[0], channel_depth=channel[1])
+                     plan_radius=self.plan_radius, channel_width=channel[0], channel_depth=channel[1])
         return pocket_as_needed(g, lp)
 
     def design(self, x, material) -> Design:

@@ -584,3 +584,29 @@ def test_a_two_place_k_t_is_shifted_once_for_the_larger_of_its_fits():
     far = [{"family": "rectangle-pocket", "depth_ratio": 0.5, "stress_ratio": 2.31},
            {"family": "rectangle-pocket", "depth_ratio": 1.5, "stress_ratio": 9.0}]   # outside the fits: not read
     assert [f.margin for f in fits.shifted_pair(chosen, rows, far)] == pytest.approx([0.09725, 0.09725])
+
+
+def test_a_slots_plan_notch_reads_the_end_mill_the_cad_cuts_it_with():
+    """docs/model.md §7: the rim's K_t reads ``plan_notch`` = sqrt(p/r_m), r_m the radius of the end
+    mill that cuts the slot (its corner radius in plan). The search's design (the spec's slot end
+    mill), the design read back from its design.json (the CAD's end mill for its own sizes) and
+    design.json's ``design.feature.tool`` take the same one: by outputs.cad.mills' rule, the
+    largest catalogue end mill with the 0.2 mm corner radius at most 0.6 of the 5.5 mm slot
+    (BF350-3AA's 3.5 mm backing and two 1 mm margins): 3.3 mm allows Ø3 (materials/tools.yaml)."""
+    from dataclasses import replace
+    from pathlib import Path
+
+    from designer.result.designfile import parse_design
+    from designer.result.pipeline import DesignOptions, design
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / "prototype-b-optimized.yaml")
+    spec = replace(spec, search=replace(spec.search, materials=("6061-T6",), sections=("rectangle",)))
+    result = design(spec, DesignOptions(verify=False, tradeoff=False))
+    g = result.evaluation.design.geometry
+    assert (g.section, g.feature) == ("rectangle", "pocket")
+    assert result.record["design"]["feature"]["tool"]["diameter"] == pytest.approx(3e-3, rel=1e-12)
+    assert g.plan_radius == pytest.approx(1.5e-3, rel=1e-12)
+    assert corrections.parameters(g)["plan_notch"] == pytest.approx(math.sqrt(g.depth / 1.5e-3), rel=1e-12)
+    again = parse_design(result.record).design.geometry
+    assert again.plan_radius == pytest.approx(1.5e-3, rel=1e-12)

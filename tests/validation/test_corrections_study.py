@@ -318,22 +318,21 @@ def _two_place_kt(table, fam, row) -> float:
     return max(prediction(table.fit(fam, q), q, row) for q in fits.KT)
 
 
-def test_a_two_place_k_t_reads_each_place_and_every_peak():
-    """docs/model.md §7: a slot's K_t of two places (its floor radius and its rim on the outer face,
-    fits.FACE; not shipped), as the fitting rules make it from the study (``fit_table`` with the rim's forms,
-    fit_forms.SLOT_FACE_FORMS): each fitted to its own place's 3-D peak and both shifted together
-    (fits.shifted_pair). Each reads its own place within its left-out error (under) and that plus
-    the shift (over); their larger reads every study feature's 3-D peak, wherever it sits, at most
-    FIT_ACCEPT under: the near features in its domain and the far ones. Reference: the study's 3-D
+def test_a_slots_k_t_of_two_places_reads_each_place_and_every_peak():
+    """docs/model.md §7: a slot's K_t is the larger of two fits, its floor radius's (``stress``) and
+    its rim's on the loaded outer face (fits.FACE, over the end mill's ``plan_notch``), each fitted
+    to its own place's 3-D peak and both shifted together (fits.shifted_pair). Each reads its own
+    place within its left-out error (under) and that plus the shift (over); their larger reads
+    every study feature's 3-D peak, wherever it sits, at most FIT_ACCEPT under: the near features
+    in its domain and the far ones. The pair's shift is less than that of one form fitted to the
+    zone's peak (x1.086 against x1.100, benchmarks/two_place_kt.md). Reference: the study's 3-D
     rows and their places (checks.peak_places)."""
-    slots = fit_forms.FIT_FORMS["rectangle-pocket"]
-    table, _ = fits.fit_table(study.read_csv(STUDY),
-                              forms={"rectangle-pocket": {**slots, fits.FACE: fit_forms.SLOT_FACE_FORMS}})
+    table = corrections.load()
     two = [fam for fam, quantities in table.fits.items() if fits.FACE in quantities]
     assert two == ["rectangle-pocket"]
-    # with these forms two places do not take the shift below the one form's (x1.132 against
-    # x1.100, benchmarks/two_place_kt.md): the scatter lies within each place, not in the switch
-    assert table.fit("rectangle-pocket", "stress").margin > corrections.load().fit("rectangle-pocket", "stress").margin
+    one_form = {q: forms for q, forms in fit_forms.FIT_FORMS["rectangle-pocket"].items() if q != fits.FACE}
+    one, _ = fits.fit_table(study.read_csv(STUDY), forms={"rectangle-pocket": one_form})
+    assert table.fit("rectangle-pocket", "stress").margin < one.fit("rectangle-pocket", "stress").margin
     accept = fits.FIT_ACCEPT["stress"]
     for fam in two:
         mine = [r for r in _rows() if r["family"] == fam]
@@ -414,7 +413,12 @@ def _group_rows(groups, rows):
 
 
 def _row_of(case, rows):
-    params = study.case_parameters(case)
+    from designer.errors import FpdError
+
+    try:
+        params = study.case_parameters(case)
+    except FpdError as exc:     # no catalogue end mill cuts it: the study left it out
+        raise LookupError(f"{case} is not in the table") from exc
     for r in rows:
         if r["family"] == case.family and all(
                 r.get(k) == pytest.approx(v, rel=1e-5) for k, v in params.items() if k in r):
@@ -447,12 +451,23 @@ def test_fresh_3d_runs_reproduce_pocket_points_of_the_table_and_the_fits(family,
     if family == "rectangle-pocket":
         assert max(fresh.stress_floor, fresh.stress_face) == pytest.approx(fresh.stress_ratio, rel=1e-12)
     figures = {"strain": fresh.strain_far, "extra_length": fresh.extra_length, "stress": fresh.stress_ratio}
-    for quantity, fit in corrections.load().fits.get(family, {}).items():
+    table = corrections.load()
+    for quantity, fit in table.fits.get(family, {}).items():
         if quantity not in figures:
-            continue  # near_clamp: test_the_near_clamp_fits_reproduce_the_study
+            continue  # near_clamp: test_the_near_clamp_fits_reproduce_the_study; a two-place K_t: below
         values = {**fits.with_nearness([fresh.parameters])[0], "extra_length": fresh.extra_length,
                   "deflection_ratio": fresh.deflection_ratio, fits.TARGETS[quantity]: figures[quantity]}
-        if _inside(fit, values):
+        if quantity == "stress" and table.fit(family, fits.FACE) is not None:
+            # a slot's K_t of two places: each fit reads its own place within its left-out error
+            # (under) and that plus the shift (over), their larger the zone's peak at most
+            # FIT_ACCEPT under (as test_a_slots_k_t_of_two_places_reads_each_place_and_every_peak)
+            if _inside_kt(table, family, values):
+                for q in fits.KT:
+                    place, own = table.fit(family, q), {**values, "stress_ratio": getattr(fresh, fits.PLACE_COLUMNS[q])}
+                    error = fits.judged_error("stress", own, prediction(place, "stress", own))
+                    assert -place.loo_max <= error <= place.loo_max + place.margin + fits.FIT_ACCEPT["stress"], q
+                assert _two_place_kt(table, family, values) >= (1 - fits.FIT_ACCEPT["stress"]) * fresh.stress_ratio
+        elif _inside(fit, values):
             assert _within_its_rule(quantity, fit, values), quantity
 
 
@@ -731,8 +746,9 @@ def test_the_slot_k_t_fit_reads_shallow_slots_with_a_sharp_floor_radius_on_its_s
     (``study.SHALLOW_SHARP_SLOTS``: sqrt(p/r) 1.8-3.4 at depths of 0.05-0.15 heights, where the
     other groups' least floor radius left few points) were run after the others. The shipped form
     fitted to the other rows reads their K_t 4 % under the 3-D one on average and up to 11 %
-    under (before its shift); fitted with them, the shipped K_t (shifted) reads every one inside
-    its domain at or above the 3-D K_t. Reference: the study's 3-D rows."""
+    under (before its shift); fitted with them, the one form read every one inside its domain at
+    or above the 3-D K_t, and the shipped K_t of two places (shifted) reads each at most FIT_ACCEPT
+    under it (two of 31 by 2.7 % and 4.4 %) and over it on average. Reference: the study's 3-D rows."""
     rows = _rows()
     added = _group_rows(study.SHALLOW_SHARP_SLOT_GROUPS, rows)
     assert len(added) == 32
@@ -746,7 +762,8 @@ def test_the_slot_k_t_fit_reads_shallow_slots_with_a_sharp_floor_radius_on_its_s
     table = corrections.load()
     inside = [r for r in added if _inside_kt(table, "rectangle-pocket", r)]
     assert len(inside) >= 30
-    assert min(fits.judged_error("stress", r, _shipped_kt(table, "rectangle-pocket", r)) for r in inside) >= 0
+    after = [fits.judged_error("stress", r, _shipped_kt(table, "rectangle-pocket", r)) for r in inside]
+    assert min(after) >= -fits.FIT_ACCEPT["stress"] and sum(after) / len(after) > 0.03
 
 
 def test_slots_narrower_than_the_others_read_the_fits_made_without_them():

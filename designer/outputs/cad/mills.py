@@ -66,7 +66,11 @@ def pocket_tool(spec, geometry) -> EndMill | None:
     system = spec_system(spec)
     corner = spec.cad.corner_radius
     if geometry.section == "rectangle":
-        d = end_mill(spec.cad.end_mill_diameter, geometry.pocket_length, geometry.pocket_width, spec.gauge.length,
+        # chosen as for the gauge's own pocket (``spec.pocket_size``): a slot made longer than that
+        # (``search.problem.pocket_as_needed``) is cut with the same end mill, whose radius the
+        # search's model took (``slot_end_mill``), not a larger one its length would allow
+        length = min(geometry.pocket_length, spec.pocket_size()[0])
+        d = end_mill(spec.cad.end_mill_diameter, length, geometry.pocket_width, spec.gauge.length,
                      spec.gauge.width, corner, system)
     else:
         d = spec.cad.end_mill_diameter or flat_end_mill(geometry.pocket_length, corner, system)
@@ -93,6 +97,17 @@ def slot_end_mill(spec) -> float:
             f"limits.pocket_margin) leaves no catalogue end mill (from {fmt_mm(smallest)} mm) that cuts it with "
             f"the {fmt_mm(spec.cad.corner_radius)} mm cad.corner_radius and keeps the gauge on its flat floor; "
             "give cad.end_mill_diameter, a smaller cad.corner_radius or a larger limits.pocket_margin") from None
+
+
+def slot_plan_radius(spec) -> float:
+    """A spec's slots' corner radius in plan: the radius of the end mill that cuts them
+    (``slot_end_mill``), which the model's K_t at the rim reads (docs/model.md §7). Where no end mill
+    can, the largest the rule allows (END_MILL_FRACTION of the slot's width): no such design is
+    reported (``search.run``'s unmachinable families), but its model stays defined."""
+    try:
+        return slot_end_mill(spec) / 2
+    except DesignFileError:
+        return END_MILL_FRACTION * spec.pocket_size()[1] / 2
 
 
 def end_mill(given: float | None, p_len: float, p_wid: float, g_len: float, g_wid: float, corner: float,
