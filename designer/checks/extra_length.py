@@ -1,9 +1,9 @@
 """A pocket study row's extra length (docs/model.md §7): the extension of each reduced span for
 which the beam model gives the row's 3-D free-end deflection, solved when the row is run
-(``study.run_case``) and again after a change of the beam model (``refresh``,
-which records the parameters the model has come to read as well), and how a row's two features share it (``feature_weights``,
-``features``) where a fit takes each feature's own clamp nearness, as the model does
-(``corrections.widened``)."""
+(``study.run_case``) and again after a change of the beam model (``refresh``, which records the
+parameters the model has come to read as well), and how a row's two features share it
+(``feature_weights``, ``features``) where a fit takes each feature's own clamp nearness, as the
+model does (``corrections.widened``)."""
 
 from __future__ import annotations
 

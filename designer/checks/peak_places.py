@@ -56,17 +56,10 @@ def pending(rows: list[dict], families) -> list[tuple[int, study.Case]]:
 def places(case: study.Case, mesh: str) -> tuple[tuple, tuple]:
     """A case's station peaks and ``COLUMNS``, each over its feature's nominal stress
     (``study.nominal_stresses``), from one mesh."""
-    from designer import model
     from designer.checks.fea.compare import one_mesh
-    from designer.model import corrections
-    from designer.result.pipeline import evaluate_fixed
-    from designer.spec.reader import parse_spec_text
 
-    spec = parse_spec_text(case.spec_text(), source=case.family)
-    result = evaluate_fixed(spec)
-    design = result.evaluation.design
-    raw = model.analyse(design.geometry, design.material_params(spec), spec, table=corrections.Corrections({}))
-    nominal = study.nominal_stresses(design.geometry, raw, spec)
+    spec, result, raw = study.plain_case(case)
+    nominal = study.nominal_stresses(result.evaluation.design.geometry, raw, spec)
     figures = one_mesh(result.record, mesh)
     peaks = tuple(p / n for p, n in zip(figures.station_peaks, nominal))
     return peaks, tuple(p / n for n, station in zip(nominal, figures.station_places) for p in station)

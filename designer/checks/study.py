@@ -470,21 +470,31 @@ def model_ratios(case: Case, mesh: str = "normal") -> tuple[float, ...]:
     return tuple(verify_design(record, mesh=mesh).ratios)
 
 
-def run_case(case: Case, mesh: str = "normal") -> Row:
-    """The 3-D check of one case and its dimensionless figures."""
+def plain_case(case: Case) -> tuple:
+    """``(spec, result, raw)`` of a case: its spec, its design evaluated (``evaluate_fixed``) and the
+    plain beam model's analysis of it, which the table's ratios are over whatever corrections the
+    shipped table makes."""
     from designer import model
-    from designer.checks.fea import verify_design
     from designer.model import corrections
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
     spec = parse_spec_text(case.spec_text(), source=case.family)
     result = evaluate_fixed(spec)
+    design = result.evaluation.design
+    return spec, result, model.analyse(design.geometry, design.material_params(spec), spec,
+                                       table=corrections.Corrections({}))
+
+
+def run_case(case: Case, mesh: str = "normal") -> Row:
+    """The 3-D check of one case and its dimensionless figures."""
+    from designer.checks.fea import verify_design
+    from designer.model import corrections
+
+    spec, result, raw = plain_case(case)
+    design = result.evaluation.design
     t0 = time.perf_counter()
     v = verify_design(result.record, mesh=mesh)
-    # the ratios are to the plain beam model, whatever corrections the shipped table makes
-    design = result.evaluation.design
-    raw = model.analyse(design.geometry, design.material_params(spec), spec, table=corrections.Corrections({}))
     near, far = (gc.fea_strain / float(s) for gc, s in zip(v.gauges, raw.gauge_strain))
     g = design.geometry
     params = geometry_parameters(g)
