@@ -9,6 +9,7 @@ re-checks every limit of the model with the 3-D figures where the check gives th
 
 from __future__ import annotations
 
+import contextlib
 import tempfile
 import time
 from dataclasses import dataclass, replace
@@ -134,9 +135,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     start = time.perf_counter()
     spec, model_design, ev, beam, pb = _problem(design, mesh)
     refinement = MESH_LEVELS[mesh]
-    with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
-        step_path = Path(tmp) / f"{beam.file_stem}.step"
-        write_step_apart(design, step_path)
+    with _step(design, beam) as step_path:
         main, partner = _both_meshes(step_path, pb, mesh, refinement)
 
     a = ev.analysis
@@ -241,13 +240,20 @@ def _problem(design: dict, mesh: str):
     return spec, model_design, ev, beam, pb
 
 
+@contextlib.contextmanager
+def _step(design: dict, beam):
+    """The record's solid as STEP in a temporary folder, for the mesher (removed after)."""
+    with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
+        step_path = Path(tmp) / f"{beam.file_stem}.step"
+        write_step_apart(design, step_path)
+        yield step_path
+
+
 def one_mesh(design: dict, mesh: str = "normal") -> Figures:
     """The figures of a design.json record on the ``mesh`` level alone: no convergence mesh, no
     verdict. For a study that reads a figure again on designs whose check it has already made
     (``checks.peak_places``); a design's check is ``verify_design``."""
     _, _, _, beam, pb = _problem(design, mesh)
-    with tempfile.TemporaryDirectory(prefix="fpdesign-verify-") as tmp:
-        step_path = Path(tmp) / f"{beam.file_stem}.step"
-        write_step_apart(design, step_path)
+    with _step(design, beam) as step_path:
         figures, _ = _run(step_path, pb, mesh, MESH_LEVELS[mesh])
     return figures
