@@ -610,3 +610,25 @@ def test_a_slots_plan_notch_reads_the_end_mill_the_cad_cuts_it_with():
     assert corrections.parameters(g)["plan_notch"] == pytest.approx(math.sqrt(g.depth / 1.5e-3), rel=1e-12)
     again = parse_design(result.record).design.geometry
     assert again.plan_radius == pytest.approx(1.5e-3, rel=1e-12)
+
+
+def test_a_slots_two_place_k_t_gives_exact_derivatives_to_the_optimiser():
+    """The slot's K_t is the larger of its floor radius's fit and its rim's, rounded off
+    (``ops.rounded_max``), the rim's over plan_notch = sqrt(p/r_m): the casadi gradient of the NLP
+    against central finite differences of the same function, with the fatigue limit (which
+    carries K_t) and the rim fit's domain bounds among the limits."""
+    from dataclasses import replace
+    from pathlib import Path
+
+    from designer.search import Family, FamilyProblem, material_params
+    from designer.spec import catalogue
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(Path(__file__).resolve().parents[2] / "examples" / "prototype-b-optimized.yaml")
+    spec = replace(spec, search=replace(spec.search, materials=("6061-T6",), sections=("rectangle",)),
+                   limits=replace(spec.limits, fatigue=True))
+    problem = FamilyProblem(spec, Family("rectangle", "pocket"))
+    assert {"fatigue_feature", "domain_plan_notch_min", "domain_plan_notch_max"} <= set(problem.limit_names)
+    params = material_params(catalogue.material("6061-T6"), spec)
+    for x in problem.starts()[:2]:
+        assert_exact_jacobian(problem, x, params)
