@@ -97,36 +97,26 @@ def prediction(fit, quantity: str, row: dict) -> float:
     return sum(share * float(fit(q)) for share, q in features(row, fit.variables, quantity))
 
 
-def refresh(rows: list[dict], stiffness, cases, parameters) -> list[dict]:
+def refresh(rows: list[dict], stiffness, plain_cases, parameters) -> list[dict]:
     """``rows`` with each pocket row's ``extra_length`` solved again from its 3-D deflection
     (``deflection_ratio`` times ``euler_deflection``) with today's beam model and ``stiffness``
     fit, and the parameters today's model reads that it does not record, without the 3-D check:
-    each row is matched to its case (``cases(families)``: ``study.cases``) by the parameters it
-    records (``parameters(geometry)``: ``study.geometry_parameters``)."""
-    from designer import model
-    from designer.errors import FpdError
-    from designer.model import corrections
-    from designer.result.pipeline import evaluate_fixed
-    from designer.spec.reader import parse_spec_text
-
+    each row is matched to its case (``plain_cases(families)``: ``study.plain_cases``, each case
+    with its spec, evaluated design and plain analysis) by the parameters it records
+    (``parameters(geometry)``: ``study.geometry_parameters``)."""
     out = list(rows)
     index = {}
     for i, r in enumerate(rows):
         if r["family"].endswith("pocket"):
             index.setdefault(r["family"], []).append(i)
-    for case in cases([*index]):
-        spec = parse_spec_text(case.spec_text(), source=case.family)
-        try:
-            design = evaluate_fixed(spec).evaluation.design
-        except FpdError:    # a case no end mill cuts: the study left it out (``study.main``)
-            continue
+    for case, spec, result, raw in plain_cases([*index]):
+        design = result.evaluation.design
         g = design.geometry
         params = parameters(g)
         match = [i for i in index[case.family] if all(math.isclose(rows[i][k], v, rel_tol=1e-5, abs_tol=1e-9)
                                                       for k, v in params.items() if _recorded(rows[i], k))]
         if len(match) != 1:
             continue
-        raw = model.analyse(g, design.material_params(spec), spec, table=corrections.Corrections({}))
         row = {**rows[match[0]], **{k: v for k, v in params.items() if not _recorded(rows[match[0]], k)}}
         euler = euler_deflection(g, raw, design.material, spec)
         fea = row["deflection_ratio"] * euler

@@ -444,19 +444,23 @@ def case_parameters(case: Case) -> dict:
                                .evaluation.design.geometry)
 
 
-def cases_with_parameters(families=None) -> list[tuple[Case, dict]]:
-    """Each of ``cases(families)`` with its ``case_parameters``, but those no catalogue end mill
-    cuts, which the study leaves out (``main``) and the model cannot judge: a slot's K_t reads its
-    end mill."""
+def plain_cases(families=None):
+    """``(case, spec, result, raw)`` (``plain_case``) of each of ``cases(families)`` but those no
+    catalogue end mill cuts, which the study leaves out (``main``): a slot's K_t reads its end mill."""
     from designer.errors import FpdError
 
-    out = []
     for case in cases(families):
         try:
-            out.append((case, case_parameters(case)))
+            solved = plain_case(case)
         except FpdError:
             continue
-    return out
+        yield (case, *solved)
+
+
+def cases_with_parameters(families=None) -> list[tuple[Case, dict]]:
+    """``(case, geometry_parameters)`` of each of ``plain_cases(families)``."""
+    return [(case, geometry_parameters(result.evaluation.design.geometry))
+            for case, _, result, _ in plain_cases(families)]
 
 
 def model_ratios(case: Case, mesh: str = "normal") -> tuple[float, ...]:
@@ -519,9 +523,8 @@ def nominal_stresses(g, raw, spec) -> list[float]:
 
 
 def refresh_extra_lengths(rows: list[dict], stiffness) -> list[dict]:
-    """``extra_length.refresh`` over the study's cases: each pocket row's extra length solved
-    again with today's beam model, and the parameters it reads that the row does not record."""
-    return refresh(rows, stiffness, cases, geometry_parameters)
+    """``extra_length.refresh`` over the study's cases (``plain_cases``)."""
+    return refresh(rows, stiffness, plain_cases, geometry_parameters)
 
 
 # Parts of the study that ``--only`` runs alone: name -> (their cases, what they are).
