@@ -536,9 +536,11 @@ ACCEPT = {"strain": 0.02, "extra_length": 0.015, "stress": 0.05, "stress_face": 
 
 
 def _unsafe_error(fit, quantity: str) -> float:
-    """How far a shipped fit may err on the unsafe side: its left-out error, or the rule where it
-    was shifted to its safe side (``Fit.margin``)."""
-    return ACCEPT[quantity] if getattr(fit, "margin", 0.0) else fit.loo_max
+    """How far a shipped fit may err on the unsafe side: its left-out error, at most the rule. A fit
+    that misses its rule ships shifted to its safe side until no left-out point misses on that side
+    by more (``checks.fits.shifted``), by a shift of 0 where every miss beyond the rule was on the
+    safe side (``Fit.margin`` 0, ``loo_max`` over the rule)."""
+    return min(fit.loo_max, ACCEPT[quantity])
 
 
 def deflection_allowance(g: Geometry, table: Corrections) -> float:

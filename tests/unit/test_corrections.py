@@ -205,6 +205,48 @@ def test_a_fit_is_shifted_to_its_safe_side_until_no_left_out_point_misses_by_mor
     assert fits.shifted(kt, "stress", rows, [2.5, 3.1]).margin == 0.0
 
 
+def test_a_shifted_fit_s_form_is_chosen_by_its_left_out_error_on_the_unsafe_side():
+    # two made-up K_t forms over four study points of K_t 2.0: A reads them, left out, 10 % over and
+    # 10 % under (both sides 10 %); B 25 % over and 6 % under (25 % on both sides, 6 % under). Judged
+    # on both sides B is outside PARSIMONY of A; K_t has a safe side (fits.SAFE_SIDE) and ships
+    # shifted until no point reads more than 5 % under, so it is judged on that side: B, shifted by
+    # 0.95 / 0.94 (A would be by 0.95 / 0.90). A gauge strain (no safe side) takes A.
+    from dataclasses import replace
+
+    from designer.checks import fits
+
+    rows = [{"stress_ratio": 2.0, "strain_far": 2.0} for _ in range(4)]
+    a = (Fit(("notch_ratio",), ((0,),), (2.0,), {}, rms=0.10, loo_max=0.10), rows, [2.2, 1.8, 2.2, 1.8])
+    b = (Fit(("notch_ratio",), ((0,), (1,)), (2.0, 0.0), {}, rms=0.11, loo_max=0.25), rows, [2.5, 1.88, 2.0, 2.0])
+    assert fits.unsafe_error("stress", *a[1:]) == pytest.approx(0.10)
+    assert fits.unsafe_error("stress", *b[1:]) == pytest.approx(0.06)
+    assert fits._parsimonious([a, b], "stress")[0] is b[0]
+    assert fits.shifted(b[0], "stress", rows, b[2]).margin == pytest.approx(0.95 / 0.94 - 1)
+    assert fits._parsimonious([a, b], "strain")[0] is a[0]
+    # of forms that need no shift (under by at most 5 %), the fewest terms within the band: C, a
+    # constant reading 4 % under at worst, against B' 3 %: outside the band, B'; at 3.4 %, C
+    c = (replace(a[0], rms=0.11), rows, [2.08, 1.92, 2.0, 2.0])
+    b3 = (b[0], rows, [2.5, 1.94, 2.0, 2.0])
+    assert fits._parsimonious([c, b3], "stress")[0] is b3[0]
+    c34 = (c[0], rows, [2.08, 1.932, 2.0, 2.0])
+    assert fits._parsimonious([c34, b3], "stress")[0] is c34[0]
+
+
+def test_a_fit_shifted_by_nothing_keeps_the_rule_as_room_not_its_left_out_error():
+    # docs/model.md §4: the deflection limit keeps the unsafe-side error of the fits that set the
+    # deflection as room. A slot's extra length that misses its 1.5 % rule only on the safe side
+    # (left-out 1.9 %) ships shifted by 0 (fits.shifted) and may read a left-out point at most
+    # 1.5 % short: the room is 1.5 %; an extra length within its rule keeps its own left-out error
+    from dataclasses import replace
+
+    rough = Fit(("length_ratio",), ((0,),), (0.1,), {"length_ratio": (0.0, 10.0)}, rms=0.003, loo_max=0.019)
+    g = fixed_design(parse_spec_text(SHALLOW_SLOT_SPEC.replace("RADIUS", "0.2 mm"))).geometry
+    room = corrections.deflection_allowance(g, Corrections({"rectangle-pocket": {"extra_length": rough}}))
+    assert room == pytest.approx(corrections.ACCEPT["extra_length"]) == pytest.approx(0.015)
+    within = replace(rough, loo_max=0.01)
+    assert corrections.deflection_allowance(g, Corrections({"rectangle-pocket": {"extra_length": within}})) == 0.01
+
+
 def test_a_geometry_s_parameters_are_worked_out_once_per_analysis_and_never_another_s(monkeypatch):
     from dataclasses import replace
 
