@@ -14,6 +14,9 @@ rules the table is made by (``fits.fit_table``):
   the width and ``plan_notch = sqrt(p/r_m)``, Neuber's variable of the slot's corner in plan, whose
   radius is the end mill's (``outputs.cad.mills``; the study records it), the floor radius's as
   above;
+- the same with the floor radius's form the rule took when it judged a shifted fit on both sides
+  of its left-out error (Neuber's shape with the clamp term, ``fit_forms.SLOT_KT_CLAMP``), not on
+  its unsafe side (``fits.unsafe_error``);
 
 and prints where the study's peaks sit, each fit's form, residuals and shift, and how the
 study's 3-D peaks read against each K_t (3-D over model: below 0.90 the 3-D check calls the
@@ -84,7 +87,8 @@ def main(argv=None) -> int:
 
     slots = fit_forms.FIT_FORMS[FAMILY]
     one = {q: forms for q, forms in slots.items() if q != fits.FACE}
-    variants = {"one form": one, "two places": {**one, fits.FACE: WITHOUT_PLAN}, "two places, r_m": slots}
+    variants = {"one form": one, "two places": {**one, fits.FACE: WITHOUT_PLAN}, "two places, r_m": slots,
+                "r_m, floor judged on both sides": {**slots, "stress": [fit_forms.SLOT_KT_CLAMP]}}
     print("\n| K_t | fit | terms | variables | RMS | left-out max | shift |\n|---|---|---:|---|---:|---:|---:|")
     tables = {}
     for name, chosen in variants.items():
