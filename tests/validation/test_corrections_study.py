@@ -368,9 +368,9 @@ def test_the_slot_s_floor_radius_k_t_is_chosen_by_its_left_out_error_on_the_unsa
                                 tuple(fit_forms.monomials(3, 2)))
     rows = [r for r in (fits.place_row(r, "stress") for r in _rows() if r["family"] == fam) if r is not None]
     box = fit_forms.FIT_DOMAINS[fam]["stress"]
+    data = [r for r in rows if fits._in_domain(r, box)]
     tried = {}
     for name, terms in (("clamp", fit_forms.SLOT_KT_CLAMP), ("quadratic", quadratic)):
-        data = [r for r in rows if fits._in_domain(r, box)]
         fit, left_out = fits.fit_terms(data, terms, lambda r: r["stress_ratio"],
                                        weight=lambda r: fits.error_weight("stress", r), box=box, quantity="stress")
         tried[name] = (fit, data, left_out)
