@@ -202,13 +202,13 @@ def _parsimonious(tried: list, quantity: str = ""):
     the fit over-reads on a typical design."""
     if not tried:
         return None
-    if quantity in SAFE_SIDE:
-        error = {id(t): unsafe_error(quantity, t[1], t[2]) for t in tried}
-        best = min(tried, key=lambda t: error[id(t)])
-        near = [t for t in tried if error[id(t)] <= PARSIMONY * error[id(best)] and t[0].rms <= PARSIMONY * best[0].rms]
+    safe_side = quantity in SAFE_SIDE
+    errors = [unsafe_error(quantity, rows, out) if safe_side else fit.loo_max for fit, rows, out in tried]
+    least = min(range(len(tried)), key=errors.__getitem__)
+    near = [t for t, e in zip(tried, errors)
+            if e <= PARSIMONY * errors[least] and t[0].rms <= PARSIMONY * tried[least][0].rms]
+    if safe_side:
         return min(near, key=lambda t: (shifted(t[0], quantity, t[1], t[2]).margin, len(t[0].exponents)))
-    best = min((f for f, _, _ in tried), key=lambda f: f.loo_max)
-    near = [t for t in tried if t[0].loo_max <= PARSIMONY * best.loo_max and t[0].rms <= PARSIMONY * best.rms]
     return min(near, key=lambda t: (len(t[0].exponents), t[0].loo_max))
 
 
