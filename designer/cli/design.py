@@ -40,6 +40,7 @@ def register(sub) -> None:
     e.add_argument("--no-cad", action="store_true", help="do not write the STEP model and its pictures")
     e.add_argument("--no-plots", action="store_true", help="do not write the plots")
     e.add_argument("--svg", action="store_true", help="also write the plots as SVG")
+    e.add_argument("--quiet", action="store_true", help="no progress bar")
     e.add_argument("--catalogue", action="append", default=[], metavar="FILE",
                    help="a catalogue of your own materials, gauges and stock (docs/spec.md 2.9)")
     e.set_defaults(func=run_evaluate)
@@ -254,7 +255,22 @@ def write_outputs(record: dict, out_dir: Path, cad: bool = True, plots: bool = T
 
 # ------------------------------------------------------------------ commands
 
+def _with_cad_child(work, args) -> int:
+    """``work(args, child)``, a ``cad_child`` loading the CAD kernel while this process loads its
+    own and searches or evaluates; the child stopped however the work ends."""
+    child = cad_child(not args.no_cad)
+    try:
+        return work(args, child)
+    finally:
+        if child is not None:
+            child.stop()
+
+
 def run_evaluate(args) -> int:
+    return _with_cad_child(_evaluate, args)
+
+
+def _evaluate(args, child) -> int:
     from designer.outputs import report
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import load_spec
@@ -264,21 +280,18 @@ def run_evaluate(args) -> int:
     if spec.design is None:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
-    result = evaluate_fixed(spec)
-    write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
-                  extra_plots={"formats": _plot_formats(args)}, inputs=read_files(args, spec))
+    with _progress_display(enabled=not args.quiet and sys.stderr.isatty(), first="evaluating") as progress:
+        result = evaluate_fixed(spec)
+        write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
+                      extra_plots={"formats": _plot_formats(args)}, progress=progress, child=child,
+                      inputs=read_files(args, spec))
     report.print_summary(result.record)
     print(f"wrote {Path(args.output) / 'design.json'}")
     return 0 if result.success else 1
 
 
 def run_optimize(args) -> int:
-    child = cad_child(not args.no_cad)    # loads the CAD kernel while this process loads its own and searches
-    try:
-        return _optimize(args, child)
-    finally:
-        if child is not None:
-            child.stop()
+    return _with_cad_child(_optimize, args)
 
 
 def _optimize(args, child) -> int:
@@ -335,18 +348,20 @@ def _plot_formats(args) -> tuple:
 class _progress_display:
     """A transient progress bar on stderr, fed by the pipeline's progress(stage, done, total)."""
 
-    def __init__(self, enabled: bool):
-        self.enabled = enabled
+    def __init__(self, enabled: bool, first: str = "optimising"):
+        self.enabled, self.first = enabled, first
         self._progress = self._task = None
 
     def __enter__(self):
         if not self.enabled:
             return None
+        from rich.console import Console
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
         self._progress = Progress(TextColumn("{task.description}"), BarColumn(),
-                                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(), transient=True)
-        self._task = self._progress.add_task("optimising", total=None)
+                                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(), transient=True,
+                                  console=Console(stderr=True))
+        self._task = self._progress.add_task(self.first, total=None)
         self._progress.start()
         return self.update
 

@@ -381,3 +381,52 @@ def test_an_output_path_that_is_a_file_exits_2(examples, tmp_path, capsys):
     assert "-o" in err and str(target) in err and "not a folder" in err
     assert target.read_text(encoding="utf-8") == "keep me"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["taken"]  # no scratch folder left behind
+
+
+def _stderr_on_a_terminal(args: list[str], cwd) -> str:
+    """What ``fpdesign ARGS`` writes to standard error when that is a terminal (a pseudo-terminal
+    of this test's), with standard output to a pipe."""
+    import pty
+
+    main_fd, term = pty.openpty()
+    try:
+        done = subprocess.run([sys.executable, "-m", "designer.cli", *args], cwd=cwd, stderr=term,
+                              stdout=subprocess.PIPE, timeout=300, env={**os.environ, "COLUMNS": "100"})
+        os.close(term)
+        term = None
+        chunks = []
+        while True:
+            try:
+                chunk = os.read(main_fd, 65536)
+            except OSError:     # the terminal's other end closed: everything was read
+                break
+            if not chunk:
+                break
+            chunks.append(chunk)
+    finally:
+        if term is not None:
+            os.close(term)
+        os.close(main_fd)
+    assert done.returncode in (0, 1), done.stdout    # (1: the design breaks a limit; written all the same)
+    return b"".join(chunks).decode("utf-8", "replace")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX's")
+def test_evaluate_shows_its_stages_on_a_terminal_and_nothing_with_quiet(examples, tmp_path):
+    # SPEC.md: one progress display across every stage, quiet when standard error is no terminal
+    # or with --quiet; the evaluate command writes plots, so the bar names that stage
+    spec = str(examples / "prototype-b.yaml")
+    shown = _stderr_on_a_terminal(["evaluate", spec, "-o", "shown", "--no-cad"], tmp_path)
+    assert "plots" in shown
+    quiet = _stderr_on_a_terminal(["evaluate", spec, "-o", "quiet", "--no-cad", "--quiet"], tmp_path)
+    assert "plots" not in quiet and "evaluating" not in quiet
+    for out in ("shown", "quiet"):
+        assert (tmp_path / out / "error-maps.png").is_file()
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX's")
+def test_optimize_shows_its_search_on_a_terminal_with_standard_output_redirected(examples, tmp_path):
+    # the bar is on standard error: shown when that is a terminal, wherever standard output goes
+    spec = str(examples / "gripper-finger.yaml")
+    shown = _stderr_on_a_terminal(["optimize", spec, "-o", "out", "--no-cad", "--no-plots"], tmp_path)
+    assert "search" in shown
