@@ -390,6 +390,9 @@ NEAR_CLAMP_FORMS = {
     "tube-none": [(), ("wall_ratio",)],
     "round-pocket": [(), ("depth_ratio",), ("depth_ratio", "length_ratio")],
     "tube-pocket": [(), ("depth_ratio",), ("wall_ratio",), ("depth_ratio", "wall_ratio")],
+    # a hole in a bar wider than high: the clamp's plate restraint over the hole (ClampFit's is a
+    # plain bar's), and a large hole in a square bar reading more near the clamp
+    "rectangle-hole": [(), ("width_ratio",), ("hole_ratio",), ("width_ratio", "hole_ratio")],
 }
 # A slot near the clamp of a wide bar (``corrections.ClampShareFit``): its floor sees a share of the
 # plain bar's loss to the clamp's plate effect (``clamp_drop``, ClampFit's). With the bar's own loss
