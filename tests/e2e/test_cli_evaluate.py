@@ -385,27 +385,32 @@ def test_an_output_path_that_is_a_file_exits_2(examples, tmp_path, capsys):
 
 def _stderr_on_a_terminal(args: list[str], cwd) -> str:
     """What ``fpdesign ARGS`` writes to standard error when that is a terminal (a pseudo-terminal
-    of this test's), with standard output to a pipe."""
+    of this test's, read while the command runs so that its output never fills the terminal's
+    buffer), with standard output to a pipe."""
     import pty
+    import threading
 
     main_fd, term = pty.openpty()
-    try:
-        done = subprocess.run([sys.executable, "-m", "designer.cli", *args], cwd=cwd, stderr=term,
-                              stdout=subprocess.PIPE, timeout=300, env={**os.environ, "COLUMNS": "100"})
-        os.close(term)
-        term = None
-        chunks = []
+    chunks = []
+
+    def read():
         while True:
             try:
                 chunk = os.read(main_fd, 65536)
             except OSError:     # the terminal's other end closed: everything was read
-                break
+                return
             if not chunk:
-                break
+                return
             chunks.append(chunk)
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        done = subprocess.run([sys.executable, "-m", "designer.cli", *args], cwd=cwd, stderr=term,
+                              stdout=subprocess.PIPE, timeout=300, env={**os.environ, "COLUMNS": "100"})
     finally:
-        if term is not None:
-            os.close(term)
+        os.close(term)
+        reader.join(timeout=10)
         os.close(main_fd)
     assert done.returncode in (0, 1), done.stdout    # (1: the design breaks a limit; written all the same)
     return b"".join(chunks).decode("utf-8", "replace")
@@ -413,8 +418,8 @@ def _stderr_on_a_terminal(args: list[str], cwd) -> str:
 
 @pytest.mark.skipif(sys.platform == "win32", reason="pseudo-terminals are POSIX's")
 def test_evaluate_shows_its_stages_on_a_terminal_and_nothing_with_quiet(examples, tmp_path):
-    # SPEC.md: one progress display across every stage, quiet when standard error is no terminal
-    # or with --quiet; the evaluate command writes plots, so the bar names that stage
+    # docs/spec.md section 9: a progress bar on standard error names each stage while it runs, and
+    # is not drawn with --quiet; the evaluate command writes plots, so the bar names that stage
     spec = str(examples / "prototype-b.yaml")
     shown = _stderr_on_a_terminal(["evaluate", spec, "-o", "shown", "--no-cad"], tmp_path)
     assert "plots" in shown
