@@ -9,14 +9,15 @@ import pytest
 
 
 def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
-    """The bench suite's 018-long-beam (seed 0) in Ti-6Al-4V rectangle with holes: IPOPT's answer
-    (6.6505 x 8.000 mm) rounded to 0.01 mm breaks the gauge-strain limit, so the section is held at
+    """The bench suite's 013-kilonewton (seed 2) in a 17-7PH-RH950 plain rectangle: IPOPT's answer
+    (6.400 x 24.110 mm) rounded to 0.01 mm breaks the gauge-strain limit, so the section is held at
     its neighbouring grid sizes with the rest solved again. Reference: a wider search than the
     method's own, every section within 0.03 mm of the answer on the 0.01 mm grid (7 x 7) with the
     rest solved again, rounded and checked; the method's design must equal its best within the
     0.1 % tie band, meet every limit, sit on the grid, and cost little over the continuous answer
-    (a lower bound). The grid's best point: 6.65 x 8.00 mm with the hole and stations solved again,
-    0.456013."""
+    (a lower bound). The grid's best point: 6.40 x 24.12 mm with the stations solved again,
+    0.459247, 0.04 % over the continuous answer. (The case was 018-long-beam of seed 0, a bar with
+    holes, until the holes' refit of docs/model.md §7 left its rounded answer meeting every limit.)"""
     from designer.bench.suite import _generate
     from designer.model import TIE_TOLERANCE
     from designer.search import in_nlp_units, material_params
@@ -25,16 +26,17 @@ def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
     from designer.search.run import solve_candidate
     from designer.spec import catalogue
 
-    made = _generate(17, "long-beam", 0)      # the suite's 18th spec, as generate_suite(50, 0) makes it
-    assert made.name == "018-long-beam"
+    made = _generate(12, "kilonewton", 2)      # the suite's 13th spec, as generate_suite(50, 2) makes it
+    assert made.name == "013-kilonewton"
     spec = made.spec
-    problem = FamilyProblem(spec, Family("rectangle", spec.search.feature))
-    material = catalogue.material("Ti-6Al-4V")
+    problem = FamilyProblem(spec, Family("rectangle", "none"))
+    material = catalogue.material("17-7PH-RH950")
     params = material_params(material, spec)
     candidate = solve_candidate(problem, material, "ipopt")
     first = candidate.solves[0]
     assert first.success and not round_and_check(problem.design(first.x, material), spec).feasible
-    assert any("rounding broke a limit" in f for f in candidate.fallbacks)
+    assert any("rounding broke a limit; the section held at its neighbouring 0.01 mm sizes" in f
+               for f in candidate.fallbacks)
     # the answer before rounding meets every limit, and the report says rounding broke it
     from designer.result.evaluation import evaluate
     assert evaluate(problem.design(first.x, material), spec).feasible
@@ -60,7 +62,7 @@ def test_when_rounding_breaks_a_limit_the_best_grid_section_is_found():
     assert np.isfinite(best)
     assert ev.objective <= best * (1 + TIE_TOLERANCE)
     continuous = float(problem.functions(first.x, params)[0])
-    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005   # measured +0.01 %
+    assert continuous <= in_nlp_units(ev.objective, spec.objective) <= continuous * 1.005   # measured +0.04 %
 
 
 def test_the_last_resort_tightens_only_the_limits_rounding_broke(monkeypatch):
@@ -272,14 +274,15 @@ def test_the_search_reports_pocket_depths_a_shop_can_set(name, step):
 
 @pytest.mark.slow
 def test_when_nothing_near_holds_a_wider_box_is_searched_before_any_limit_is_tightened():
-    """The bench suite's 040-long-beam, 17-4PH-H900 rectangle with a hole as wide as the bar
-    allows: rounding IPOPT's answer breaks the fatigue limit at the hole, and neither the numeric
-    box two steps wide nor the re-solves with the section held find a design that meets every
-    limit; tightening that limit (the last resort) gave a design 6 % worse (error 0.8222 against
-    0.7745) than the one a box eight steps wide holds. Reference: brute force, every width and height from 8 steps below
-    their rounded-down to 8 above their rounded-up value, the hole from 2 steps below to 2 above,
-    the stations rounded down or up, each judged on its own by the evaluator; the candidate's
-    design must meet every limit and be that box's best within the 0.1 % tie band."""
+    """The bench suite's 002-kilonewton (seed 0), a 7075-T6 tube of continuous sizes: rounding
+    IPOPT's answer breaks the tube's wall-ratio domain limit, and neither the numeric box two steps
+    wide nor the re-solve with the section held finds a design that meets every limit, so a box
+    eight steps wide is searched (before any limit is tightened: on an earlier model's
+    040-long-beam, a bar with a hole, tightening the broken limit gave a design 6 % worse than the
+    wider box's). Reference: brute force, every diameter and wall from 8 steps below their
+    rounded-down to 8 above their rounded-up value, the stations rounded down or up, each judged
+    on its own by the evaluator; the candidate's design must meet every limit and be that box's
+    best within the 0.1 % tie band."""
     from dataclasses import replace
 
     from designer.bench.suite import generate_suite
@@ -291,24 +294,25 @@ def test_when_nothing_near_holds_a_wider_box_is_searched_before_any_limit_is_tig
     from designer.search.run import solve_candidate
     from designer.spec import catalogue
 
-    spec = next(m.spec for m in generate_suite(50, 0) if m.name == "040-long-beam")
-    problem = FamilyProblem(spec, Family("rectangle", "hole"))
-    mat = catalogue.material("17-4PH-H900")
+    spec = next(m.spec for m in generate_suite(50, 0) if m.name == "002-kilonewton")
+    problem = FamilyProblem(spec, Family("tube", "none"))
+    mat = catalogue.material("7075-T6")
     candidate = solve_candidate(problem, mat, "ipopt")
     first = candidate.solves[0]
     design = problem.design(first.x, mat)
     assert first.success and not round_and_check(design, spec).feasible, "rounding breaks a limit"
+    assert any("rounding broke a limit; the best design on a wider grid" in f for f in candidate.fallbacks)
     found = candidate.evaluation
     assert found is not None and found.feasible
 
     g0 = design.geometry
     best = np.inf
-    for b, h, d, *st in itertools.product(floor_ceil(g0.width, 8), floor_ceil(g0.height, 8), floor_ceil(g0.hole, 2),
-                                          *[floor_ceil(x) for x in g0.stations]):
+    for diameter, wall, *st in itertools.product(floor_ceil(g0.diameter, 8), floor_ceil(g0.wall, 8),
+                                                 *[floor_ceil(x) for x in g0.stations]):
         try:
-            ev = evaluate(replace(design, geometry=replace(g0, width=b, height=h, hole=d, stations=tuple(st))).rounded(
-                spec.cad), spec)
-        except InputError:  # a hole wider than the bar: no beam
+            ev = evaluate(replace(design, geometry=replace(g0, diameter=diameter, wall=wall, stations=tuple(st)))
+                          .rounded(spec.cad), spec)
+        except InputError:  # a wall thicker than the tube's radius: no tube
             continue
         if ev.feasible:
             best = min(best, ev.objective)
