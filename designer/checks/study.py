@@ -326,7 +326,7 @@ def cases(families=None) -> list[Case]:
     out += hole_width_cases((1.0,), (8e-3, 10e-3, 12.7e-3, 16e-3, 20e-3), (0.3, 0.4, 0.5, 0.6, 0.7, 0.8))
     out += clamp_cases()
     out += round_clamp_cases()
-    out += hole_width_cases() + hole_far_cases() + hole_width_cases(HOLE_WIDE_RATIOS, HOLE_WIDE_HEIGHTS, HOLE_WIDE_HOLES)
+    out += hole_width_cases() + hole_far_cases() + hole_width_cases(*HOLE_WIDE)
     return [c for c in out if families is None or c.family in families]
 
 
@@ -348,9 +348,8 @@ def hole_width_cases(widths=HOLE_WIDTH_RATIOS, heights=HOLE_WIDTH_HEIGHTS, holes
 
 # Holes in bars wider than high near the clamp, whose restraint of the plate bending reaches the gauge
 # over the hole: a 1.68:1 bar's Ø0.30 h hole 0.27 h out read 0.973 of the model in 3-D before these.
-HOLE_WIDE_RATIOS = (1.25, 1.5, 1.75, 2.0)
-HOLE_WIDE_HEIGHTS = (12e-3, 20e-3)      # the clamp clearance 0.42 and 0.25 of the height
-HOLE_WIDE_HOLES = (0.3, 0.45, 0.6, 0.75)
+# ``hole_width_cases``' widths, heights (the clamp clearance 0.42 and 0.25 of the height) and holes:
+HOLE_WIDE = ((1.25, 1.5, 1.75, 2.0), (12e-3, 20e-3), (0.3, 0.45, 0.6, 0.75))
 
 
 # Holes far from the clamp (two heights out): the grid above puts every near hole 5 mm from the
@@ -531,8 +530,7 @@ PARTS = {
     "round-clamp": (round_clamp_cases, "the round bars and tubes near the clamp"),
     "hole-width": (hole_width_cases, "the holes in bars narrower or wider than high"),
     "hole-far": (hole_far_cases, "the holes two heights from the clamp"),
-    "wide-holes-near-clamp": (lambda: hole_width_cases(HOLE_WIDE_RATIOS, HOLE_WIDE_HEIGHTS, HOLE_WIDE_HOLES),
-                              "the holes in bars wider than high near the clamp"),
+    "wide-holes-near-clamp": (lambda: hole_width_cases(*HOLE_WIDE), "the holes in bars wider than high near the clamp"),
     "tube-flats": (lambda: group_cases(MID_TUBE_GROUPS), "the tube flats of half to one diameter"),
     "short-flats-near-clamp": (lambda: group_cases(NEAR_CLAMP_SHORT_GROUPS),
                                "the round flats short for their bar near the clamp"),

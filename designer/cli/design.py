@@ -6,10 +6,10 @@ import importlib
 import importlib.util
 import math
 import os
-import sys
 from pathlib import Path
 
 from designer.cli.paths import output_folder, seed
+from designer.cli.progress import progress_display
 from designer.errors import DesignFileError, SpecError
 
 
@@ -280,7 +280,7 @@ def _evaluate(args, child) -> int:
     if spec.design is None:
         raise SpecError(f"design: missing in {args.spec}; `fpdesign evaluate` needs a design: block "
                         "(material, section, stations, feature); use `fpdesign optimize` to search instead")
-    with _progress_display(enabled=not args.quiet and sys.stderr.isatty(), first="evaluating") as progress:
+    with progress_display(args.quiet, "evaluating") as progress:
         result = evaluate_fixed(spec)
         write_outputs(result.record, out_dir, cad=not args.no_cad, plots=not args.no_plots,
                       extra_plots={"formats": _plot_formats(args)}, progress=progress, child=child,
@@ -312,7 +312,7 @@ def _optimize(args, child) -> int:
             raise SpecError(f"{flag}: {value} given without --verify; add --verify to check the design in 3-D")
     out_dir = output_folder(args.output, what="design.json and the report")
     spec = load_spec(args.spec, _user_catalogues(args))
-    with _progress_display(enabled=not args.quiet and sys.stderr.isatty()) as progress:
+    with progress_display(args.quiet, "optimising") as progress:
         result = design(spec, DesignOptions(method=args.method, verify=args.verify,
                                             verify_mesh=args.verify_mesh or "normal", verify_rounds=rounds,
                                             tradeoff=False, progress=progress))
@@ -343,35 +343,6 @@ def read_files(args, spec) -> list:
 
 def _plot_formats(args) -> tuple:
     return ("png", "svg") if args.svg else ("png",)
-
-
-class _progress_display:
-    """A transient progress bar on stderr, fed by the pipeline's progress(stage, done, total)."""
-
-    def __init__(self, enabled: bool, first: str = "optimising"):
-        self.enabled, self.first = enabled, first
-        self._progress = self._task = None
-
-    def __enter__(self):
-        if not self.enabled:
-            return None
-        from rich.console import Console
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-        self._progress = Progress(TextColumn("{task.description}"), BarColumn(),
-                                  TextColumn("{task.completed}/{task.total}"), TimeElapsedColumn(), transient=True,
-                                  console=Console(stderr=True))
-        self._task = self._progress.add_task(self.first, total=None)
-        self._progress.start()
-        return self.update
-
-    def update(self, stage: str, done: int, total: int) -> None:
-        self._progress.update(self._task, description=stage, completed=done, total=total)
-
-    def __exit__(self, *exc):
-        if self._progress is not None:
-            self._progress.stop()
-        return False
 
 
 def _design_record(path: str) -> dict:

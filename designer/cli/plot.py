@@ -126,18 +126,9 @@ def run_bench(args) -> int:
 
 
 def _bench_with_progress(bench, suite, methods, levels, args, skipped):
+    from designer.cli.progress import progress_display
+
     kwargs = dict(methods=methods, levels=levels, seed=args.seed, count=args.count, skipped=skipped)
-    if args.quiet or not sys.stderr.isatty():   # (the bar is on standard error, as optimize's)
-        return bench.run_bench(suite, **kwargs)
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
-    with Progress(TextColumn("bench"), BarColumn(), TextColumn("{task.completed}/{task.total} specs"),
-                  TextColumn("{task.description}"), TimeElapsedColumn(), transient=True,
-                  console=Console(stderr=True)) as progress:
-        task = progress.add_task("", total=len(suite))
-
-        def advance(done, total, name):
-            progress.update(task, completed=done, description=name)
-
+    with progress_display(args.quiet, "bench") as progress:
+        advance = None if progress is None else (lambda done, total, name: progress(f"bench: {name}", done, total))
         return bench.run_bench(suite, progress=advance, **kwargs)
