@@ -72,6 +72,7 @@ class Readings:
     source: str = "readings"
     mass: bool = True                    # the loads are hung masses (written back as mass_g)
     counts: bool = False                 # ``voltages`` hold the converter's counts (columns C1, C2, ...)
+    counted: bool = False                # read as counts and converted to volts: the file's columns are C1, C2, ...
 
     def __len__(self) -> int:
         return self.voltages.shape[0]
@@ -87,6 +88,15 @@ class Readings:
     @property
     def force_column(self) -> str:
         return "mass_g" if self.mass else "force_N"
+
+    def column(self, j: int) -> str:
+        """Bridge ``j``'s column as the file names it: ``V1``, or ``C1`` in counts."""
+        name = self.bridges[j].name
+        return "C" + name[1:] if self.counts or self.counted else name
+
+    def columns(self, names) -> list[str]:
+        """Bridge names (``V1`` ...) as the file's columns are named."""
+        return [("C" + n[1:] if self.counts or self.counted else n) for n in names]
 
     def row(self, i: int) -> str:
         """``"line 7"`` (or ``"row 7"`` when there is no file) for messages."""

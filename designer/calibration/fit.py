@@ -87,12 +87,12 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
                        f"{MIN_POINTS} (eq. 27 has 3 unknowns per bridge) and the paper recommends the "
                        f"{RECOMMENDED_POINTS} corners of the region (fpdesign plan)")
     if readings.axes == 2 and loads.angle is None:
-        raise CsvError(f"{readings.source}: biaxial readings ({readings.bridges[0].name}, ...) need an angle_deg "
+        raise CsvError(f"{readings.source}: biaxial readings ({readings.column(0)}, ...) need an angle_deg "
                        "column giving the direction of every load")
     if design is not None and tuple(b.name for b in readings.bridges) != tuple(b.name for b in design.bridges):
-        raise CsvError(f"{readings.source}: header: the bridge columns {[b.name for b in readings.bridges]} do not "
+        raise CsvError(f"{readings.source}: header: the bridge columns {readings.columns(b.name for b in readings.bridges)} do not "
                        f"match the design's {len(design.stations)} station(s) x {design.axes} axis/axes: "
-                       f"expected {[b.name for b in design.bridges]}")
+                       f"expected {readings.columns(b.name for b in design.bridges)}")
     axis_names = ("",) if readings.axes == 1 else ("y", "z")
     fits = {}
     for axis in axis_names:
@@ -113,7 +113,7 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
     design_noise = design.noise if design is not None else None
     sigma, source, warnings = _choose_noise(noise, residual_noise, dof_total, design_noise, n, readings.source,
                                             design_option)
-    _refuse_unresponsive(readings, fits, sigma)
+    _refuse_unresponsive(readings, fits, None if source == "residual" else sigma)
 
     results: dict[int, BridgeCalibration] = {}
     for axis, (cols, fit) in fits.items():
@@ -158,9 +158,10 @@ def _refuse_constant_columns(readings: Readings) -> None:
         spread = float(np.ptp(column))
         if spread >= MIN_RESPONSE:
             continue
-        why = (f"it reads {float(column[0])!r} V in every row" if spread == 0 else
+        why = (("it reads the same count in every row" if readings.counted else
+                f"it reads {float(column[0])!r} V in every row") if spread == 0 else
                f"its readings span only {spread:.3g} V, less than the {MIN_RESPONSE:g} V fpdesign resolves")
-        raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column {bridge.name}: "
+        raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column {readings.column(j)}: "
                        f"does not respond to the load: {why}, and a bridge's reading must change with the load; "
                        "check the bridge's wiring")
 
@@ -170,9 +171,11 @@ def _refuse_unresponsive(readings: Readings, fits: dict, sigma: float | None) ->
     standard errors of it (a bridge that reads noise, not the load), or so small that
     d = -b2/k is not a number.
 
-    The standard error is ``s sqrt((X^T X)^-1_11)`` with ``s`` the larger of the calibration's
-    sigma_V and the bridge's own residual RMS (``sqrt(RSS / dof)``), so that a bridge reading
-    pure noise is refused whether or not that noise is the design's. A real bridge's k lies
+    The standard error is ``s sqrt((X^T X)^-1_11)`` with ``s`` the larger of ``sigma`` (a given
+    or the design's sigma_V; None for the residuals') and the bridge's own residual RMS
+    (``sqrt(RSS / dof)``), so that a bridge reading pure noise is refused whether or not that
+    noise is the design's, and a bridge is not judged by the residuals pooled from another (a
+    bad reading in one column). A real bridge's k lies
     hundreds of standard errors from zero at the design's noise; within three, k is not known
     to 33 % and no measurement could use it.
     """
@@ -190,9 +193,13 @@ def _refuse_unresponsive(readings: Readings, fits: dict, sigma: float | None) ->
                    f"({se_k[j]:.2g} V/(N·m)) of zero" if abs(k) <= SIGNIFICANT_SIGMAS * se_k[j] else
                    f"its fitted k = {k:.3g} V/(N·m) places its station d = -b2/k at {d[j]:.3g} m, beyond the "
                    f"{LARGEST_STATION:g} m a beam can be")
+            bad = [o for o in outlier_rows(fit, OUTLIER_ALPHA / (n * len(fits))) if o.bridge == j]
+            check = ("check the bridge's wiring and its gauges" if not bad else
+                     f"{readings.row(bad[0].row)} lies {abs(bad[0].t):.0f} standard deviations off the fit of the "
+                     "other rows: check that reading, then the bridge's wiring")
             raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column "
-                           f"{readings.bridges[col].name}: does not respond to the load: {why}, and a bridge's "
-                           "reading must follow the load's moment F·x; check the bridge's wiring and its gauges")
+                           f"{readings.column(col)}: does not respond to the load: {why}, and a bridge's "
+                           f"reading must follow the load's moment F·x; {check}")
 
 
 def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, source: str,
@@ -249,7 +256,7 @@ def _fit_warnings(readings, bridges, fits, residual_noise, dof_total, design, fo
     tests = n * len(fits)
     for axis, (cols, fit) in fits.items():
         for o in outlier_rows(fit, OUTLIER_ALPHA / tests):
-            out.append(_outlier_message(readings, o, readings.bridges[cols[o.bridge]].name, tests))
+            out.append(_outlier_message(readings, o, readings.column(cols[o.bridge]), tests))
     out += _k_warnings(bridges, design)
     if design is not None:
         for b in bridges:

@@ -63,11 +63,12 @@ def _bridge_columns(names: list[str], where: str) -> tuple[Bridge, ...]:
         raise CsvError(f"{where}: bridge columns {names} mix one-axis (V1) and biaxial (V1y) names")
     expected = bridges_for(max(b.station for b in found), 2 if biaxial else 1)
     if set(found) != set(expected):
-        raise CsvError(f"{where}: bridge columns {names} must be {[b.name for b in expected]}: every station "
+        letter = names[0][0]   # (V in volts, C in counts)
+        raise CsvError(f"{where}: bridge columns {names} must be {[letter + b.name[1:] for b in expected]}: every station "
                        "from the clamp without gaps" + (", with a y and a z bridge at each" if biaxial else ""))
     if expected[-1].station < 2:
         raise CsvError(f"{where}: bridge columns {names}: a sensor needs at least 2 stations "
-                       "(V1, V2) to tell force from position")
+                       f"({names[0][0]}1, {names[0][0]}2) to tell force from position")
     return expected   # in column order whatever the file's order
 
 
@@ -160,7 +161,7 @@ def in_volts(readings: Readings, volts_per_count: float | None, where: str) -> R
     if volts_per_count is None:
         raise CsvError(f"{readings.source}: the bridge columns are counts (C1, C2, ...); converting them to volts "
                        f"needs the front-end's gain and reference: {where}")
-    return replace(readings, voltages=readings.voltages * volts_per_count, counts=False)
+    return replace(readings, voltages=readings.voltages * volts_per_count, counts=False, counted=True)
 
 
 def in_counts(readings: Readings, volts_per_count: float) -> Readings:

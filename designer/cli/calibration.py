@@ -200,7 +200,7 @@ def run_measure(args) -> int:
     cal = readings.read_calibration(args.calibration)
     data = readings.in_volts(readings.read_readings(args.readings), cal.volts_per_count,
                              "calibrate with --design of a design with electronics.adc")
-    noise = units.parse_positive(args.noise, "voltage", "--noise") if args.noise else None
+    noise = units.parse_positive(args.noise, "voltage", "--noise") if args.noise is not None else None
     m = measure_readings(cal, data, noise)
     if args.output:
         readings.write_results(args.output, m)

@@ -37,7 +37,7 @@ def run_plot(args) -> int:
     from designer.outputs.plots.write import write_design_plots
     from designer.result.designfile import load_design, read_json
 
-    out_dir = output_folder(args.output, what="the plots") if args.output else Path(args.design).resolve().parent
+    out_dir = output_folder(args.output, what="the plots") if args.output is not None else Path(args.design).resolve().parent
     design = load_design(args.design)
     tradeoff = read_json(args.tradeoff, what="--tradeoff") if args.tradeoff else None
     try:

@@ -11,7 +11,7 @@ import numpy as np
 from designer.model.electronics import volts_per_strain
 from designer.model.objective import FEASIBILITY_TOLERANCE
 from designer.model.ops import NUMERIC, Ops
-from designer.model.sections import Geometry, feature_length
+from designer.model.sections import LEAST_CUT, Geometry, feature_length
 
 # Constraints whose normalised slack is below this bind (0.5 % of the limit).
 ACTIVE_TOLERANCE = 5e-3
@@ -228,6 +228,15 @@ def worst_normalised(limits: list[Limit], n: int) -> np.ndarray:
     return worst
 
 
+def shallowest_pocket(spec) -> float:
+    """The least depth of a pocket or flat (m): ``limits.min_pocket_depth``, and a step of the
+    0.01 mm grid deeper than a given ``cad.channel_depth`` and than the end mill's
+    ``cad.corner_radius``, which the CAD cuts in no shallower pocket."""
+    cad = spec.cad
+    cuts = [cad.corner_radius] + ([cad.channel_depth] if cad.wire_channels and cad.channel_depth else [])
+    return max([spec.limits.min_pocket_depth] + [c + LEAST_CUT for c in cuts])
+
+
 def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
     """Size bounds and the manufacturing rules of a section and its feature."""
     lim = spec.limits
@@ -246,7 +255,7 @@ def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
                 Limit("bore_min", g.diameter - 2 * g.wall, lim.min_wall, upper=False, unit="m")]
     if g.feature == "pocket":
         size = g.size
-        out += [Limit("pocket_depth_min", g.depth, lim.min_pocket_depth, upper=False, unit="m"),
+        out += [Limit("pocket_depth_min", g.depth, shallowest_pocket(spec), upper=False, unit="m"),
                 Limit("pocket_depth_max", g.depth, lim.max_pocket_fraction * size, scale=lim.max_pocket_fraction * mm,
                       unit="m")]
         if g.section == "rectangle":

@@ -113,7 +113,10 @@ def flat_half_angle(R, depth, ops: Ops = NUMERIC):
 CHANNEL_WIDTH = 1.5e-3
 CHANNEL_DEPTH = 0.5e-3
 CHANNEL_WIDTH_FRACTION = {"rectangle": 0.4, "round": 0.5, "tube": 0.5}
-CHANNEL_STEP = 1e-5
+# The 0.01 mm grid a part's sizes are given on: the least cut the CAD details may give (the tool
+# catalogue's finest corner radius is R0.01, on micro end mills), and the channels' step.
+LEAST_CUT = 1e-5
+CHANNEL_STEP = LEAST_CUT
 
 
 def round_down(value, step: float = CHANNEL_STEP):

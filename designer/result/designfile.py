@@ -32,20 +32,40 @@ def read_json(path: str | Path, error: type = DesignFileError, what: str = ""):
         raise error(f"{where}: the file is {len(text) / 1e6:.0f} MB; fpdesign's JSON files are at most "
                     f"{MAX_JSON_CHARS / 1e6:.0f} MB")
     try:
-        return json.loads(text, parse_constant=_no_constant)
+        data = json.loads(text, parse_constant=_NotANumber)
     except json.JSONDecodeError as exc:
         raise error(f"{where}: not valid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from exc
     except RecursionError as exc:
         raise error(f"{where}: nested too deeply to be an fpdesign file") from exc
-    except ValueError as exc:  # NaN or Infinity, which JSON does not have
-        raise error(f"{where}: {exc}") from exc
+    found = _first_constant(data)
+    if found is not None:  # NaN or Infinity, which JSON does not have
+        key, value = found
+        raise error(f"{where}: {key or 'the file'}: {value.name} is not a JSON number; give a finite number")
+    return data
 
 
 MAX_JSON_CHARS = 50_000_000   # design.json with its fronts is about 100 kB
 
 
-def _no_constant(name: str):
-    raise ValueError(f"{name} is not a JSON number; give a finite number")
+class _NotANumber:
+    """NaN, Infinity or -Infinity where a JSON file has one (Python's json reads them)."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+
+def _first_constant(data, key: str = ""):
+    """``(key path, _NotANumber)`` of the first NaN or Infinity in ``data``, None if there is none."""
+    stack = [(key, data)]
+    while stack:
+        key, value = stack.pop()
+        if isinstance(value, _NotANumber):
+            return key, value
+        if isinstance(value, dict):
+            stack.extend((f"{key}.{k}" if key else str(k), v) for k, v in reversed(value.items()))
+        elif isinstance(value, list):
+            stack.extend((f"{key}[{i}]", v) for i, v in reversed(list(enumerate(value))))
+    return None
 
 
 @dataclass(frozen=True)
@@ -211,18 +231,20 @@ def rebuild(record: dict):
     """``(Spec, Design)`` from a validated design.json record."""
     from designer.spec.catalogue import Material
     from designer.result.evaluation import Design, geometry_for
-    from designer.spec.reader import Feature, Section, parse_spec
+    from designer.spec.reader import Feature, Section, parse_design_block, parse_spec
 
     raw_spec = dict(record["spec"])
     if isinstance(raw_spec.get("electronics"), dict):  # anything else: parse_spec says what is wrong
         raw_spec["electronics"] = {k: v for k, v in raw_spec["electronics"].items()
                                    if k != "noise_output" and v is not None}
-    raw_spec.pop("design", None)
+    raw_design = raw_spec.pop("design", None)   # (a fixed design's block: the record's design is the one judged)
+    d = record["design"]
     try:
         spec = parse_spec(raw_spec)
+        if raw_design is not None:
+            parse_design_block(raw_design, spec, material=d["material"])
     except SpecError as exc:
         raise DesignFileError(f"spec.{str(exc).removeprefix('spec.')}") from exc   # (a top-level key: spec.x)
-    d = record["design"]
     props = d["material_properties"]
     material = Material(name=d["material"], description="from design.json", E=props["E"],
                         poisson=props.get("poisson", 0.3), yield_strength=props["yield"],

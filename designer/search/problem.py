@@ -19,6 +19,7 @@ from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
 from designer.model import corrections, domain, tolerance
+from designer.model.limits import shallowest_pocket
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
 from designer.result.evaluation import Design, Evaluation
@@ -148,13 +149,18 @@ class FamilyVariables:
             if fam.section == "tube":
                 add("wall", lim.min_wall, size_hi / 2)
         if fam.feature == "pocket":
-            add("depth", lim.min_pocket_depth, max(lim.min_pocket_depth, lim.max_pocket_fraction * size_hi))
+            shallowest = shallowest_pocket(spec)
+            add("depth", shallowest, max(shallowest, lim.max_pocket_fraction * size_hi))
         elif fam.feature == "hole":
             add("hole", lim.min_wall, max(lim.min_wall, size_hi - 2 * lim.min_wall))
         for i in range(spec.stations):
             add(f"station_{i + 1}", lim.clamp_clearance, spec.load.position_min)
         if lo and any(a > b for a, b in zip(lo, hi)):
             bad = names[[a > b for a, b in zip(lo, hi)].index(True)]
+            if bad.startswith("station"):
+                raise SpecError(f"limits.clamp_clearance: {lim.clamp_clearance * 1e3:g} mm leaves no room for the "
+                                f"stations before the load range, which begins at load.position "
+                                f"{spec.load.position_min * 1e3:g} mm; must be less than that")
             raise SpecError(f"limits: the bounds leave no room for {bad}; check limits.width and limits.height")
         plan_radius = 0.0
         if fam.section == "rectangle" and fam.feature == "pocket":

@@ -22,3 +22,10 @@ def required(raw: dict, key: str, parent: str):
     if key not in raw or raw[key] is None:
         raise SpecError(f"{parent}.{key}: missing; it is required" if parent else f"{key}: missing; it is required")
     return raw[key]
+
+
+def boolean(value, key: str) -> bool:
+    """``value`` if it is true or false; SpecError naming ``key`` otherwise."""
+    if not isinstance(value, bool):
+        raise SpecError(f"{key}: {value!r} must be true or false")
+    return value

@@ -18,27 +18,17 @@ from designer.spec.catalogue import Gauge
 from designer.spec.stock import STOCK_CHOICES
 from designer.errors import SpecError, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
+from designer.spec.cad import CadOptions, parse_cad
 from designer.spec.electronics import Electronics, parse_electronics
 from designer.spec.environment import CalibrationSetup, Environment, check_thermal, parse_calibration, parse_environment
 from designer.spec.tolerances import Tolerances, parse_tolerances
-from designer.spec.keys import mapping as _mapping, required as _required
+from designer.spec.keys import boolean, mapping as _mapping, required as _required
 
 SECTION_KINDS = ("rectangle", "round", "tube")
 FEATURE_KINDS = ("pocket", "hole", "none")
 BRIDGES = BRIDGE_FACTORS
 OBJECTIVES = ("error", "deflection", "mass")
 DEFAULT_GAUGE = "BF120-3AA"
-# The corner radius of the end mill that cuts pockets and flats (cad.corner_radius), m, by
-# default: R0.2 is the radius the tool catalogue (materials/tools.yaml) lists on every metric
-# end mill of 1-12 mm, so a shop has one for any pocket this tool designs. It is also below half
-# the smallest end mill there (1 mm) and the default limits.min_pocket_depth (0.5 mm).
-DEFAULT_CORNER_RADIUS = 0.0002
-# The grid of a searched pocket's depth (cad.depth_step), m: what a shop sets on a depth stop
-DEFAULT_DEPTH_STEP = 5e-5
-DEPTH_STEPS = (1, 100)  # the least and the greatest step allowed, in hundredths of a millimetre
-# ... and at most this share of the shallowest pocket the spec allows, so that a pocket keeps a
-# straight wall above its floor radius (and a wire channel half the pocket deep stays above it).
-CORNER_RADIUS_SHARE = 0.4
 
 
 @dataclass(frozen=True)
@@ -80,23 +70,6 @@ class Search:
     sections: tuple[str, ...] = SECTION_KINDS
     feature: str = "pocket"
     stock: str = "none"    # none: continuous sizes; metric | imperial | any: rows of materials/stock.yaml
-
-
-@dataclass(frozen=True)
-class CadOptions:
-    """CAD details; ``None`` lets the CAD module pick a default for the beam's size."""
-
-    clamp_length: float | None = None
-    bolt_diameter: float | None = None
-    end_mill_diameter: float | None = None
-    corner_radius: float = DEFAULT_CORNER_RADIUS    # the end mill's: pocket and flat floors meet walls in it
-    depth_step: float = DEFAULT_DEPTH_STEP          # the grid of the searched pocket or flat depth
-    wire_channels: bool = True
-    channel_width: float | None = None
-    channel_depth: float | None = None
-    load_grooves: bool = False
-    groove_positions: tuple[float, ...] | None = None
-    groove_depth: float | None = None
 
 
 @dataclass(frozen=True)
@@ -299,12 +272,6 @@ def _integer(value, key: str, minimum: int, maximum: int | None = None) -> int:
     return value
 
 
-def _boolean(value, key: str) -> bool:
-    if not isinstance(value, bool):
-        raise SpecError(f"{key}: {value!r} must be true or false")
-    return value
-
-
 def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = None, catalogues=()) -> Spec:
     """The spec of a loaded mapping. ``folder``: where its ``catalogue`` files are (the spec
     file's folder; None: the working folder); ``catalogues``: user catalogues given besides
@@ -332,7 +299,7 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
     search = _parse_search(raw.get("search"))
     objective = _choice(raw.get("objective", "error"), OBJECTIVES, "objective")
     design = _parse_design(raw["design"], limits, gauge) if raw.get("design") is not None else None
-    cad = _parse_cad(raw.get("cad"), load, limits, design, search.stock)
+    cad = parse_cad(raw.get("cad"), limits, design, search.stock)
 
     if axes == 2:
         if search.feature == "hole":
@@ -435,7 +402,7 @@ def _parse_limits(raw) -> Limits:
         if raw.get(key) is not None:
             values[key] = units.parse_range(raw[key], "length", f"limits.{key}")
     if "fatigue" in raw:
-        values["fatigue"] = _boolean(raw["fatigue"], "limits.fatigue")
+        values["fatigue"] = boolean(raw["fatigue"], "limits.fatigue")
     if values.get("safety_factor", 2.0) < 1:
         raise SpecError(f"limits.safety_factor: {raw['safety_factor']!r} must be at least 1")
     if not values.get("max_pocket_fraction", 0.3) < 0.5:
@@ -485,62 +452,18 @@ def _parse_search(raw) -> Search:
                   feature=feature, stock=stock)
 
 
-def default_corner_radius(shallowest: float, system: str | None = None, mill: float | None = None) -> float:
-    """The default cad.corner_radius for pockets at least ``shallowest`` deep (m): the largest
-    corner radius of the tool catalogue's end mills (``system``'s, metric unless the spec's stock
-    is imperial; of the end mill ``mill`` when one is given and listed) up to R0.2 and
-    CORNER_RADIUS_SHARE of the depth (and of ``mill``); another system's where ``system`` has none
-    that small, the smallest listed where none has."""
-    from designer.spec.tools import SAME
-
-    cap = min(DEFAULT_CORNER_RADIUS, CORNER_RADIUS_SHARE * shallowest)
-    if mill is not None:
-        cap = min(cap, CORNER_RADIUS_SHARE * mill)
-    tools = catalogue.end_mills()
-    radii = tools.radii(system if system in ("metric", "imperial") else "metric", mill)
-    fitting = [r for r in radii if r <= cap + SAME] or [r for r in tools.radii(None, mill) if r <= cap + SAME]
-    return fitting[-1] if fitting else radii[0]
+def parse_design_block(raw, spec: "Spec", material: str | None = None) -> FixedDesign:
+    """A ``design:`` block checked as a spec.yaml's is, under ``spec``'s limits and gauge; its
+    material may also be ``material`` (a design.json's own, whose properties it carries, where
+    the catalogue read may not list it)."""
+    return _parse_design(raw, spec.limits, spec.gauge, material)
 
 
-def _parse_cad(raw, load: Load, limits: Limits, design: FixedDesign | None, system: str = "none") -> CadOptions:
-    lengths = ("clamp_length", "bolt_diameter", "end_mill_diameter", "corner_radius", "channel_width",
-               "channel_depth", "groove_depth", "depth_step")
-    raw = _mapping(raw, "cad", lengths + ("wire_channels", "load_grooves", "groove_positions"))
-    values = {k: units.parse_positive(raw[k], "length", f"cad.{k}") for k in lengths if raw.get(k) is not None}
-    for k in ("wire_channels", "load_grooves"):
-        if k in raw:
-            values[k] = _boolean(raw[k], f"cad.{k}")
-    if raw.get("groove_positions") is not None:
-        positions = raw["groove_positions"]
-        if not isinstance(positions, (list, tuple)) or not positions:
-            raise SpecError(f"cad.groove_positions: {positions!r} must be a list of positions")
-        values["groove_positions"] = tuple(
-            units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
-    if (step := values.get("depth_step")) is not None:
-        if abs(step / 1e-5 - (k := round(step / 1e-5))) > 1e-6 or not DEPTH_STEPS[0] <= k <= DEPTH_STEPS[1]:
-            raise SpecError(f"cad.depth_step: {step * 1e3:g} mm is not allowed; must be a multiple of 0.01 mm from "
-                            f"{DEPTH_STEPS[0] / 100:g} mm to {DEPTH_STEPS[1] / 100:g} mm")
-        values["depth_step"] = k * 1e-5
-    pocket = design.feature if design is not None and design.feature.kind == "pocket" else None
-    if "corner_radius" not in values:
-        # recorded in design.json's spec.cad, so that the file describes the part on its own
-        shallowest = min(limits.min_pocket_depth, pocket.depth) if pocket else limits.min_pocket_depth
-        values["corner_radius"] = default_corner_radius(shallowest, system, values.get("end_mill_diameter"))
-    radius = values["corner_radius"]
-    mill = values.get("end_mill_diameter")
-    if mill is not None and not radius < mill / 2:
-        raise SpecError(f"cad.corner_radius: {radius * 1e3:g} mm must be less than half the end mill, "
-                        f"cad.end_mill_diameter / 2 = {mill * 1e3 / 2:g} mm")
-    if pocket is not None and not radius < pocket.depth:
-        raise SpecError(f"cad.corner_radius: {radius * 1e3:g} mm must be less than the pocket depth "
-                        f"design.feature.depth = {pocket.depth * 1e3:g} mm")
-    return CadOptions(**values)
-
-
-def _parse_design(raw, limits: Limits, gauge: Gauge) -> FixedDesign:
+def _parse_design(raw, limits: Limits, gauge: Gauge, known: str | None = None) -> FixedDesign:
     raw = _mapping(raw, "design", ("material", "section", "stations", "feature", "length"))
     material = _required(raw, "material", "design")
-    _catalogue_name(material, "design.material", catalogue.material)
+    if not (known is not None and isinstance(material, str) and material == known):
+        _catalogue_name(material, "design.material", catalogue.material)
     section = _parse_section(_required(raw, "section", "design"))
     stations = _required(raw, "stations", "design")
     if not isinstance(stations, (list, tuple)) or len(stations) < 2:
@@ -588,6 +511,10 @@ def _parse_feature(raw, limits: Limits, gauge: Gauge, section: Section) -> Featu
         return Feature("hole", diameter=d)
     depth = units.parse_positive(_required(raw, "depth", "design.feature"), "length", "design.feature.depth")
     margin = limits.pocket_margin
+    longest = units.RANGES["length"][1]
+    if raw.get("length") is None and not gauge.length + 2 * margin <= longest:  # the default pocket, by the margin
+        raise SpecError(f"limits.pocket_margin: {margin:g} m makes the pocket longer than the {longest:g} m "
+                        f"fpdesign handles; must be at most {(longest - gauge.length) / 2:g} m")
     length = units.parse_positive(raw.get("length", gauge.length + 2 * margin), "length", "design.feature.length")
     width = units.parse_positive(raw.get("width", gauge.width + 2 * margin), "length", "design.feature.width")
     if not depth < section.depth / 2:

@@ -119,6 +119,25 @@ BAD_SPECS = {
     "corner radius deeper than the pocket": ({"design.feature": {"kind": "pocket", "depth": "1 mm"},
                                               "cad.corner_radius": "1.5 mm"},
                                              ["cad.corner_radius", "1.5 mm", "design.feature.depth", "1 mm"]),
+    # The CAD details' lengths: none finer than the 0.01 mm grid (a channel 1 nm wide rounded to
+    # nothing and stopped the CAD with a traceback, a radius of 1 nm stopped the mesher).
+    "corner radius finer than the grid": ({"cad.corner_radius": "0.001 mm"},
+                                          ["cad.corner_radius", "0.001 mm", "at least 0.01 mm"]),
+    "channel width finer than the grid": ({"cad.channel_width": "1e-6 mm"},
+                                          ["cad.channel_width", "1e-6 mm", "at least 0.01 mm"]),
+    "channel depth finer than the grid": ({"cad.channel_depth": "0.005 mm"},
+                                          ["cad.channel_depth", "0.005 mm", "at least 0.01 mm"]),
+    "groove depth finer than the grid": ({"cad.groove_depth": "1 um"}, ["cad.groove_depth", "1 um", "0.01 mm"]),
+    # a flat on a round bar: the model's channel on the round took a square root of a negative
+    # number first, and a numpy warning of two lines came before the message
+    "channel deeper than the flat": ({"design.section": {"kind": "round", "diameter": "12.7 mm"},
+                                      "design.feature": {"kind": "pocket", "depth": "1 mm"},
+                                      "cad.channel_depth": "100 m"},
+                                     ["cad.channel_depth", "100000 mm", "design.feature.depth", "1 mm"]),
+    # the default pocket (the gauge and a margin each side) named the key the spec does not have
+    "pocket margin beyond any pocket": ({"design.feature": {"kind": "pocket", "depth": "1 mm"},
+                                         "limits.pocket_margin": "100 m"},
+                                        ["limits.pocket_margin", "100 m", "at most"]),
     # Far outside any physical range: the numbers overflow or divide by zero in the model.
     "sub-atomic width": ({"design.section.width": "1e-30 mm"}, ["'1e-30 mm'", "outside what fpdesign handles"]),
     "absurd gain": ({"electronics.gain": 1e300}, ["electronics.gain", "outside what fpdesign handles"]),
@@ -178,3 +197,18 @@ def test_evaluate_without_a_design_block_exits_2(base, tmp_path, capsys):
     assert main(["evaluate", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 2
     err = capsys.readouterr().err
     assert "design: missing" in err and "optimize" in err
+
+
+def test_a_clamp_clearance_past_the_load_names_it_and_the_load(base, tmp_path, capsys):
+    """The stations must lie between the clamp's clearance and the load range: a clearance of
+    200 mm with the load from 150 mm was reported as 'check limits.width and limits.height'."""
+    raw = copy.deepcopy(base)
+    del raw["design"]
+    raw.setdefault("limits", {})["clamp_clearance"] = "200 mm"
+    path = tmp_path / "spec.yaml"
+    path.write_text(yaml.safe_dump(raw), encoding="utf-8")
+    assert main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("fpdesign: error: limits.clamp_clearance: 200 mm leaves no room for the stations before the "
+                   "load range, which begins at load.position 150 mm; must be less than that")
+    assert not (tmp_path / "out").exists()

@@ -147,6 +147,27 @@ def test_bad_calibration_csv_exits_2_and_writes_nothing(tmp_path, capsys, case):
     assert [p.name for p in tmp_path.iterdir()] == ["readings.csv"]   # no temporary file left either
 
 
+def test_a_mis_recorded_reading_is_blamed_on_its_own_column_and_line(tmp_path, capsys):
+    """Prototype A's 9-point scheme, twice, with one V2 reading written as 5 V (a slip of the
+    pen; the row reads about 0.12 V): the noise pooled from both bridges' residuals made V1, which
+    is clean, look like a bridge that does not respond to the load, and the file's line was not
+    named. V2's own residuals judge V2 now, and V1's judge V1."""
+    src = tmp_path / "r.csv"
+    assert main(["simulate-readings", str(DATA / "cal_prototype_a.json"), "-o", str(src), "--scheme", "9",
+                 "--repeats", "2"]) == 0
+    lines = src.read_text().splitlines()
+    header = next(i for i, line in enumerate(lines) if not line.startswith("#"))
+    cells = lines[header + 4].split(",")
+    cells[lines[header].split(",").index("V2")] = "5"
+    lines[header + 4] = ",".join(cells)
+    src.write_text("\n".join(lines) + "\n")
+    assert main(["calibrate", str(src), "-o", str(tmp_path / "cal.json")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "column V2: does not respond to the load" in err and "column V1" not in err
+    assert f"line {header + 5} lies" in err and "check that reading" in err
+    assert len(err.splitlines()) == 1 and not (tmp_path / "cal.json").exists()
+
+
 def test_failed_calibration_leaves_an_existing_file_untouched(tmp_path):
     out = tmp_path / "calibration.json"
     out.write_text("previous\n")

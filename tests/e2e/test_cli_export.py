@@ -21,7 +21,7 @@ import pytest
 
 from designer.outputs import cad
 from designer.cli import main
-from designer.spec.reader import DEFAULT_CORNER_RADIUS
+from designer.spec.cad import DEFAULT_CORNER_RADIUS
 from shared_inputs import CAD_BAD as BAD
 from shared_inputs import cad_mutate as mutate
 from shared_inputs import cad_record as record

@@ -169,3 +169,25 @@ def test_the_fixed_flats_design_alone_is_judged_feasible(tmp_path):
     spec = tmp_path / "flats.yaml"
     spec.write_text(FLAT_SPEC)
     assert main(["evaluate", str(spec), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots"]) == 0
+
+
+def test_a_search_keeps_its_pockets_deeper_than_a_given_channel(examples):
+    """A search took a given cad.channel_depth for granted: the gripper finger's flats came out
+    1.55 mm deep under a 3 mm channel, and the CAD refused the design it reported (exit 2 after
+    the search). The least depth is now 0.01 mm over the channel (and over the corner radius;
+    docs/model.md §1), and the CAD's own checks pass on the design reported."""
+    cad_key, value = "channel_depth", "3 mm"
+    import yaml
+
+    from designer.result.pipeline import DesignOptions, design
+    from designer.spec.reader import parse_spec
+
+    raw = yaml.safe_load((examples / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw.setdefault("cad", {})[cad_key] = value
+    spec = parse_spec(raw)
+    result = design(spec, DesignOptions(tradeoff=False))
+    assert result.record["status"] == "optimal"
+    depth = result.record["design"]["feature"]["depth"]
+    assert depth >= getattr(spec.cad, cad_key) + 1e-5 - 1e-12
+    beam = cad.resolve(result.record)     # the CAD's checks of the channel and the radius
+    assert beam.section == "round"

@@ -227,6 +227,32 @@ def test_counts_without_a_front_end_to_convert_them_are_refused(tmp_path, capsys
         parse_readings("mass_g,position_mm,V1,C2\n100,50,0.1,200\n")
 
 
+def test_a_file_in_counts_is_named_by_its_own_columns(tmp_path, capsys):
+    """Messages about a readings file in counts name its columns (C2), not the volts they are
+    converted to (V2), and do not give a count as volts."""
+    from designer.cli import main
+
+    design = _design(tmp_path)
+    src = tmp_path / "cal.csv"
+    assert main(["simulate-readings", str(design), "-o", str(src), "--scheme", "9", "--counts"]) == 0
+    rows = [line.split(",") if not line.startswith("#") else line for line in src.read_text().splitlines()]
+    header = next(r for r in rows if isinstance(r, list))
+    dead = header.index("C2")
+    text = "\n".join(r if isinstance(r, str) else ",".join(c if i != dead or r is header else "0"
+                                                               for i, c in enumerate(r)) for r in rows)
+    src.write_text(text + "\n")
+    capsys.readouterr()
+    assert main(["calibrate", str(src), "--design", str(design), "-o", str(tmp_path / "cal.json")]) == 2
+    err = capsys.readouterr().err
+    assert "column C2: does not respond to the load: it reads the same count in every row" in err
+    assert "V2" not in err and " V in every row" not in err
+    no_first = "\n".join(r if isinstance(r, str) else ",".join(c for i, c in enumerate(r) if i != header.index("C1"))
+                          for r in rows)
+    src.write_text(no_first + "\n")
+    assert main(["calibrate", str(src), "--design", str(design), "-o", str(tmp_path / "cal.json")]) == 2
+    assert "bridge columns ['C2'] must be ['C1', 'C2']" in capsys.readouterr().err
+
+
 def test_an_unknown_front_end_exits_2_with_the_catalogue_s_names(tmp_path, capsys):
     from designer.cli import main
 

@@ -9,8 +9,10 @@ from designer.cli import main
 
 @pytest.mark.parametrize("text, message", [
     ("[" * 100_000 + "]" * 100_000, "nested too deeply to be an fpdesign file"),
-    ('{"version": 1, "status": NaN}', "NaN is not a JSON number"),
-    ('{"version": 1, "status": Infinity}', "Infinity is not a JSON number"),
+    ('{"version": 1, "status": NaN}', "status: NaN is not a JSON number"),
+    ('{"version": 1, "status": Infinity}', "status: Infinity is not a JSON number"),
+    ('{"version": 1, "design": {"stations": [0.01, -Infinity]}}',
+     "design.stations[1]: -Infinity is not a JSON number"),
 ])
 @pytest.mark.parametrize("command", [["verify"], ["export", "--step", "x.step"], ["plan"]])
 def test_hostile_json_is_bad_input(tmp_path, capsys, command, text, message):
@@ -347,3 +349,39 @@ def test_an_unknown_key_of_design_json_s_spec_is_named_as_the_file_holds_it(tmp_
     path.write_text(json.dumps(record))
     assert main(["plan", str(path)]) == 2
     assert capsys.readouterr().err.startswith("fpdesign: error: spec.colour: unknown key")
+
+
+@pytest.mark.parametrize("value, message", [
+    ({"material": "2024-T3", "bogus": 1}, "spec.design.bogus: unknown key"),
+    ({"material": "unobtainium"}, "spec.design.material: 'unobtainium'"),
+    ("abc", "spec.design: 'abc' must be a mapping"),
+])
+@pytest.mark.parametrize("command", [["plan"], ["export", "--step", "x.step"]])
+def test_the_spec_design_block_of_a_design_json_is_checked(probe_record, tmp_path, capsys, value, message, command):
+    """docs/spec.md §4: design.json's spec is read back as a spec.yaml is, every key checked;
+    its ``design`` block (a fixed design's) was dropped unread, any content exit 0."""
+    assert main(_edited(probe_record, tmp_path, ("spec", "design"), value, command)) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["design.json"]
+
+
+def test_an_empty_path_or_noise_is_bad_input(probe_record, tmp_path, capsys, monkeypatch):
+    """'' (an unset shell variable) named the current folder: evaluate wrote design.json and the
+    report there, plot drew beside design.json, measure --noise '' took the calibration's noise."""
+    monkeypatch.chdir(tmp_path)
+    examples = Path(__file__).resolve().parents[2] / "examples"
+    readings, cal = tmp_path / "r.csv", tmp_path / "cal.json"
+    assert main(["simulate-readings", str(probe_record), "-o", str(readings), "--scheme", "9"]) == 0
+    assert main(["calibrate", str(readings), "-o", str(cal)]) == 0
+    capsys.readouterr()
+    before = sorted(p.name for p in tmp_path.iterdir())
+    for argv, wanted in [
+            (["evaluate", str(examples / "prototype-b.yaml"), "-o", "", "--no-cad", "--no-plots", "--quiet"],
+             "-o: '' is empty; give a folder for design.json and the report"),
+            (["plot", str(probe_record), "-o", ""], "-o: '' is empty; give a folder for the plots"),
+            (["measure", str(cal), str(readings), "-o", ""], "-o: '' is empty; give a file name"),
+            (["measure", str(cal), str(readings), "--noise", ""], "--noise: '' cannot be read")]:
+        assert main(argv) == 2
+        assert capsys.readouterr().err.strip().startswith(f"fpdesign: error: {wanted}")
+    assert sorted(p.name for p in tmp_path.iterdir()) == before

@@ -27,7 +27,7 @@ from designer.model.sections import round_down
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
 from designer.outputs.cad import mills
-from designer.spec.reader import default_corner_radius
+from designer.spec.cad import default_corner_radius
 
 # ISO 273 medium-series clearance holes for ISO metric coarse bolts: nominal -> hole, m.
 ISO_273_MEDIUM = {0.0016: 0.0018, 0.002: 0.0024, 0.0025: 0.0029, 0.003: 0.0034, 0.004: 0.0045,
