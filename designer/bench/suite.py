@@ -102,10 +102,22 @@ def _has_sizes(spec) -> bool:
     return False
 
 
-def _parse(text: str, name: str):
+def _parse(text: str, name: str, folder: Path | None = None):
     from designer.spec.reader import parse_spec_text
 
-    return parse_spec_text(text, source=name, default_name=name)
+    return parse_spec_text(text, source=name, default_name=name, folder=folder)
+
+
+def _is_catalogue(text: str) -> bool:
+    """Whether a YAML file of a specs folder is a user catalogue (docs/spec.md 2.9), not a spec:
+    a mapping of catalogue keys alone."""
+    from designer.spec import catalogue, strict_yaml
+
+    try:
+        raw = strict_yaml.load(text)
+    except Exception:  # noqa: BLE001 - not YAML: the spec reader says what is wrong
+        return False
+    return isinstance(raw, dict) and bool(raw) and set(raw) <= set(catalogue.USER_KEYS)
 
 
 def _yaml(raw: dict, kind: str) -> str:
@@ -462,8 +474,11 @@ def example_suite(folder) -> tuple[list[SuiteSpec], list[str]]:
             text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError) as exc:
             raise InputError(f"specs folder: {path} cannot be read ({exc})") from exc
+        if _is_catalogue(text):   # (a catalogue the specs beside it name)
+            skipped.append(f"{path.name} (a catalogue)")
+            continue
         try:
-            spec = _parse(text, path.stem)
+            spec = _parse(text, path.stem, path.parent)
         except SpecError as exc:
             raise SpecError(f"{path}: {exc}") from exc
         if spec.design is not None:

@@ -320,7 +320,7 @@ def markdown(result: BenchResult, chart_file: str = "bench.png") -> str:
     lines += [_md_table(["kind", "what it is", "specs", "feasible", "infeasible"], kind_rows, text_columns=2), ""]
     lines += ["Built verdicts contradicted: " + ("; ".join(mism) if mism else "none.")]
     if result.skipped:
-        lines += ["", "Example files left out (fixed designs, `design:` block): " + ", ".join(result.skipped) + "."]
+        lines += ["", "Example files left out (fixed designs, `design:` block, and catalogues): " + ", ".join(result.skipped) + "."]
     lines += ["", "Files: `runs.csv` (every run), `specs.csv` (every spec's verdict and best known design), "
               "`stability.csv`, `suite/*.yaml` (the generated specs).", ""]
     return "\n".join(lines)

@@ -444,6 +444,10 @@ def _user_catalogues(args) -> list:
     """The ``--catalogue`` files, read (``catalogue.read_user``)."""
     from designer.spec import catalogue
 
+    from designer.errors import InputError
+
+    if any(not path.strip() for path in args.catalogue):
+        raise InputError("--catalogue: '' is empty; give a catalogue file (docs/spec.md 2.9)")
     return [catalogue.read_user(path) for path in args.catalogue]
 
 

@@ -18,6 +18,7 @@ from designer import model
 from designer.spec.units import RANGES
 from designer.result.record import VERSION
 from designer.errors import DesignFileError, SpecError, describe_allowed, read_text
+from designer.spec.keys import plain_name
 
 SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
 FEATURE_KEYS = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "none": ()}
@@ -147,9 +148,7 @@ def validate(record, source: str = "design.json") -> None:
     if not isinstance(spec, dict):
         raise DesignFileError(f"spec: {spec!r} must be an object (the normalised spec of SPEC.md)")
     design = _get(record, "design", "")
-    material = _get(design, "material", "design")
-    if not isinstance(material, str):
-        raise DesignFileError(f"design.material: {material!r} must be a material name")
+    plain_name(_get(design, "material", "design"), "design.material", DesignFileError)
     props = _get(design, "material_properties", "design")
     for key in ("E", "yield", "density"):
         _positive(props, key, "design.material_properties")

@@ -138,10 +138,23 @@ def _bore_not_from_stock(spec, design) -> list[str]:
             f"bore would be drilled {g.length * 1e3:.0f} mm deep"]
 
 
+# Beyond this free-end deflection by linear theory, in free lengths, the elastica is not computed:
+# the beam hangs from its clamp (a tip load's tip angle is past 80 degrees at 3 lengths, the
+# Bisshopp-Drucker load parameter 9), the shooting method finds curled branches of the elastica
+# and, with the moduli a user catalogue allows, integrates for hours; no sensor works there.
+ELASTICA_REACH = 3.0
+
+
 def _with_large_deflection(record: dict) -> dict:
-    """The record with the elastica's figures where linear theory stops holding."""
-    if not model.is_large_deflection(record["predicted"]["deflection"], record["design"]["length"]):
+    """The record with the elastica's figures where linear theory stops holding (up to
+    ELASTICA_REACH; a message beyond)."""
+    deflection, length = record["predicted"]["deflection"], record["design"]["length"]
+    if not model.is_large_deflection(deflection, length):
         return record
+    if deflection > ELASTICA_REACH * length:
+        return {**record, "messages": record["messages"] + [
+            f"large deflection: linear theory puts the free end {deflection / length:.3g} free lengths down under "
+            f"F_max at x_max; beyond {ELASTICA_REACH:g} the beam hangs from its clamp and no elastica is computed"]}
     from designer.checks.elastica import large_deflection
 
     result = large_deflection(record)

@@ -21,6 +21,7 @@ import yaml
 
 from designer.spec import stock as stock_file, units
 from designer.errors import CatalogueError, FpdError, SpecError, describe_allowed
+from designer.spec.keys import plain_name
 
 
 @dataclass(frozen=True)
@@ -100,6 +101,31 @@ GAUGE_FIELDS = {
     "factor": "ratio", "resistance": "resistance", "length": "length", "width": "length",
     "grid_length": "length", "grid_width": "length", "max_strain": "strain",
 }
+# The figures a material or gauge of any catalogue may have (SI): wide of every engineering solid
+# and foil or semiconductor gauge (a plastic's 0.1 GPa to a carbide's 700, osmium's 22.6 t/m^3,
+# a 0.2 mm grid on a 0.5 m carrier, a post-yield gauge's 20 %), so that a slip of a unit or a
+# digit is refused rather than designed with (a gauge factor of 1e10 read as a flawless sensor).
+PLAUSIBLE = {
+    "E": (1e8, 1.5e12, "Pa"), "yield": (1e5, 1e10, "Pa"), "ultimate": (1e5, 1e10, "Pa"),
+    "fatigue": (1e5, 1e10, "Pa"), "fatigue_cycles": (1e3, 1e12, ""), "density": (100.0, 25e3, "kg/m^3"),
+    "notch_length": (0.0, 0.01, "m"),
+    "factor": (0.5, 500.0, ""), "resistance": (10.0, 1e6, "ohm"), "length": (1e-4, 0.5, "m"),
+    "width": (1e-4, 0.5, "m"), "grid_length": (5e-5, 0.5, "m"), "grid_width": (5e-5, 0.5, "m"),
+    "max_strain": (1e-5, 0.2, ""),
+}
+
+
+def plausible(values: dict, key: str, error: type) -> dict:
+    """``values`` (yaml key -> SI figure); ``error`` naming ``key.k`` for a figure outside PLAUSIBLE."""
+    for k, v in values.items():
+        if k in PLAUSIBLE and v is not None:
+            lo, hi, unit = PLAUSIBLE[k]
+            if not lo <= v <= hi:
+                raise error(f"{key}.{k}: {v:g} {unit} is not a figure a {'gauge' if k in GAUGE_FIELDS else 'material'} "
+                            f"has; must lie between {lo:g} and {hi:g}{' ' + unit if unit else ''}".replace("  ", " "))
+    return values
+
+
 # The optional thermal figures of a gauge (per K) and the sign each may have.
 GAUGE_THERMAL = {"factor_tc": "any", "compensated_for": "positive", "thermal_output": "zero or positive",
                  "thermal_match": "zero or positive"}
@@ -185,8 +211,10 @@ def read_user(path: str | Path, shown: str | None = None) -> tuple[str, dict]:
     text = read_text(Path(path), CatalogueError)
     try:
         raw = strict_yaml.load(text)
-    except (yaml.YAMLError, strict_yaml.StrictYamlError) as exc:
-        raise CatalogueError(f"{shown}: cannot be read as YAML: {exc}") from exc
+    except strict_yaml.StrictYamlError as exc:
+        raise CatalogueError(f"{shown}: {exc}") from exc
+    except yaml.YAMLError as exc:
+        raise CatalogueError(f"{shown}: {strict_yaml.syntax_error(exc)}") from exc
     return shown, user_content(raw, shown)
 
 
@@ -202,6 +230,8 @@ def user_content(raw, shown: str) -> dict:
     for key in ("materials", "gauges"):
         if raw.get(key) is not None and (not isinstance(raw[key], list) or not raw[key]):
             raise CatalogueError(f"{shown}.{key}: must be a list of entries, each a mapping with a name")
+    if all(raw.get(k) is None for k in USER_KEYS[1:]):
+        raise CatalogueError(f"{shown}: the catalogue is empty; give at least {describe_allowed(USER_KEYS[1:])}")
     return {k: v for k, v in raw.items() if k != "file"}
 
 
@@ -211,9 +241,7 @@ def _entries(entries, where: str, keys, required) -> list[tuple[str, str, dict]]
     for i, entry in enumerate(entries):
         if not isinstance(entry, dict):
             raise CatalogueError(f"{where}[{i}]: {entry!r} must be a mapping with keys {describe_allowed(keys)}")
-        name = entry.get("name")
-        if not isinstance(name, str) or not name.strip():
-            raise CatalogueError(f"{where}[{i}].name: {name!r} must be a name (text)")
+        name = plain_name(entry.get("name"), f"{where}[{i}].name", CatalogueError)
         key = f"{where}[{i}] ({name})"
         stock_file.known_keys(entry, keys, key)
         for k in required:
@@ -254,6 +282,10 @@ def _materials_from(entries, where: str, user: bool) -> list[Material]:
         values = {field: (quantity(entry[k], kind, f"{key}.{k}", MATERIAL_SIGNS.get(k, "positive"))
                           if entry.get(k) is not None else OPTIONAL_MATERIAL_FIELDS[k])
                   for k, (field, kind) in _MATERIAL_FIELDS.items()}
+        plausible({k: values[field] for k, (field, _) in _MATERIAL_FIELDS.items()}, key, CatalogueError)
+        if user and name == "all":
+            raise CatalogueError(f"{key}.name: 'all' is search.materials' word for every material; give the "
+                                 "material a name of its own")
         if not 0 <= values["poisson"] < 0.5:
             raise CatalogueError(f"{key}.poisson: {values['poisson']!r} must be at least 0 and less than 0.5")
         for k in ("yield", "fatigue"):   # no metal yields or tires above its breaking stress
@@ -269,7 +301,8 @@ def _gauges_from(entries, where: str, user: bool) -> list[Gauge]:
     required = ["name", *GAUGE_FIELDS] + (["source"] if user else [])
     out = []
     for name, key, entry in _entries(entries, f"{where} gauges" if user else where, GAUGE_KEYS, required):
-        values = {k: quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}
+        values = plausible({k: quantity(entry[k], kind, f"{key}.{k}") for k, kind in GAUGE_FIELDS.items()}, key,
+                           CatalogueError)
         out.append(Gauge(name=name, description=_text(entry, "description", key, False),
                          source=_text(entry, "source", key, user), **values, **gauge_thermal(entry, key)))
         grid_on_backing(out[-1], key, CatalogueError)

@@ -29,3 +29,17 @@ def boolean(value, key: str) -> bool:
     if not isinstance(value, bool):
         raise SpecError(f"{key}: {value!r} must be true or false")
     return value
+
+
+LONGEST_NAME = 100   # characters: a name fits a report's table and a plot's legend
+
+
+def plain_name(value, key: str, error: type = SpecError) -> str:
+    """``value`` as a name that reports, plots and the drawing show as it is: text on one line,
+    without control characters or '$' (which the plots would read as mathematics), at most
+    LONGEST_NAME characters; ``error`` naming ``key`` otherwise."""
+    if (not isinstance(value, str) or not value.strip() or len(value) > LONGEST_NAME or "$" in value
+            or not value.isprintable()):
+        raise error(f"{key}: {value!r} must be a name: text on one line of at most {LONGEST_NAME} characters, "
+                    "without control characters or '$'")
+    return value

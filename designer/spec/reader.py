@@ -22,7 +22,7 @@ from designer.spec.cad import CadOptions, parse_cad
 from designer.spec.electronics import Electronics, parse_electronics
 from designer.spec.environment import CalibrationSetup, Environment, check_thermal, parse_calibration, parse_environment
 from designer.spec.tolerances import Tolerances, parse_tolerances
-from designer.spec.keys import boolean, mapping as _mapping, required as _required
+from designer.spec.keys import boolean, mapping as _mapping, plain_name, required as _required
 
 SECTION_KINDS = ("rectangle", "round", "tube")
 FEATURE_KINDS = ("pocket", "hole", "none")
@@ -230,13 +230,7 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
     except strict_yaml.StrictYamlError as exc:
         raise SpecError(f"{source}: {exc}") from exc
     except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(exc, "problem", None) or "invalid YAML"
-        context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
-        if context and start is not None and (mark is None or start.line != mark.line):
-            problem += f" ({context} that starts at line {start.line + 1}, column {start.column + 1})"
-        raise SpecError(f"{source}: YAML syntax error{where}: {problem}") from exc
+        raise SpecError(f"{source}: {strict_yaml.syntax_error(exc)}") from exc
     if raw is None:
         raise SpecError(f"{source}: the file is empty; a spec needs at least 'load' and 'electronics'")
     if not isinstance(raw, dict):
@@ -280,9 +274,7 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
     raw = _mapping(raw, "spec", _TOP_KEYS)
     user = _parse_catalogue(raw.get("catalogue"), folder) + tuple(catalogues)
     catalogue.use(user)
-    name = raw.get("name", default_name)
-    if not isinstance(name, str) or not name.strip() or any(ord(c) < 32 or ord(c) == 127 for c in name):
-        raise SpecError(f"name: {name!r} must be a non-empty text on one line, without control characters")
+    name = plain_name(raw.get("name", default_name), "name")
 
     load_raw = _mapping(_required(raw, "load", ""), "load", ("force", "position"))
     f_min, f_max = units.parse_range(_required(load_raw, "force", "load"), "force", "load.force")
@@ -361,8 +353,8 @@ def _parse_gauge(raw) -> Gauge:
         return catalogue.gauge(raw, "gauge")
     keys = ("name",) + tuple(catalogue.GAUGE_FIELDS) + tuple(catalogue.GAUGE_THERMAL)
     raw = _mapping(raw, "gauge", keys)
-    fields = {k: units.parse_positive(v, catalogue.GAUGE_FIELDS[k], f"gauge.{k}")
-              for k, v in raw.items() if k in catalogue.GAUGE_FIELDS}
+    fields = catalogue.plausible({k: units.parse_positive(v, catalogue.GAUGE_FIELDS[k], f"gauge.{k}")
+                                  for k, v in raw.items() if k in catalogue.GAUGE_FIELDS}, "gauge", SpecError)
     fields |= catalogue.gauge_thermal(raw, "gauge", in_spec=True)
     name = raw.get("name")
     if name is not None and not isinstance(name, str):

@@ -13,6 +13,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from designer.errors import CatalogueError, describe_allowed
+from designer.model.sections import LEAST_CUT
+from designer.spec.keys import plain_name
 
 FILE = "stock.yaml"
 #: search.stock: none keeps the sizes continuous; the others choose rows from these systems.
@@ -196,9 +198,7 @@ def table_fields(entry, at: str, keys, text, allowed: dict, key_of) -> tuple[str
     choices. ``at``: where the table is (``stock.yaml tables[3]``), for a table without a name."""
     if not isinstance(entry, dict):
         raise CatalogueError(f"{at}: must be a mapping with keys {describe_allowed(keys)}")
-    name = entry.get("name")
-    if not isinstance(name, str) or not name.strip():
-        raise CatalogueError(f"{at}.name: {name!r} must be a name (text)")
+    name = plain_name(entry.get("name"), f"{at}.name", CatalogueError)
     key = key_of(name)
     known_keys(entry, keys, key)
     values = {k: required(entry, k, key) for k in keys}
@@ -224,6 +224,9 @@ def _table(entry, i: int, families: dict, where: str) -> StockTable:
             raise CatalogueError(f"{key}.{where_row}: the size {list(sizes)} is listed twice")
         seen.add(sizes)
         for s in sizes:
+            if _si(s, unit) < LEAST_CUT * (1 - 1e-9):
+                raise CatalogueError(f"{key}.{where_row}: {s:g} {unit} is finer than the 0.01 mm grid a part is "
+                                     "machined to; must be at least 0.01 mm")
             if _si(s, unit) > LARGEST_SIZE:
                 raise CatalogueError(f"{key}.{where_row}: {s:g} {unit} is larger than a sensor beam is cut from "
                                      f"(at most {LARGEST_SIZE:g} m)")

@@ -75,3 +75,15 @@ def load_shipped(text: str):
     """A YAML file that ships with the package: read with libyaml's parser where PyYAML has it,
     a key given twice refused (StrictYamlError); yaml.YAMLError when it is not YAML."""
     return yaml.load(text, Loader=_ShippedLoader)  # noqa: S506 - a SafeLoader, on the package's own files
+
+
+def syntax_error(exc) -> str:
+    """A YAML error of PyYAML (``yaml.YAMLError``) on one line: where and what, as ``"YAML syntax
+    error at line 3, column 7: ..."``."""
+    mark = getattr(exc, "problem_mark", None)
+    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+    problem = getattr(exc, "problem", None) or "invalid YAML"
+    context, start = getattr(exc, "context", None), getattr(exc, "context_mark", None)
+    if context and start is not None and (mark is None or start.line != mark.line):
+        problem += f" ({context} that starts at line {start.line + 1}, column {start.column + 1})"
+    return " ".join(f"YAML syntax error{where}: {problem}".split())

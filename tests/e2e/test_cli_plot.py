@@ -58,6 +58,25 @@ def test_plot_command_bad_tradeoff_file_exits_2(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("key, value, message", [
+    # matplotlib read '$\\foo$' as mathematics and stopped with a traceback
+    ("material", "$\\foo$", "tradeoff.max_deflection[0].material: '$\\\\foo$' must be a name"),
+    # the plot's scales overflowed: six lines of numpy warnings before the plot
+    ("x", 1e307, "tradeoff.max_deflection[0].x: 1e+307 must be a positive number (SI units) up to 1e+10"),
+    ("objective", 1e308, "tradeoff.max_deflection[0].objective: 1e+308 must be a positive number up to 1e+10"),
+])
+def test_plot_command_refuses_trade_off_points_it_cannot_draw(tmp_path, capsys, key, value, message):
+    points = json.loads((DATA / "plot_tradeoff.json").read_text())
+    points["max_deflection"][0][key] = value
+    bad = tmp_path / "tradeoff.json"
+    bad.write_text(json.dumps(points))
+    assert main(["plot", str(DATA / "plot_prototype_b.json"), "-o", str(tmp_path / "out"),
+                 "--tradeoff", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "out").exists()
+
+
 def test_plot_command_with_a_folder_in_the_way_names_it_and_writes_no_plot(tmp_path, capsys):
     out = tmp_path / "out"
     (out / "voltage-isolines.png").mkdir(parents=True)    # the second plot of four

@@ -182,6 +182,30 @@ BAD = {
                              ["shop.yaml", "carbide-corner-radius-metric", "used twice"]),
     "end mill missing source": (lambda t: t.replace('    source: "our tool crib, 2026"\n', ""),
                                 ["shop.yaml", "shop-mills", "source", "missing"]),
+    # Figures no material, gauge or tool has: a slip of a unit or a digit. A modulus of 1 Pa was
+    # designed with (the elastica then ran for hours), a gauge factor of 1e10 gave a "feasible"
+    # sensor with a force error of 1e-10 %, an R0.005 end mill a design.json no command read back.
+    "modulus of a jelly": (lambda t: t.replace("E: 70 GPa", "E: 1 Pa"), ["shop.yaml", "6082-T6", ".E", "1 Pa",
+                                                                        "between 1e+08 and 1.5e+12 Pa"]),
+    "density of a gas": (lambda t: t.replace("density: 2700 kg/m^3", "density: 1 kg/m^3"),
+                         ["6082-T6", ".density", "between 100 and 25000"]),
+    "notch length of a beam": (lambda t: t.replace("notch_length: 0.51 mm", "notch_length: 100 m"),
+                               ["6082-T6", ".notch_length", "between 0 and 0.01 m"]),
+    "gauge factor 1e10": (lambda t: t.replace("factor: 2.1", "factor: 1.0e+10"), ["KFGS-2-120", ".factor",
+                                                                               "between 0.5 and 500"]),
+    "gauge of a nanometre": (lambda t: t.replace("grid_length: 2 mm", "grid_length: 1 nm"),
+                             ["KFGS-2-120", ".grid_length", "between 5e-05 and 0.5 m"]),
+    "end mill finer than the grid": (lambda t: t.replace("8.5: [0.2, 0.5]", "8.5: [0.2, 0.005]"),
+                                     ["shop-mills", "tools.8.5[1]", "0.005 mm", "0.01 mm"]),
+    # names are shown as they are: on one line, and '$' would be read as mathematics by the plots
+    "name on two lines": (lambda t: t.replace("- name: 6082-T6", '- name: "60\\n82"'),
+                          ["shop.yaml", "materials[0].name", "one line"]),
+    "name with dollars": (lambda t: t.replace("- name: 6082-T6", "- name: '$\\foo$'"),
+                          ["shop.yaml", "materials[0].name", "'$'"]),
+    "material named all": (lambda t: t.replace("- name: 6082-T6", "- name: all"), ["shop.yaml", "(all).name",
+                                                                                   "every material"]),
+    "empty catalogue": (lambda t: "materials:\ngauges:\n", ["shop.yaml", "the catalogue is empty"]),
+    "YAML syntax error": (lambda t: "materials: [\n  - name: x\n", ["shop.yaml", "YAML syntax error at line 2"]),
 }
 
 
@@ -281,3 +305,30 @@ def test_a_given_end_mill_cuts_the_flats(tmp_path):
                                             rest=rest))).record
     tool = record["design"]["feature"]["tool"]
     assert (tool["label"], tool["table"]) == ("end mill Ø6 R0.2 mm", "carbide-corner-radius-metric")
+
+
+def test_a_spec_with_a_catalogue_beside_it_is_benched_from_any_folder(tmp_path, capsys, monkeypatch):
+    """``bench --specs FOLDER``: a spec's relative ``catalogue:`` is found in the spec's folder
+    (docs/spec.md 2.9), not the working one, and the catalogue file beside the specs is not read
+    as a spec (it stopped the bench: 'spec.materials: unknown key')."""
+    from designer.cli import main
+
+    folder = tmp_path / "specs"
+    folder.mkdir()
+    _spec(folder, rest="search: {materials: [6082-T6]}")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert main(["bench", "--specs", str(folder), "--count", "0", "--methods", "ipopt", "--levels", "2",
+                 "-o", str(tmp_path / "bench"), "--quiet"]) == 0
+    summary = (tmp_path / "bench" / "bench.md").read_text()
+    assert "shop.yaml (a catalogue)" in summary
+    assert "6082-T6" in (tmp_path / "bench" / "runs.csv").read_text()   # the design of the user's material
+
+
+def test_an_empty_command_line_catalogue_is_named(tmp_path, capsys):
+    from designer.cli import main
+
+    assert main(["materials", "--catalogue", ""]) == 2
+    assert capsys.readouterr().err.strip() == ("fpdesign: error: --catalogue: '' is empty; give a catalogue file "
+                                               "(docs/spec.md 2.9)")

@@ -79,6 +79,30 @@ def test_shooting_agrees_with_elliptic_integrals(alpha):
     assert got == pytest.approx(want, rel=1e-6, abs=1e-9)
 
 
+def test_the_elastica_is_computed_up_to_three_free_lengths_of_linear_deflection(examples, tmp_path):
+    """Bisshopp & Drucker's load parameter alpha = F L^2 / EI gives linear theory's tip deflection
+    alpha/3 lengths: at the reach of 3 lengths (alpha 9) the exact tip angle, by the elliptic
+    integrals, is past 80 degrees (the beam hangs from its clamp) and the shooting method still
+    agrees with it. Beyond, no elastica is computed: Prototype A's strip at 0.5 mm thick (linear
+    theory 84 lengths) had the shooting method follow curled branches, and a modulus of 1 Pa
+    integrated for hours."""
+    from designer.result.pipeline import ELASTICA_REACH, evaluate_fixed
+
+    alpha = 3 * ELASTICA_REACH
+    exact = elliptic_tip_load(alpha)
+    assert math.degrees(exact[2]) > 80
+    assert elastica.prismatic_tip_load(alpha) == pytest.approx(exact, rel=1e-6, abs=1e-9)
+
+    text = (examples / "prototype-a.yaml").read_text(encoding="utf-8")
+    assert "height: 3.18 mm" in text
+    (tmp_path / "strip.yaml").write_text(text.replace("height: 3.18 mm", "height: 0.5 mm"), encoding="utf-8")
+    record = evaluate_fixed(load_spec(tmp_path / "strip.yaml")).record
+    ratio = record["predicted"]["deflection"] / record["design"]["length"]
+    assert ratio == pytest.approx(83.6, rel=1e-2)   # (3.18 / 0.5)^3 x Prototype A's 0.325
+    assert "large_deflection" not in record
+    assert any("no elastica is computed" in m for m in record["messages"])
+
+
 def test_small_load_is_linear_theory():
     alpha = 1e-3
     dv, dh, theta = elastica.prismatic_tip_load(alpha)

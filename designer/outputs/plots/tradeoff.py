@@ -11,6 +11,7 @@ import numpy as np
 from designer.errors import InputError, describe_allowed
 from designer.outputs.plots.common import C_GRID, ERROR_OBJECTIVE_LABEL, MATERIAL_COLOURS, SECTION_MARKERS, figure_axes
 from designer.outputs.plots.sensor import is_number
+from designer.spec.keys import plain_name
 
 # The quantities a trade-off front can be drawn against: axis label, SI -> axis factor, file name.
 TRADEOFF_AXES = {
@@ -129,6 +130,11 @@ def _family(section: str) -> str:
     return section.split("+", 1)[0]
 
 
+# The largest figure a trade-off point may give (a deflection in m, a frequency in Hz, an error
+# ratio): the spec's own ranges stop below it, and the plot's scales overflow far above it.
+LARGEST_FIGURE = 1e10
+
+
 def tradeoff_points(points, x: str) -> list[dict]:
     if not isinstance(points, Sequence) or isinstance(points, str):
         raise InputError(f"trade-off points for {x}: {points!r} must be a list of objects")
@@ -138,18 +144,20 @@ def tradeoff_points(points, x: str) -> list[dict]:
         if not isinstance(p, Mapping):
             raise InputError(f"{where}: {p!r} must be an object with material, section, x, objective, feasible")
         for key in ("material", "section"):
-            if not isinstance(p.get(key), str):
-                raise InputError(f"{where}.{key}: {p.get(key)!r} must be a name")
-        if not is_number(p.get("x")) or p["x"] <= 0:
-            raise InputError(f"{where}.x: {p.get('x')!r} must be a positive number (SI units)")
+            plain_name(p.get(key), f"{where}.{key}", InputError)
+        if not is_number(p.get("x")) or not 0 < p["x"] <= LARGEST_FIGURE:
+            raise InputError(f"{where}.x: {p.get('x')!r} must be a positive number (SI units) up to "
+                             f"{LARGEST_FIGURE:g}")
         objective = p.get("objective")
-        if objective is not None and (not is_number(objective) or objective <= 0):
-            raise InputError(f"{where}.objective: {objective!r} must be a positive number or null")
+        if objective is not None and (not is_number(objective) or not 0 < objective <= LARGEST_FIGURE):
+            raise InputError(f"{where}.objective: {objective!r} must be a positive number up to "
+                             f"{LARGEST_FIGURE:g}, or null")
         if not isinstance(p.get("feasible"), bool):
             raise InputError(f"{where}.feasible: {p.get('feasible')!r} must be true or false")
         value = p.get("value")
-        if value is not None and (not is_number(value) or value <= 0):
-            raise InputError(f"{where}.value: {value!r} must be a positive number (SI units) or null")
+        if value is not None and (not is_number(value) or not 0 < value <= LARGEST_FIGURE):
+            raise InputError(f"{where}.value: {value!r} must be a positive number (SI units) up to "
+                             f"{LARGEST_FIGURE:g}, or null")
         out.append({"material": p["material"], "section": p["section"], "x": float(p["x"]),
                     "value": None if value is None else float(value),
                     "objective": None if objective is None else float(objective),
