@@ -141,7 +141,7 @@ def _bore_not_from_stock(spec, design) -> list[str]:
 # Beyond this free-end deflection by linear theory, in free lengths, the elastica is not computed:
 # the beam hangs from its clamp (a tip load's tip angle is past 80 degrees at 3 lengths, the
 # Bisshopp-Drucker load parameter 9), the shooting method finds curled branches of the elastica
-# and, with the moduli a user catalogue allows, integrates for hours; no sensor works there.
+# and, far beyond, integrates for hours (a modulus of 1 Pa did); no sensor works there.
 ELASTICA_REACH = 3.0
 
 

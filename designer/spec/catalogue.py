@@ -121,8 +121,10 @@ def plausible(values: dict, key: str, error: type) -> dict:
         if k in PLAUSIBLE and v is not None:
             lo, hi, unit = PLAUSIBLE[k]
             if not lo <= v <= hi:
-                raise error(f"{key}.{k}: {v:g} {unit} is not a figure a {'gauge' if k in GAUGE_FIELDS else 'material'} "
-                            f"has; must lie between {lo:g} and {hi:g}{' ' + unit if unit else ''}".replace("  ", " "))
+                of = "gauge" if k in GAUGE_FIELDS else "material"
+                unit = f" {unit}" if unit else ""
+                raise error(f"{key}.{k}: {v:g}{unit} is not a figure a {of} has; must lie between {lo:g} and "
+                            f"{hi:g}{unit}")
     return values
 
 

@@ -47,6 +47,8 @@ BAD_SPECS = {
     "noise in newtons": ({"electronics.noise": "5 N"}, ["electronics.noise", "5 N", "voltage"]),
     "gain in volts": ({"electronics.gain": "5 V"}, ["electronics.gain", "5 V"]),
     "force target in mm": ({"targets.force_error": "3 mm"}, ["targets.force_error", "3 mm"]),
+    "gauge factor of no gauge": ({"gauge": {"name": "BF120-3AA", "factor": 1e10}},
+                                 ["gauge.factor", "1e+10", "between 0.5 and 500"]),
     "max strain in mm": ({"gauge": {"name": "BF120-3AA", "max_strain": "2 mm"}}, ["gauge.max_strain", "2 mm"]),
     "unknown top-level key": ({"colour": "red"}, ["colour", "unknown key", "load"]),
     "unknown load key": ({"load.weight": "2 N"}, ["load.weight", "unknown key", "force"]),
