@@ -22,6 +22,10 @@ class Bridge:
         """The readings.csv column: ``V1``, ``V2`` ... or ``V1y``, ``V1z`` ... (SPEC.md)."""
         return f"V{self.station}{self.axis}"
 
+    def column(self, counts: bool = False) -> str:
+        """Its readings.csv column: ``name`` in volts, ``C1``, ``C1y`` ... in the converter's counts."""
+        return "C" + self.name[1:] if counts else self.name
+
 
 def bridges_for(stations: int, axes: int) -> tuple[Bridge, ...]:
     """The bridges of a sensor in column order."""
@@ -89,14 +93,14 @@ class Readings:
     def force_column(self) -> str:
         return "mass_g" if self.mass else "force_N"
 
+    @property
+    def file_counts(self) -> bool:
+        """Whether the file's bridge columns are counts (C1, C2 ...), converted to volts or not."""
+        return self.counts or self.counted
+
     def column(self, j: int) -> str:
         """Bridge ``j``'s column as the file names it: ``V1``, or ``C1`` in counts."""
-        name = self.bridges[j].name
-        return "C" + name[1:] if self.counts or self.counted else name
-
-    def columns(self, names) -> list[str]:
-        """Bridge names (``V1`` ...) as the file's columns are named."""
-        return [("C" + n[1:] if self.counts or self.counted else n) for n in names]
+        return self.bridges[j].column(self.file_counts)
 
     def row(self, i: int) -> str:
         """``"line 7"`` (or ``"row 7"`` when there is no file) for messages."""

@@ -90,9 +90,10 @@ def calibrate(readings: Readings, design: DesignConstants | None = None, noise: 
         raise CsvError(f"{readings.source}: biaxial readings ({readings.column(0)}, ...) need an angle_deg "
                        "column giving the direction of every load")
     if design is not None and tuple(b.name for b in readings.bridges) != tuple(b.name for b in design.bridges):
-        raise CsvError(f"{readings.source}: header: the bridge columns {readings.columns(b.name for b in readings.bridges)} do not "
+        raise CsvError(f"{readings.source}: header: the bridge columns "
+                       f"{[readings.column(j) for j in range(len(readings.bridges))]} do not "
                        f"match the design's {len(design.stations)} station(s) x {design.axes} axis/axes: "
-                       f"expected {readings.columns(b.name for b in design.bridges)}")
+                       f"expected {[b.column(readings.file_counts) for b in design.bridges]}")
     axis_names = ("",) if readings.axes == 1 else ("y", "z")
     fits = {}
     for axis in axis_names:

@@ -62,19 +62,15 @@ def _bridge_columns(names: list[str], where: str) -> tuple[Bridge, ...]:
     if not biaxial and axes != {""}:
         raise CsvError(f"{where}: bridge columns {names} mix one-axis (V1) and biaxial (V1y) names")
     expected = bridges_for(max(b.station for b in found), 2 if biaxial else 1)
+    counts = names[0][0] == "C"   # (V in volts, C in counts)
     if set(found) != set(expected):
-        letter = names[0][0]   # (V in volts, C in counts)
-        raise CsvError(f"{where}: bridge columns {names} must be {[letter + b.name[1:] for b in expected]}: every station "
+        raise CsvError(f"{where}: bridge columns {names} must be {[b.column(counts) for b in expected]}: every station "
                        "from the clamp without gaps" + (", with a y and a z bridge at each" if biaxial else ""))
     if expected[-1].station < 2:
         raise CsvError(f"{where}: bridge columns {names}: a sensor needs at least 2 stations "
-                       f"({names[0][0]}1, {names[0][0]}2) to tell force from position")
+                       f"({Bridge(1).column(counts)}, {Bridge(2).column(counts)}) to tell "
+                       "force from position")
     return expected   # in column order whatever the file's order
-
-
-def _column(bridge: Bridge, counts: bool) -> str:
-    """A bridge's column: ``V1`` in volts, ``C1`` in counts."""
-    return "C" + bridge.name[1:] if counts else bridge.name
 
 
 def parse_readings(text: str, source: str = "readings.csv", need_loads: bool = False) -> Readings:
@@ -148,7 +144,7 @@ def parse_readings(text: str, source: str = "readings.csv", need_loads: bool = F
         position = col["position_mm"] * 1e-3
     angle = np.radians(col["angle_deg"]) if "angle_deg" in col else None
     counts = bridge_names[0][0] == "C"
-    voltages = np.column_stack([col[_column(b, counts)] for b in bridges])
+    voltages = np.column_stack([col[b.column(counts)] for b in bridges])
     return Readings(bridges, voltages, force, position, angle, line_numbers, source, force_column == "mass_g",
                     counts)
 
@@ -232,7 +228,7 @@ def format_readings(readings: Readings, comments: tuple[str, ...] = ()) -> str:
     if readings.angle is not None and readings.axes == 2:
         header.append("angle_deg")
         columns.append(np.degrees(readings.angle))
-    header += [_column(b, readings.counts) for b in readings.bridges]
+    header += [b.column(readings.counts) for b in readings.bridges]
     columns += list(readings.voltages.T)
     rows = [[_fmt(v) for v in row] for row in np.column_stack(columns)]
     return _csv_text(header, rows, comments)

@@ -8,7 +8,7 @@ import math
 import os
 from pathlib import Path
 
-from designer.cli.paths import output_folder, seed
+from designer.cli.paths import not_empty, output_folder, seed
 from designer.cli.progress import progress_display
 from designer.errors import DesignFileError, SpecError
 
@@ -444,10 +444,8 @@ def _user_catalogues(args) -> list:
     """The ``--catalogue`` files, read (``catalogue.read_user``)."""
     from designer.spec import catalogue
 
-    from designer.errors import InputError
-
-    if any(not path.strip() for path in args.catalogue):
-        raise InputError("--catalogue: '' is empty; give a catalogue file (docs/spec.md 2.9)")
+    for path in args.catalogue:
+        not_empty(path, "--catalogue", "a catalogue file (docs/spec.md 2.9)")
     return [catalogue.read_user(path) for path in args.catalogue]
 
 

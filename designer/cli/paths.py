@@ -12,7 +12,7 @@ def guard_inputs(outputs: dict, inputs: dict) -> None:
     """InputError when an output file (``{flag: path}``) is one of the inputs (``{name: path}``),
     a folder, below a file, or the file of another output: checked before any work is done."""
     for flag, out in outputs.items():
-        _not_empty(out, flag, "a file name")
+        not_empty(out, flag, "a file name")
     given = [(flag, out) for flag, out in outputs.items() if out]
     for i, (flag, out) in enumerate(given):
         if Path(out).is_dir():
@@ -30,7 +30,7 @@ def guard_inputs(outputs: dict, inputs: dict) -> None:
                 raise InputError(f"{other} {path} and {flag} {out} name the same file; give each output its own file")
 
 
-def _not_empty(path, flag: str, wanted: str) -> None:
+def not_empty(path, flag: str, wanted: str) -> None:
     """InputError for a path given as empty text (an unset shell variable), which would name the
     current folder."""
     if path is not None and not str(path).strip():
@@ -39,7 +39,7 @@ def _not_empty(path, flag: str, wanted: str) -> None:
 
 def output_folder(path, flag: str = "-o", what: str = "the outputs"):
     """``Path(path)``, checked before any work is done: InputError when it names a file."""
-    _not_empty(path, flag, f"a folder for {what}")
+    not_empty(path, flag, f"a folder for {what}")
     folder = Path(path)
     if folder.exists() and not folder.is_dir():
         raise InputError(f"{flag}: {folder} is a file, not a folder; give a folder for {what}")

@@ -7,9 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from designer.errors import SpecError
-from designer.model.sections import LEAST_CUT
 from designer.spec import catalogue, units
-from designer.spec.keys import boolean, mapping
+from designer.spec.keys import boolean, machinable, mapping
 
 # The corner radius of the end mill that cuts pockets and flats (cad.corner_radius), m, by
 # default: R0.2 is the radius the tool catalogue (materials/tools.yaml) lists on every metric
@@ -65,9 +64,8 @@ def parse_cad(raw, limits, design, system: str = "none") -> CadOptions:
     raw = mapping(raw, "cad", lengths + ("wire_channels", "load_grooves", "groove_positions"))
     values = {k: units.parse_positive(raw[k], "length", f"cad.{k}") for k in lengths if raw.get(k) is not None}
     for k, v in values.items():
-        if k != "depth_step" and v < LEAST_CUT * (1 - 1e-9):   # (depth_step: its own rule below)
-            raise SpecError(f"cad.{k}: {raw[k]!r} is finer than the {LEAST_CUT * 1e3:g} mm grid a part is "
-                            f"machined to; must be at least {LEAST_CUT * 1e3:g} mm")
+        if k != "depth_step":   # (its own rule below)
+            machinable(v, f"cad.{k}", repr(raw[k]))
     for k in ("wire_channels", "load_grooves"):
         if k in raw:
             values[k] = boolean(raw[k], f"cad.{k}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from designer.errors import SpecError, describe_allowed
+from designer.model.sections import LEAST_CUT
 
 
 def mapping(raw, key: str, allowed) -> dict:
@@ -42,4 +43,13 @@ def plain_name(value, key: str, error: type = SpecError) -> str:
             or not value.isprintable()):
         raise error(f"{key}: {value!r} must be a name: text on one line of at most {LONGEST_NAME} characters, "
                     "without control characters or '$'")
+    return value
+
+
+def machinable(value: float, key: str, shown: str, error: type = SpecError) -> float:
+    """``value`` (m) when a part can be cut to it: at least LEAST_CUT, the 0.01 mm grid its sizes
+    are given on; ``error`` naming ``key`` and the value as written (``shown``) otherwise."""
+    if value < LEAST_CUT * (1 - 1e-9):
+        raise error(f"{key}: {shown} is finer than the {LEAST_CUT * 1e3:g} mm grid a part is machined to; must be "
+                    f"at least {LEAST_CUT * 1e3:g} mm")
     return value

@@ -13,8 +13,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from designer.errors import CatalogueError, describe_allowed
-from designer.model.sections import LEAST_CUT
-from designer.spec.keys import plain_name
+from designer.spec.keys import machinable, plain_name
 
 FILE = "stock.yaml"
 #: search.stock: none keeps the sizes continuous; the others choose rows from these systems.
@@ -224,9 +223,7 @@ def _table(entry, i: int, families: dict, where: str) -> StockTable:
             raise CatalogueError(f"{key}.{where_row}: the size {list(sizes)} is listed twice")
         seen.add(sizes)
         for s in sizes:
-            if _si(s, unit) < LEAST_CUT * (1 - 1e-9):
-                raise CatalogueError(f"{key}.{where_row}: {s:g} {unit} is finer than the 0.01 mm grid a part is "
-                                     "machined to; must be at least 0.01 mm")
+            machinable(_si(s, unit), f"{key}.{where_row}", f"{s:g} {unit}", CatalogueError)
             if _si(s, unit) > LARGEST_SIZE:
                 raise CatalogueError(f"{key}.{where_row}: {s:g} {unit} is larger than a sensor beam is cut from "
                                      f"(at most {LARGEST_SIZE:g} m)")

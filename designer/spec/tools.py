@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from designer.errors import CatalogueError
-from designer.model.sections import LEAST_CUT
+from designer.spec.keys import machinable
 from designer.spec.stock import SYSTEMS, UNITS, _key_size, _number, _si, _size, table_fields
 
 FILE = "tools.yaml"
@@ -128,9 +128,7 @@ def _table(entry, i: int, where: str) -> list[EndMill]:
             raise CatalogueError(f"{key}.tools.{outer}: {radii!r} must be a list of corner radii")
         for j, v in enumerate(radii):
             r = _size(v, f"{key}.tools.{outer}[{j}]")
-            if _si(r, unit) < LEAST_CUT * (1 - 1e-9):
-                raise CatalogueError(f"{key}.tools.{outer}[{j}]: the corner radius {r:g} {unit} is finer than the "
-                                     "0.01 mm grid a part is machined to; must be at least 0.01 mm")
+            machinable(_si(r, unit), f"{key}.tools.{outer}[{j}]", f"the corner radius {r:g} {unit}", CatalogueError)
             if not r < d / 2:
                 raise CatalogueError(f"{key}.tools.{outer}[{j}]: the corner radius {r:g} {unit} is not less than "
                                      f"the end mill's radius {d / 2:g} {unit}")
