@@ -232,9 +232,19 @@ def shallowest_pocket(spec) -> float:
     """The least depth of a pocket or flat (m): ``limits.min_pocket_depth``, and a step of the
     0.01 mm grid deeper than a given ``cad.channel_depth`` and than the end mill's
     ``cad.corner_radius``, which the CAD cuts in no shallower pocket."""
+    return pocket_floors(spec)[0][0]
+
+
+def pocket_floors(spec) -> list[tuple[float, str, float]]:
+    """What sets a pocket's least depth, deepest first: ``(least depth (m), spec key, its value
+    (m))`` for ``limits.min_pocket_depth``, ``cad.corner_radius`` and a given
+    ``cad.channel_depth``."""
     cad = spec.cad
-    cuts = [cad.corner_radius] + ([cad.channel_depth] if cad.wire_channels and cad.channel_depth else [])
-    return max([spec.limits.min_pocket_depth] + [c + LEAST_CUT for c in cuts])
+    out = [(spec.limits.min_pocket_depth, "limits.min_pocket_depth", spec.limits.min_pocket_depth),
+           (cad.corner_radius + LEAST_CUT, "cad.corner_radius", cad.corner_radius)]
+    if cad.wire_channels and cad.channel_depth:
+        out.append((cad.channel_depth + LEAST_CUT, "cad.channel_depth", cad.channel_depth))
+    return sorted(out, key=lambda floor: -floor[0])
 
 
 def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:

@@ -19,7 +19,7 @@ from designer import interrupt, model
 from designer.errors import SpecError
 from designer.model import Geometry, MaterialParams
 from designer.model import corrections, domain, tolerance
-from designer.model.limits import shallowest_pocket
+from designer.model.limits import pocket_floors, shallowest_pocket
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
 from designer.result.evaluation import Design, Evaluation
@@ -95,6 +95,19 @@ def unsearchable(spec) -> dict:
     return out
 
 
+def _no_room_for_pocket(spec, section: str, size: float) -> str:
+    """Why a pocket of ``section`` cannot be cut: its least depth (``pocket_floors``) is deeper
+    than ``limits.max_pocket_fraction`` of the largest section the limits allow (``size``)."""
+    least, key, value = pocket_floors(spec)[0]
+    fraction = spec.limits.max_pocket_fraction
+    deepest = fraction * size
+    cut = "" if key == "limits.min_pocket_depth" else " (cut 0.01 mm deeper)"
+    largest = ("height" if spec.axes == 1 else "side") if section == "rectangle" else "diameter"
+    return (f"{key}: {value * 1e3:g} mm leaves no room for a {section}'s pocket{cut} within "
+            f"limits.max_pocket_fraction {fraction:g} of its largest {largest} ({size * 1e3:g} mm): "
+            f"{deepest * 1e3:.3g} mm; must be at most {(deepest - least + value) * 1e3:.3g} mm")
+
+
 def _every_family(spec) -> list[Family]:
     feature = spec.search.feature
     return [Family(s, feature) for s in spec.search.sections if not (feature == "hole" and s != "rectangle")]
@@ -149,8 +162,10 @@ class FamilyVariables:
             if fam.section == "tube":
                 add("wall", lim.min_wall, size_hi / 2)
         if fam.feature == "pocket":
-            shallowest = shallowest_pocket(spec)
-            add("depth", shallowest, max(shallowest, lim.max_pocket_fraction * size_hi))
+            shallowest, deepest = shallowest_pocket(spec), lim.max_pocket_fraction * size_hi
+            if shallowest > deepest:
+                raise SpecError(_no_room_for_pocket(spec, fam.section, size_hi))
+            add("depth", shallowest, deepest)
         elif fam.feature == "hole":
             add("hole", lim.min_wall, max(lim.min_wall, size_hi - 2 * lim.min_wall))
         for i in range(spec.stations):

@@ -214,3 +214,25 @@ def test_a_clamp_clearance_past_the_load_names_it_and_the_load(base, tmp_path, c
     assert err == ("fpdesign: error: limits.clamp_clearance: 200 mm leaves no room for the stations before the "
                    "load range, which begins at load.position 150 mm; must be less than that")
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("key, value, least", [
+    ("limits.min_pocket_depth", "5 mm", "4.8 mm"),
+    ("cad.channel_depth", "40 mm", "4.79 mm"),
+    ("cad.corner_radius", "5 mm", "4.79 mm")])
+def test_a_pocket_floor_deeper_than_any_pocket_names_its_key(examples, tmp_path, capsys, key, value, least):
+    """The gripper finger's rectangles are at most 16 mm high and a pocket at most 0.3 of that
+    deep (limits.max_pocket_fraction): 4.8 mm. A least depth past it (limits.min_pocket_depth, or
+    a channel or corner radius, which the CAD cuts 0.01 mm shallower than the pocket) left every
+    family infeasible, and optimize reported a 40 mm deep design with exit 1."""
+    raw = yaml.safe_load((examples / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    assert raw["limits"]["height"][1] == "16 mm" and raw["search"]["sections"] == ["rectangle", "round", "tube"]
+    _set(raw, key, value)
+    path = tmp_path / "spec.yaml"
+    path.write_text(yaml.safe_dump(raw), encoding="utf-8")
+    assert main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    cut = "" if key.startswith("limits") else " (cut 0.01 mm deeper)"
+    assert err == (f"fpdesign: error: {key}: {value} leaves no room for a rectangle's pocket{cut} within "
+                   f"limits.max_pocket_fraction 0.3 of its largest height (16 mm): 4.8 mm; must be at most {least}")
+    assert not (tmp_path / "out").exists()

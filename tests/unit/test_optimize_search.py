@@ -758,10 +758,36 @@ def test_a_family_whose_bounds_leave_no_room_is_not_searched_and_the_others_are(
     from designer.outputs.plots.candidates import plot_candidates
 
     texts = [t.get_text() for t in plot_candidates(search_record(spec, found)).axes[0].texts]
-    assert texts.count("not searched: the limits leave it no size") == 2
+    assert texts.count("not searched: the limits leave it no room (report.md says why)") == 2
     # with no family left, the spec itself is the problem (exit 2), as before
     with pytest.raises(SpecError, match="no room for diameter"):
         search.optimize(parse_spec_text(WIDE_ONLY.format(sections="[round, tube]")))
+
+
+NARROW = """\
+load: {force: [0.5 N, 20 N], position: [40 mm, 110 mm]}
+electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
+limits: {width: [4 mm, 10 mm], height: [3 mm, 16 mm], min_pocket_depth: 3.5 mm, max_deflection: 5 mm}
+targets: {force_error: 5 %, position_error: 5 mm}
+search: {materials: [7075-T6], sections: [rectangle, round, tube], feature: pocket}
+"""
+
+
+def test_a_family_too_small_for_the_least_pocket_depth_is_not_searched_and_the_others_are():
+    # a round bar is at most 10 mm across (limits.width), so its flat at most 0.3 x 10 = 3 mm deep
+    # (limits.max_pocket_fraction), short of the 3.5 mm least depth; a rectangle up to 16 mm high
+    # has 4.8 mm: the rectangles are searched, the round bars and tubes are not, and say why
+    spec = parse_spec_text(NARROW)
+    found = search.optimize(spec)
+    by_family = {c.family.section: c for c in found.candidates}
+    assert by_family["rectangle"].solves and by_family["rectangle"].evaluation.feasible
+    assert by_family["rectangle"].evaluation.design.geometry.depth >= 3.5e-3 - 1e-12
+    for section in ("round", "tube"):
+        cand = by_family[section]
+        assert not cand.solves and cand.status == "failed"
+        why = (f"limits.min_pocket_depth: 3.5 mm leaves no room for a {section}'s pocket within "
+               f"limits.max_pocket_fraction 0.3 of its largest diameter (10 mm): 3 mm; must be at most 3 mm")
+        assert cand.fallbacks == (f"not searched: {why}",)
 
 
 def test_stations_that_fit_no_section_before_the_load_are_bad_input_without_a_row_search(monkeypatch):

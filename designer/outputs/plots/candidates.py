@@ -112,13 +112,13 @@ def _bounded(row: Mapping) -> bool:
 def _missing_text(row: Mapping, scale: float) -> str:
     """What a candidate without a design shows: outranked (with its answer before rounding, which
     no rounded or stock design is sure to reach or beat), no stock size that meets every limit, a
-    family the limits leave no size (not searched), or no design at all."""
+    family the limits leave no room (not searched), or no design at all."""
     if _bounded(row):
         return f"{fmt_number(row['bound'] * scale, 4)} before rounding: outranked"
     if row.get("no_stock"):
         return "no stock size (report.md says why)"
     if row.get("not_searched"):
-        return "not searched: the limits leave it no size"
+        return "not searched: the limits leave it no room (report.md says why)"
     return "no design found"
 
 
