@@ -42,6 +42,13 @@ class SolverError(FpdError, RuntimeError):
     """A numerical method failed in a way the caller must hear about."""
 
 
+def brief(value, width: int = 80) -> str:
+    """``repr`` of a value from a file, cut to ``width`` characters: a whole list or object read
+    where one value was due must not fill the screen."""
+    text = repr(value)
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
 def describe_allowed(choices) -> str:
     """``"one of [a, b, c]"`` for error messages."""
     return "one of [" + ", ".join(str(c) for c in choices) + "]"

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from designer.calibration.data import Bridge, bridges_for
-from designer.errors import DesignFileError
+from designer.errors import DesignFileError, brief
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
 from designer.model.sections import stations_before_load
 from designer.spec.units import RANGES
@@ -140,10 +140,10 @@ def design_constants(record: dict) -> DesignConstants:
     design = _require(record, "design", "")
     predicted = _require(record, "predicted", "")
     if not isinstance(predicted, dict):
-        raise DesignFileError(f"predicted: {predicted!r} must be an object of the predicted figures")
+        raise DesignFileError(f"predicted: {brief(predicted)} must be an object of the predicted figures")
     raw_stations = _require(design, "stations", "design")
     if not isinstance(raw_stations, list) or len(raw_stations) < 2:
-        raise DesignFileError(f"design.stations: {raw_stations!r} must be a list of at least 2 positions (m)")
+        raise DesignFileError(f"design.stations: {brief(raw_stations)} must be a list of at least 2 positions (m)")
     stations = tuple(json_number(s, f"design.stations[{i}]", positive=True) for i, s in enumerate(raw_stations))
     if any(b <= a for a, b in zip(stations, stations[1:])):
         raise DesignFileError(f"design.stations: {list(stations)!r} must increase from the clamp outwards")
@@ -173,7 +173,7 @@ def _volts_per_count(predicted: dict) -> float | None:
     if fe is None:
         return None
     if not isinstance(fe, dict):
-        raise DesignFileError(f"predicted.front_end: {fe!r} must be an object")
+        raise DesignFileError(f"predicted.front_end: {brief(fe)} must be an object")
     gain = json_number(_require(fe, "gain", "predicted.front_end"), "predicted.front_end.gain", positive=True)
     per_volt = json_number(_require(fe, "counts_per_volt", "predicted.front_end"),
                            "predicted.front_end.counts_per_volt", positive=True)

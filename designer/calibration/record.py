@@ -10,7 +10,7 @@ import numpy as np
 from designer.calibration.data import Bridge, bridges_for
 from designer.calibration.design import json_number
 from designer.calibration.regression import SAME_VALUE
-from designer.errors import CalibrationFileError
+from designer.errors import CalibrationFileError, brief
 from designer.spec.units import RANGES
 
 #: Calibration loads must reach each edge of the design's region to within this fraction of
@@ -130,7 +130,7 @@ CALIBRATION_VERSION = 1
 
 def _cal_number(obj, key: str, where: str, optional: bool = False, positive: bool = False):
     if not isinstance(obj, dict):
-        raise CalibrationFileError(f"{where}: {obj!r} must be an object")
+        raise CalibrationFileError(f"{where}: {brief(obj)} must be an object")
     value = obj.get(key)
     if value is None:
         if optional:
@@ -157,7 +157,7 @@ def _calibration_from_dict(record) -> Calibration:
     for i, raw in enumerate(record["bridges"]):
         where = f"bridges[{i}]"
         if not isinstance(raw, dict):
-            raise CalibrationFileError(f"{where}: {raw!r} must be an object")
+            raise CalibrationFileError(f"{where}: {brief(raw)} must be an object")
         station = raw.get("station")
         axis = raw.get("axis") or ""
         if isinstance(station, bool) or not isinstance(station, int) or station < 1:
@@ -175,7 +175,7 @@ def _calibration_from_dict(record) -> Calibration:
         residuals = raw.get("residuals", [])
         if not isinstance(residuals, list) or not all(
                 isinstance(r, (int, float)) and not isinstance(r, bool) and math.isfinite(r) for r in residuals):
-            raise CalibrationFileError(f"{where}.residuals: {_short(residuals)} must be a list of numbers (V)")
+            raise CalibrationFileError(f"{where}.residuals: {brief(residuals)} must be a list of numbers (V)")
         bridges.append(BridgeCalibration(
             Bridge(station, axis), _cal_number(raw, "k", where), _cal_number(raw, "d", where),
             _cal_number(raw, "c", where), _cal_number(raw, "se_k", where, True),
@@ -202,7 +202,7 @@ def _calibration_from_dict(record) -> Calibration:
     span = record.get("span") or {}
     for key, value in (("noise", noise), ("span", span)):
         if not isinstance(value, dict):
-            raise CalibrationFileError(f"{key}: {value!r} must be an object")
+            raise CalibrationFileError(f"{key}: {brief(value)} must be an object")
 
     def span_pair(key):
         value = span.get(key)
@@ -260,15 +260,9 @@ def _check_covariance(cov: np.ndarray, raw, where: str) -> None:
     sym = (cov + cov.T) / 2
     variances = np.diag(sym)
     if np.any(variances <= 0):
-        raise CalibrationFileError(f"{where}.unscaled_covariance: {_short(raw)} has a diagonal entry (a variance) "
+        raise CalibrationFileError(f"{where}.unscaled_covariance: {brief(raw)} has a diagonal entry (a variance) "
                                    "that is not positive; it must be (X^T X)^-1 of the calibration loads, positive "
                                    "definite")
     if np.linalg.eigvalsh(sym / np.sqrt(np.outer(variances, variances)))[0] < -COVARIANCE_ROUNDING:
-        raise CalibrationFileError(f"{where}.unscaled_covariance: {_short(raw)} is not positive semi-definite (it "
+        raise CalibrationFileError(f"{where}.unscaled_covariance: {brief(raw)} is not positive semi-definite (it "
                                    "would give negative variances); it must be (X^T X)^-1 of the calibration loads")
-
-
-def _short(value) -> str:
-    """``repr`` of a value from a file, cut to a line."""
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."

@@ -2,8 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from designer.cli.paths import guard_inputs
 from designer.errors import InputError
+
+# The suffixes of each output's format (any case): a picture written as PNG into model.jpg would
+# not open as what its name says. A name without a suffix (a device, a pipe) is written as given.
+SUFFIXES = {"step": (".step", ".stp"), "stl": (".stl",), "svg": (".svg",), "png": (".png",), "drawing_png": (".png",)}
 
 
 def register(subparsers) -> None:
@@ -31,6 +37,11 @@ def run_export(args) -> int:
     if not any(outputs.values()):
         raise InputError("export: nothing to write; give at least one of --step, --stl, --svg, --drawing-png, --png")
     guard_inputs({f"--{k.replace('_', '-')}": v for k, v in outputs.items()}, {"design.json": args.design})
+    for kind, path in outputs.items():
+        suffix = Path(path).suffix.lower() if path else ""
+        if suffix and suffix not in SUFFIXES[kind]:
+            raise InputError(f"--{kind.replace('_', '-')}: {path} names another format than it is written in; "
+                             f"its suffix must be {' or '.join(SUFFIXES[kind])} (or none)")
     record = load_design(args.design)
     written = export(record, **outputs)
     for kind, path in written.items():

@@ -13,6 +13,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from designer.errors import brief
+
 
 @dataclass(frozen=True)
 class Adjustment:
@@ -57,11 +59,11 @@ class Adjustment:
     def from_dict(cls, data) -> "Adjustment":
         """The inverse of ``as_dict``; ValueError names the key that is missing or impossible."""
         if not isinstance(data, dict):
-            raise ValueError(f"adjustment: {data!r} must be an object with gauge_strain, deflection and "
+            raise ValueError(f"adjustment: {brief(data)} must be an object with gauge_strain, deflection and "
                              "stress_concentration")
         strain = data.get("gauge_strain")
         if not isinstance(strain, list) or not all(_is_number(f) for f in strain):
-            raise ValueError(f"adjustment.gauge_strain: {strain!r} must be a list of numbers, one per station")
+            raise ValueError(f"adjustment.gauge_strain: {brief(strain)} must be a list of numbers, one per station")
         for key in ("deflection", "stress_concentration"):
             if not _is_number(data.get(key, 1.0)):
                 raise ValueError(f"adjustment.{key}: {data.get(key)!r} must be a number")

@@ -17,7 +17,7 @@ from pathlib import Path
 from designer import model
 from designer.spec.units import RANGES
 from designer.result.record import VERSION
-from designer.errors import DesignFileError, SpecError, describe_allowed, read_text
+from designer.errors import DesignFileError, SpecError, brief, describe_allowed, read_text
 from designer.spec.keys import plain_name
 
 SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
@@ -109,7 +109,7 @@ def load_design(path: str | Path) -> dict:
 
 def _get(obj, key: str, where: str):
     if not isinstance(obj, dict):
-        raise DesignFileError(f"{where}: {obj!r} must be an object")
+        raise DesignFileError(f"{where}: {brief(obj)} must be an object")
     if key not in obj or obj[key] is None:
         raise DesignFileError(f"{where}.{key}: missing; it is required" if where else f"{key}: missing; it is required")
     return obj[key]
@@ -143,10 +143,10 @@ def validate(record, source: str = "design.json") -> None:
         raise DesignFileError(f"version: {version!r} is not a design.json this fpdesign reads; it reads version "
                               f"{VERSION}")
     if not isinstance(record.get("predicted", {}), dict):
-        raise DesignFileError(f"predicted: {record['predicted']!r} must be an object of the predicted figures")
+        raise DesignFileError(f"predicted: {brief(record['predicted'])} must be an object of the predicted figures")
     spec = _get(record, "spec", "")
     if not isinstance(spec, dict):
-        raise DesignFileError(f"spec: {spec!r} must be an object (the normalised spec of SPEC.md)")
+        raise DesignFileError(f"spec: {brief(spec)} must be an object (the normalised spec of SPEC.md)")
     design = _get(record, "design", "")
     plain_name(_get(design, "material", "design"), "design.material", DesignFileError)
     props = _get(design, "material_properties", "design")
@@ -171,7 +171,7 @@ def validate(record, source: str = "design.json") -> None:
     length = _positive(design, "length", "design", LARGEST_SIZE)
     stations = _get(design, "stations", "design")
     if not isinstance(stations, list) or len(stations) < 2:
-        raise DesignFileError(f"design.stations: {stations!r} must be a list of at least 2 positions")
+        raise DesignFileError(f"design.stations: {brief(stations)} must be a list of at least 2 positions")
     for i, s in enumerate(stations):
         if isinstance(s, bool) or not isinstance(s, (int, float)) or not math.isfinite(s):
             raise DesignFileError(f"design.stations[{i}]: {s!r} must be a number (m)")
@@ -207,7 +207,7 @@ def _repeats_the_spec(design: dict, spec: dict) -> None:
     if gauge is None or given is None:
         return
     if not isinstance(gauge, dict):
-        raise DesignFileError(f"design.gauge: {gauge!r} must be an object (the spec's gauge, repeated)")
+        raise DesignFileError(f"design.gauge: {brief(gauge)} must be an object (the spec's gauge, repeated)")
     for key, value in gauge.items():
         theirs = given.get(key) if isinstance(given, dict) else (given if key == "name" else value)
         if value != theirs:

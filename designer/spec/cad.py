@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from designer.errors import SpecError
+from designer.errors import SpecError, brief
 from designer.spec import catalogue, units
 from designer.spec.keys import boolean, machinable, mapping
 
@@ -72,7 +72,7 @@ def parse_cad(raw, limits, design, system: str = "none") -> CadOptions:
     if raw.get("groove_positions") is not None:
         positions = raw["groove_positions"]
         if not isinstance(positions, (list, tuple)) or not positions:
-            raise SpecError(f"cad.groove_positions: {positions!r} must be a list of positions")
+            raise SpecError(f"cad.groove_positions: {brief(positions)} must be a list of positions")
         values["groove_positions"] = tuple(
             units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
     if (step := values.get("depth_step")) is not None:

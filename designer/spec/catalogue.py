@@ -20,7 +20,7 @@ from pathlib import Path
 import yaml
 
 from designer.spec import stock as stock_file, units
-from designer.errors import CatalogueError, FpdError, SpecError, describe_allowed
+from designer.errors import CatalogueError, FpdError, SpecError, brief, describe_allowed
 from designer.spec.keys import plain_name
 
 
@@ -242,7 +242,7 @@ def _entries(entries, where: str, keys, required) -> list[tuple[str, str, dict]]
     out = []
     for i, entry in enumerate(entries):
         if not isinstance(entry, dict):
-            raise CatalogueError(f"{where}[{i}]: {entry!r} must be a mapping with keys {describe_allowed(keys)}")
+            raise CatalogueError(f"{where}[{i}]: {brief(entry)} must be a mapping with keys {describe_allowed(keys)}")
         name = plain_name(entry.get("name"), f"{where}[{i}].name", CatalogueError)
         key = f"{where}[{i}] ({name})"
         stock_file.known_keys(entry, keys, key)

@@ -98,10 +98,17 @@ def _front_end(raw: dict, excitation: float) -> Electronics:
     if not low <= gain <= high:
         raise SpecError(f"electronics.gain: {gain:g} is outside {fe.name}'s gain range; must be {low:g} to {high:g}")
     rate = units.parse_positive(raw["rate"], "frequency", "electronics.rate")
+    if fe.rate_range is not None and not fe.rate_range[0] <= rate <= fe.rate_range[1]:
+        low, high = fe.rate_range
+        raise SpecError(f"electronics.rate: {rate:g} Hz is outside the rates where {fe.name}'s noise density holds; "
+                        f"must be {low:g} Hz to {high:g} Hz")
     bits = raw["bits"]
     if isinstance(bits, bool) or not isinstance(bits, int) or not 8 <= bits <= 32:
         raise SpecError(f"electronics.bits: {bits!r} must be the converter's resolution, a whole number of bits "
                         "from 8 to 32")
     reference = (units.parse_positive(raw["reference"], "voltage", "electronics.reference")
                  if raw.get("reference") is not None else None)
+    if reference is not None and fe.excitation is not None and reference > fe.excitation[1]:
+        raise SpecError(f"electronics.reference: {reference:g} V is above what {fe.name} can output (its supply is "
+                        f"{fe.excitation[0]:g} V to {fe.excitation[1]:g} V); must be at most {fe.excitation[1]:g} V")
     return Electronics(excitation=excitation, gain=gain, adc=fe.name, rate=rate, bits=bits, reference=reference)

@@ -12,13 +12,13 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 
-from designer.errors import CatalogueError, SpecError, describe_allowed
+from designer.errors import CatalogueError, SpecError, brief, describe_allowed
 from designer.spec.catalogue import quantity, read_shipped
 
 FILE = "frontends.yaml"
 KINDS = ("adc", "amplifier")
 ENTRY_KEYS = ("name", "description", "kind", "resolution", "full_scale", "reference", "gains", "gain_range",
-              "rates", "noise", "noise_density", "excitation", "offset_drift", "gain_drift", "source")
+              "rates", "rate_range", "noise", "noise_density", "excitation", "offset_drift", "gain_drift", "source")
 NOISE_KEYS = ("gain", "rate", "rms")
 
 
@@ -39,6 +39,7 @@ class FrontEnd:
     noise: tuple = ()                      # ((gain, rate, rms V), ...), kind adc
     noise_density: float | None = None     # V/sqrt(Hz), kind amplifier
     gain_range: tuple | None = None        # (low, high), kind amplifier
+    rate_range: tuple | None = None        # (low, high) Hz where noise_density holds, kind amplifier
     excitation: tuple | None = None        # (low, high) V the front-end can supply or accept
     offset_drift: float | None = None      # input-referred, V/K
     gain_drift: float | None = None        # 1/K
@@ -87,7 +88,7 @@ def parse_entry(entry, where: str) -> FrontEnd:
     from designer.spec import stock as stock_file
 
     if not isinstance(entry, dict) or not isinstance(entry.get("name"), str) or not entry["name"].strip():
-        raise CatalogueError(f"{where}: {entry!r} must be a mapping with a name")
+        raise CatalogueError(f"{where}: {brief(entry)} must be a mapping with a name")
     key = f"{where} ({entry['name']})"
     stock_file.known_keys(entry, ENTRY_KEYS, key)
     for k in ("kind", "full_scale", "reference", "source"):
@@ -112,7 +113,7 @@ def parse_entry(entry, where: str) -> FrontEnd:
         for i, row in enumerate(rows):
             at = f"{key}.noise[{i}]"
             if not isinstance(row, dict):
-                raise CatalogueError(f"{at}: {row!r} must be a mapping with keys {describe_allowed(NOISE_KEYS)}")
+                raise CatalogueError(f"{at}: {brief(row)} must be a mapping with keys {describe_allowed(NOISE_KEYS)}")
             stock_file.known_keys(row, NOISE_KEYS, at)
             for k in NOISE_KEYS:
                 stock_file.required(row, k, at)
@@ -124,6 +125,8 @@ def parse_entry(entry, where: str) -> FrontEnd:
             stock_file.required(entry, k, key)
         fields["noise_density"] = _density(entry["noise_density"], f"{key}.noise_density")
         fields["gain_range"] = _pair(entry["gain_range"], "", f"{key}.gain_range")
+        if entry.get("rate_range") is not None:
+            fields["rate_range"] = _pair(entry["rate_range"], "frequency", f"{key}.rate_range")
     if entry.get("excitation") is not None:
         fields["excitation"] = _pair(entry["excitation"], "voltage", f"{key}.excitation")
     if entry.get("offset_drift") is not None:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from designer.errors import SpecError, describe_allowed
+from designer.errors import SpecError, brief, describe_allowed
 from designer.model.sections import LEAST_CUT
 
 
@@ -11,7 +11,7 @@ def mapping(raw, key: str, allowed) -> dict:
     if raw is None:
         return {}
     if not isinstance(raw, dict):
-        raise SpecError(f"{key}: {raw!r} must be a mapping with keys {describe_allowed(allowed)}")
+        raise SpecError(f"{key}: {brief(raw)} must be a mapping with keys {describe_allowed(allowed)}")
     unknown = [k for k in raw if k not in allowed]
     if unknown:
         raise SpecError(f"{key}.{unknown[0]}: unknown key; allowed keys are {describe_allowed(allowed)}")

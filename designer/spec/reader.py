@@ -16,7 +16,7 @@ from designer.spec import catalogue
 from designer.spec import strict_yaml, units
 from designer.spec.catalogue import Gauge
 from designer.spec.stock import STOCK_CHOICES
-from designer.errors import SpecError, describe_allowed, read_text
+from designer.errors import SpecError, brief, describe_allowed, read_text
 from designer.model.electronics import BRIDGE_FACTORS, output_noise
 from designer.spec.cad import CadOptions, parse_cad
 from designer.spec.electronics import Electronics, parse_electronics
@@ -433,7 +433,7 @@ def _parse_search(raw) -> Search:
     if isinstance(sections, str):
         sections = [sections]
     if not isinstance(sections, (list, tuple)) or not sections:
-        raise SpecError(f"search.sections: {sections!r} must be a list from {describe_allowed(SECTION_KINDS)}")
+        raise SpecError(f"search.sections: {brief(sections)} must be a list from {describe_allowed(SECTION_KINDS)}")
     for i, s in enumerate(sections):
         _choice(s, SECTION_KINDS, f"search.sections[{i}]")
     feature = _choice(raw.get("feature", "pocket"), FEATURE_KINDS, "search.feature")
@@ -459,7 +459,7 @@ def _parse_design(raw, limits: Limits, gauge: Gauge, known: str | None = None) -
     section = _parse_section(_required(raw, "section", "design"))
     stations = _required(raw, "stations", "design")
     if not isinstance(stations, (list, tuple)) or len(stations) < 2:
-        raise SpecError(f"design.stations: {stations!r} must be a list of at least 2 positions")
+        raise SpecError(f"design.stations: {brief(stations)} must be a list of at least 2 positions")
     stations = tuple(units.parse_positive(s, "length", f"design.stations[{i}]") for i, s in enumerate(stations))
     if any(b <= a for a, b in zip(stations, stations[1:])):
         raise SpecError(f"design.stations: {[round(s * 1e3, 3) for s in stations]} mm must increase "
@@ -472,7 +472,7 @@ def _parse_design(raw, limits: Limits, gauge: Gauge, known: str | None = None) -
 
 def _parse_section(raw) -> Section:
     if not isinstance(raw, dict):
-        raise SpecError(f"design.section: {raw!r} must be a mapping such as "
+        raise SpecError(f"design.section: {brief(raw)} must be a mapping such as "
                         "{kind: rectangle, width: 12 mm, height: 6 mm}")
     kind = _choice(_required(raw, "kind", "design.section"), SECTION_KINDS, "design.section.kind")
     keys = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}[kind]
@@ -487,7 +487,7 @@ def _parse_section(raw) -> Section:
 
 def _parse_feature(raw, limits: Limits, gauge: Gauge, section: Section) -> Feature:
     if not isinstance(raw, dict):
-        raise SpecError(f"design.feature: {raw!r} must be a mapping such as {{kind: pocket, depth: 1 mm}}")
+        raise SpecError(f"design.feature: {brief(raw)} must be a mapping such as {{kind: pocket, depth: 1 mm}}")
     kind = _choice(_required(raw, "kind", "design.feature"), FEATURE_KINDS, "design.feature.kind")
     keys = {"pocket": ("depth", "length", "width"), "hole": ("diameter",), "none": ()}[kind]
     raw = _mapping(raw, "design.feature", ("kind",) + keys)

@@ -12,7 +12,7 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
-from designer.errors import CatalogueError, describe_allowed
+from designer.errors import CatalogueError, brief, describe_allowed
 from designer.spec.keys import machinable, plain_name
 
 FILE = "stock.yaml"
@@ -20,6 +20,7 @@ FILE = "stock.yaml"
 STOCK_CHOICES = ("none", "metric", "imperial", "any")
 SYSTEMS = ("metric", "imperial")
 UNITS = {"mm": Fraction(1, 1000), "in": Fraction(254, 10000)}   # m per unit; the inch is 25.4 mm exactly
+SYSTEM_UNITS = {"metric": "mm", "imperial": "in"}   # a table's sizes are in its system's unit
 #: Each shape's sizes, in the order a row gives them.
 SHAPES = {"round bar": ("diameter",), "square bar": ("side",), "flat bar": ("width", "thickness"),
           "round tube": ("diameter", "wall")}
@@ -174,7 +175,7 @@ def _families(raw, materials, where: str, taken: dict | None = None) -> dict:
         known_keys(entry, FAMILY_KEYS, key)
         names = required(entry, "materials", key)
         if not isinstance(names, list) or not names:
-            raise CatalogueError(f"{key}.materials: {names!r} must be a list of materials.yaml names")
+            raise CatalogueError(f"{key}.materials: {brief(names)} must be a list of materials.yaml names")
         for name in names:
             if name not in materials:
                 raise CatalogueError(f"{key}.materials: {name!r} is not in the catalogue; must be "
@@ -203,10 +204,13 @@ def table_fields(entry, at: str, keys, text, allowed: dict, key_of) -> tuple[str
     values = {k: required(entry, k, key) for k in keys}
     for k in text:
         if not isinstance(values[k], str) or not values[k].strip():
-            raise CatalogueError(f"{key}.{k}: {values[k]!r} must be text")
+            raise CatalogueError(f"{key}.{k}: {brief(values[k])} must be text")
     for k, choices in allowed.items():
         if values[k] not in choices:
-            raise CatalogueError(f"{key}.{k}: {values[k]!r} is not allowed; must be {describe_allowed(choices)}")
+            raise CatalogueError(f"{key}.{k}: {brief(values[k])} is not allowed; must be {describe_allowed(choices)}")
+    if "system" in values and "unit" in values and values["unit"] != SYSTEM_UNITS[values["system"]]:
+        raise CatalogueError(f"{key}.unit: {values['unit']!r} is not the unit of a {values['system']} table; must be "
+                             f"{SYSTEM_UNITS[values['system']]}")
     return name, key, values
 
 
@@ -259,7 +263,7 @@ def _rows(raw, shape: str, key: str) -> list[tuple]:
     for outer, inner in raw.items():
         a = _key_size(outer, f"{key} ({first} {outer!r})")
         if not isinstance(inner, list) or not inner:
-            raise CatalogueError(f"{key}.{outer}: {inner!r} must be a list of {second}s")
+            raise CatalogueError(f"{key}.{outer}: {brief(inner)} must be a list of {second}s")
         for j, v in enumerate(inner):
             out.append((f"sizes.{outer}[{j}]", (a, _size(v, f"{key}.{outer}[{j}]"))))
     return out

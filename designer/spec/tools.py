@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from designer.errors import CatalogueError
+from designer.errors import CatalogueError, brief
 from designer.spec.keys import machinable
 from designer.spec.stock import SYSTEMS, UNITS, _key_size, _number, _si, _size, table_fields
 
@@ -125,7 +125,7 @@ def _table(entry, i: int, where: str) -> list[EndMill]:
             raise CatalogueError(f"{key}.tools.{outer}: {d:g} {unit} is wider than an end mill for a sensor's "
                                  f"pocket (at most {LARGEST_TOOL:g} m)")
         if not isinstance(radii, list) or not radii:
-            raise CatalogueError(f"{key}.tools.{outer}: {radii!r} must be a list of corner radii")
+            raise CatalogueError(f"{key}.tools.{outer}: {brief(radii)} must be a list of corner radii")
         for j, v in enumerate(radii):
             r = _size(v, f"{key}.tools.{outer}[{j}]")
             machinable(_si(r, unit), f"{key}.tools.{outer}[{j}]", f"the corner radius {r:g} {unit}", CatalogueError)

@@ -284,6 +284,17 @@ def test_a_device_that_cannot_be_written_leaves_no_file_written_and_no_folder_ma
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
 
 
+@pytest.mark.parametrize("flag, name, allowed", [("--png", "model.jpg", ".png"), ("--step", "beam.stl", ".step or .stp"),
+                                                 ("--svg", "drawing.pdf", ".svg"), ("--drawing-png", "sheet.svg", ".png")])
+def test_an_output_named_for_another_format_exits_2_before_any_file_is_written(tmp_path, capsys, flag, name, allowed):
+    """export writes each output in one format: --png model.jpg had written a PNG into a .jpg."""
+    step = tmp_path / "beam.STEP"   # the suffix in any case
+    assert main(["export", str(DATA / "cad_rect_pockets.json"), "--step", str(step), flag, str(tmp_path / name)]) == 2
+    assert capsys.readouterr().err.strip() == (f"fpdesign: error: {flag}: {tmp_path / name} names another format "
+                                               f"than it is written in; its suffix must be {allowed} (or none)")
+    assert sorted(tmp_path.iterdir()) == []
+
+
 def test_not_json_and_no_outputs_exit_2(tmp_path, capsys):
     path = tmp_path / "design.json"
     path.write_text("{not json")

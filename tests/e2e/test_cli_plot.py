@@ -107,3 +107,21 @@ def test_evaluate_writes_svg_copies_of_the_plots_only_when_asked(tmp_path):
     names = ("operating-region", "voltage-isolines", "error-maps", "candidates")
     check_plot_files([p for p in plain.iterdir() if p.suffix in (".png", ".svg")], names, ("png",))
     check_plot_files([p for p in svg.iterdir() if p.suffix in (".png", ".svg")], names, ("png", "svg"))
+
+
+@pytest.mark.parametrize("content, message", [
+    # a readings file given by mistake: its rows are not echoed whole (10,000 of them filled the screen)
+    ([[0.1 * i, 0.2 * i] for i in range(10_000)],
+     "fpdesign: error: tradeoff: [[0.0, 0.0], [0.1, 0.2], [0.2, 0.4], [0.30000000000000004, 0.6000000000000001... "
+     "must map max_deflection / min_frequency to lists of points"),
+    ({"max_deflection": [{"material": "A", "section": "round", "x": 1e-3, "objectiv": 0.5, "feasible": True}]},
+     "fpdesign: error: tradeoff.max_deflection[0]: unknown key 'objectiv'; allowed keys are one of [material, section, "
+     "x, objective, feasible, value]"),
+])
+def test_plot_command_names_a_wrong_trade_off_file_in_one_short_line(tmp_path, capsys, content, message):
+    bad = tmp_path / "tradeoff.json"
+    bad.write_text(json.dumps(content))
+    assert main(["plot", str(DATA / "plot_prototype_b.json"), "-o", str(tmp_path / "out"),
+                 "--tradeoff", str(bad)]) == 2
+    assert capsys.readouterr().err.strip() == message
+    assert not (tmp_path / "out").exists()

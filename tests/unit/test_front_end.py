@@ -117,6 +117,15 @@ def test_design_json_gives_the_full_load_output_in_mv_per_v_and_counts(tmp_path)
     ({"adc": "HX711", "excitation": "5 V", "noise_rti": "50 nV"}, "electronics.noise_rti", "one or the other"),
     ({"adc": "HX711", "excitation": "5 V", "bits": 16}, "electronics.bits", "amplifier"),
     ({"excitation": "5 V", "gain": 128, "noise_rti": "50 nV", "rate": "10 Hz"}, "electronics.rate", "electronics.adc"),
+    # the INA333's density is given from 0.1 Hz to 1 kHz (SBOS445C 6.5): a noise bandwidth (rate / 2) of
+    # 0.5 uHz made the noise 1000 times smaller than the datasheet says anywhere
+    ({"adc": "INA333", "gain": 100, "rate": "1 uHz", "bits": 16, "excitation": "5 V"}, "electronics.rate",
+     "0.2 Hz to 2000 Hz"),
+    ({"adc": "INA333", "gain": 100, "rate": "10 kHz", "bits": 16, "excitation": "5 V"}, "electronics.rate",
+     "0.2 Hz to 2000 Hz"),
+    # its output swings within its supply, at most 5.5 V: a converter's range centred on 50 V cannot be reached
+    ({"adc": "INA333", "gain": 100, "rate": "10 Hz", "bits": 16, "reference": "100 V", "excitation": "5 V"},
+     "electronics.reference", "at most 5.5 V"),
 ])
 def test_bad_front_end_input_names_the_key_the_value_and_what_is_allowed(electronics, key, allowed):
     with pytest.raises(SpecError) as err:

@@ -127,6 +127,9 @@ BAD_FILES = [
     # what is changed, the words the one error line must hold (file, entry, key, value)
     ("missing source", lambda r: _bad(r, "tables[0].source", None), ("stock.yaml", "al-round-metric.source", "missing")),
     ("wrong unit", lambda r: _bad(r, "tables[0].unit", "N"), ("stock.yaml", "al-round-metric.unit", "'N'", "mm, in")),
+    # a metric table's sizes in inches: 3 mm read as 3 in (76.2 mm)
+    ("unit of the other system", lambda r: _bad(r, "tables[0].unit", "in"),
+     ("stock.yaml", "al-round-metric.unit", "'in'", "metric", "must be mm")),
     ("duplicate name", _duplicate, ("stock.yaml", "tables[1].name", "al-round-metric", "twice")),
     ("non-positive size", lambda r: _bad(r, "tables[0].sizes[2]", -5), ("stock.yaml", "al-round-metric.sizes[2]", "-5",
                                                                         "positive")),

@@ -22,7 +22,7 @@ import math
 from typing import Any
 
 from designer import model
-from designer.errors import DesignFileError
+from designer.errors import DesignFileError, brief
 from designer.model.sections import round_down
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
@@ -59,7 +59,7 @@ def _mm(value_m: float) -> str:
 
 def _mapping(obj: Any, where: str) -> dict:
     if not isinstance(obj, dict):
-        raise DesignFileError(f"{where}: {obj!r} must be an object")
+        raise DesignFileError(f"{where}: {brief(obj)} must be an object")
     return obj
 
 
@@ -334,7 +334,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
         x_min, x_max = float(rng[0]), float(rng[1])
         positions = [x_min, (x_min + x_max) / 2, x_max]
     if not isinstance(positions, list) or not positions:
-        raise DesignFileError(f"spec.cad.groove_positions: {positions!r} must be a list of positions (m)")
+        raise DesignFileError(f"spec.cad.groove_positions: {brief(positions)} must be a list of positions (m)")
     g_depth = _length(cad, "groove_depth", "spec.cad", required=False)
     if g_depth is None:
         g_depth = round_down(min(GROOVE_DEPTH, GROOVE_DEPTH_FRACTION * min(width, height)), ROUND_STEP)

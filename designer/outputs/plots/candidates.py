@@ -9,7 +9,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from designer import model
-from designer.errors import DesignFileError
+from designer.errors import DesignFileError, brief
 from designer.outputs.plots.common import C_GRID, C_STATUS, ERROR_OBJECTIVE_LABEL, figure_axes, fmt_number
 from designer.outputs.plots.sensor import SensorData, is_number, optional_number
 
@@ -125,12 +125,12 @@ def _missing_text(row: Mapping, scale: float) -> str:
 def _candidate_rows(design: Mapping, s: SensorData) -> list[dict]:
     raw = design.get("candidates") or []
     if not isinstance(raw, Sequence) or isinstance(raw, str):
-        raise DesignFileError(f"candidates: {raw!r} must be a list of objects")
+        raise DesignFileError(f"candidates: {brief(raw)} must be a list of objects")
     chosen_labels = {s.section, f"{s.section}+{s.feature}"}
     rows = []
     for i, c in enumerate(raw):
         if not isinstance(c, Mapping):
-            raise DesignFileError(f"candidates[{i}]: {c!r} must be an object")
+            raise DesignFileError(f"candidates[{i}]: {brief(c)} must be an object")
         objective = c.get("objective")
         if objective is not None and not is_number(objective):
             raise DesignFileError(f"candidates[{i}].objective: {objective!r} must be a number or null")

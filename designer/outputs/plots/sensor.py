@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from designer import model
-from designer.errors import DesignFileError
+from designer.errors import DesignFileError, brief
 
 
 @dataclass(frozen=True)
@@ -123,7 +123,7 @@ class SensorData:
 def _key(obj, key: str, where: str = ""):
     path = f"{where}.{key}" if where else key
     if not isinstance(obj, Mapping):
-        raise DesignFileError(f"{where or 'design.json'}: {obj!r} must be an object")
+        raise DesignFileError(f"{where or 'design.json'}: {brief(obj)} must be an object")
     if key not in obj or obj[key] is None:
         raise DesignFileError(f"{path}: missing; the plots need it")
     return obj[key]
@@ -151,7 +151,7 @@ def _positive(obj, key: str, where: str, required: bool = True) -> float | None:
 
 def _numbers(values, where: str) -> tuple[float, ...]:
     if not isinstance(values, Sequence) or isinstance(values, str) or not values:
-        raise DesignFileError(f"{where}: {values!r} must be a list of positive numbers")
+        raise DesignFileError(f"{where}: {brief(values)} must be a list of positive numbers")
     for i, v in enumerate(values):
         if not is_number(v) or v <= 0:
             raise DesignFileError(f"{where}[{i}]: {v!r} must be a positive number (SI units)")

@@ -8,7 +8,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from designer.errors import InputError, describe_allowed
+from designer.errors import InputError, brief, describe_allowed
 from designer.outputs.plots.common import C_GRID, ERROR_OBJECTIVE_LABEL, MATERIAL_COLOURS, SECTION_MARKERS, figure_axes
 from designer.outputs.plots.sensor import is_number
 from designer.spec.keys import plain_name
@@ -135,14 +135,22 @@ def _family(section: str) -> str:
 LARGEST_FIGURE = 1e10
 
 
+# A trade-off point's keys (docs/spec.md, fpdesign plot): ``value`` is optional
+POINT_KEYS = ("material", "section", "x", "objective", "feasible", "value")
+
+
 def tradeoff_points(points, x: str) -> list[dict]:
     if not isinstance(points, Sequence) or isinstance(points, str):
-        raise InputError(f"trade-off points for {x}: {points!r} must be a list of objects")
+        raise InputError(f"trade-off points for {x}: {brief(points)} must be a list of objects")
     out = []
     for i, p in enumerate(points):
         where = f"tradeoff.{x}[{i}]"
         if not isinstance(p, Mapping):
-            raise InputError(f"{where}: {p!r} must be an object with material, section, x, objective, feasible")
+            raise InputError(f"{where}: {brief(p)} must be an object with material, section, x, objective, feasible")
+        unknown = [k for k in p if k not in POINT_KEYS]
+        if unknown:
+            raise InputError(f"{where}: unknown key {brief(unknown[0], 40)}; allowed keys are "
+                             f"{describe_allowed(POINT_KEYS)}")
         for key in ("material", "section"):
             plain_name(p.get(key), f"{where}.{key}", InputError)
         if not is_number(p.get("x")) or not 0 < p["x"] <= LARGEST_FIGURE:

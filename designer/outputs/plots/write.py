@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
-from designer.errors import InputError, describe_allowed
+from designer.errors import InputError, brief, describe_allowed
 from designer.outputs.drawing.figures import savefig_options
 from designer.outputs.plots.budget import plot_budget
 from designer.outputs.plots.candidates import plot_candidates
@@ -50,7 +50,7 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
     if tradeoff is None:
         tradeoff = design.get("tradeoff") or {}
     if not isinstance(tradeoff, Mapping):
-        raise InputError(f"tradeoff: {tradeoff!r} must map max_deflection / min_frequency to lists of points")
+        raise InputError(f"tradeoff: {brief(tradeoff)} must map max_deflection / min_frequency to lists of points")
     fronts = {}
     for key, points in tradeoff.items():
         name = TRADEOFF_ALIASES.get(key, key)
