@@ -236,6 +236,11 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
     if not isinstance(raw, dict):
         raise SpecError(f"{source}: a spec must be a mapping of keys such as 'load' and 'electronics', "
                         f"not {type(raw).__name__}")
+    if raw.get("calibration") is not None and raw.get("environment") is None:
+        # (a spec file's rule: design.json's normalised spec holds the calibration's defaults always)
+        raise SpecError("calibration: its weights and placement are terms of the error budget, which only a spec "
+                        "with environment has (docs/spec.md 2.10); give environment.temperature or leave "
+                        "calibration out")
     return parse_spec(raw, default_name=default_name, folder=folder, catalogues=catalogues)
 
 

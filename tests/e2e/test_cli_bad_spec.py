@@ -236,3 +236,18 @@ def test_a_pocket_floor_deeper_than_any_pocket_names_its_key(examples, tmp_path,
     assert err == (f"fpdesign: error: {key}: {value} leaves no room for a rectangle's pocket{cut} within "
                    f"limits.max_pocket_fraction 0.3 of its largest height (16 mm): 4.8 mm; must be at most {least}")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_calibration_block_without_an_environment_is_refused(examples, tmp_path, capsys):
+    """calibration.weights and .placement are terms of the error budget (docs/spec.md 2.10), which
+    only a spec with environment computes: without it they changed nothing, silently."""
+    raw = yaml.safe_load((examples / "budget" / "gripper-finger-hx711.yaml").read_text(encoding="utf-8"))
+    assert raw["calibration"] and raw["environment"]
+    del raw["environment"]
+    path = tmp_path / "spec.yaml"
+    path.write_text(yaml.safe_dump(raw), encoding="utf-8")
+    assert main(["optimize", str(path), "-o", str(tmp_path / "out"), "--no-cad", "--no-plots", "--quiet"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        "fpdesign: error: calibration: its weights and placement are terms of the error budget, which only a spec "
+        "with environment has (docs/spec.md 2.10); give environment.temperature or leave calibration out")
+    assert not (tmp_path / "out").exists()
