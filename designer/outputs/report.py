@@ -125,10 +125,13 @@ def tolerance_text(record: dict) -> str:
     if not tol:
         return ""
     broken = [c for c in tol["constraints"] if not c["satisfied"]]
-    said = ", ".join(f"{c['name']} {c['margin']:+.1%}" for c in broken)
+    # a corner that is no beam has no margin: where it is says what to change
+    said = ", ".join(f"{c['name']} at {c.get('corner', 'a corner')}" if c["name"] == "corner_unbuildable"
+                     else f"{c['name']} {c['margin']:+.1%}" for c in broken)
     if checked:
         return (f"{tol['label']}: every limit holds at its {tol['corners']} corners" if not broken
-                else f"{tol['label']}: breaks {said} at a corner")
+                else f"{tol['label']}: breaks {said}" + ("" if all(c["name"] == "corner_unbuildable" for c in broken)
+                                                          else " at a corner"))
     return (f"not checked; at the drawing's {tol['label']} every limit holds" if not broken
             else f"not checked; at the drawing's {tol['label']}: {said} (report.md)")
 

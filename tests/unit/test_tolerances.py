@@ -164,6 +164,35 @@ def test_a_deviation_larger_than_the_pocket_leaves_no_pocket_at_that_corner_and_
     assert record["tolerances"]["deviations"] == {"diameter": pytest.approx(2e-4), "depth": pytest.approx(1e-4)}
 
 
+@pytest.mark.parametrize("section, feature, tolerances, lost", [
+    # an 8 mm round bar with a 2 mm flat, ±1 mm on the bar and ±2.5 mm on the flat: at p max the
+    # flat is 4.5 mm deep, past the centre of the 7 mm bar (D min) and at the centre of the 9 mm
+    # one (D max); at p min it is not cut (a plain bar, docs/model.md §14)
+    ({"kind": "round", "diameter": "8 mm"}, {"kind": "pocket", "depth": "2 mm"}, {"section": "1 mm", "feature": "2.5 mm"},
+     {"D min, p max", "D max, p max"}),
+    # a 10 x 4 mm bar with a 2 mm hole, ±0.75 mm on the bar and ±1.5 mm on the hole: at h min and
+    # d_h max a 3.5 mm hole in a 3.25 mm height; at h max it leaves 4.75 - 3.5 mm
+    ({"kind": "rectangle", "width": "10 mm", "height": "4 mm"}, {"kind": "hole", "diameter": "2 mm"},
+     {"section": "0.75 mm", "feature": "1.5 mm"}, {"b min, h min, d_h max", "b max, h min, d_h max"}),
+])
+def test_a_corner_whose_feature_cuts_through_the_section_is_no_beam_whatever_the_model_gives(section, feature,
+                                                                                            tolerances, lost):
+    """sections.unbuildable's rules at each corner: a flat as deep as half the bar, a hole as wide
+    as the section. The beam model gave such corners finite figures (a flat past the centre of a
+    round bar: the smallest signal -3739 noise levels, stresses below the nominal design's), and
+    designs were reported to hold at every corner."""
+    design = dict(ROUND_BAR, section=section, feature=feature)
+    spec = parse_spec({"load": LOAD, "electronics": ELECTRONICS, "design": design, "tolerances": tolerances,
+                       "limits": {"min_pocket_depth": "0.05 mm"}})
+    ev = evaluate(fixed_design(spec), spec)
+    assert model.unbuildable(ev.design.geometry) is None   # the nominal design is a beam
+    broken = [(lim.name, at) for lim, at in zip(ev.tolerance.limits, ev.tolerance.corners) if float(lim.normalised) > 0]
+    assert broken[-1][0] == tolerance.UNBUILDABLE and broken[-1][1] in lost and not ev.feasible
+    # the search's and rounding's judge too: the design breaks its corners by the whole limit
+    params = ev.design.material_params(spec)
+    assert np.ravel(tolerance.worst(ev.design.geometry, params, spec)).tolist() == [1.0]
+
+
 def test_a_search_that_the_tolerances_make_infeasible_says_so_and_at_which_corner():
     # a bench-suite millinewton beam: ISO 2768-m's ±0.1 mm on its height and pocket leaves no
     # design that meets every limit at its thin, deep corners (the fatigue limit at the slots, at
