@@ -62,7 +62,9 @@ def simulate(k, d, sigma_v, forces, positions, draws=100_000, seed=0, angle=None
         out["sx"][i] = x_hat.std()
         out["ef"][i] = np.mean(np.abs(f_hat - F)) / F
         out["ex"][i] = np.mean(np.abs(x_hat - x)) / x
-        out["sa"][i] = a_hat.std() if a_hat is not None else np.nan
+        # the angle's spread about the load's, each estimate within half a turn of it: at 180 deg
+        # the estimates fall on both sides of -180/180 deg, and their own spread was a whole turn
+        out["sa"][i] = np.angle(np.exp(1j * (a_hat - angle))).std() if a_hat is not None else np.nan
     sigma_f = np.full(n, estimator.sigma_force(k, d, sigma_v))
     sigma_x = estimator.sigma_position(k, d, sigma_v, np.asarray(forces), np.asarray(positions))
     biaxial = angle is not None
