@@ -99,6 +99,9 @@ def longer_pocket_text(record: dict) -> str:
     margin = record["spec"].get("limits", {}).get("pocket_margin")
     if d["feature"]["kind"] != "pocket" or not isinstance(margin, (int, float)):
         return ""
+    corner = record["spec"].get("cad", {}).get("corner_radius")
+    if isinstance(corner, (int, float)) and record.get("solver", {}).get("method", "none") != "none":
+        margin = max(margin, corner)    # a search's pocket keeps the corner radius too (Spec.pocket_size)
     rule = d["gauge"]["length"] + 2 * margin
     if d["feature"]["length"] <= rule + 5e-6:     # within the 0.01 mm rounding
         return ""

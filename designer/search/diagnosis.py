@@ -113,7 +113,8 @@ def _not_a_beam(spec, key: str, reason: str) -> str:
     out = (f"design.{key}: {reason}: no design the search found is a beam with this feature, so the "
            "closest one's figures are not a sensor's")
     if key == "feature.width":
-        out += (f"; a slot is the gauge's width and limits.pocket_margin on each side, "
+        out += (f"; a slot is the gauge's width and limits.pocket_margin (or cad.corner_radius, where larger) on "
+                f"each side, "
                 f"{spec.pocket_size()[1] * mm:.4g} mm, and limits.width allows a bar at most "
                 f"{spec.limits.width[1] * mm:.4g} mm wide: a narrower gauge, a smaller pocket_margin, a wider "
                 "limits.width, or search.feature: none would make one")
@@ -134,7 +135,8 @@ def _long_pockets(spec, limit, g) -> str:
             f"were studied up to {most:g} (docs/model.md §7)")
     if rule > most * grid:
         margin = max(0.0, (most * grid - spec.gauge.length) / 2)
-        return (head + f"; the gauge's {spec.gauge.length * mm:.3g} mm backing and limits.pocket_margin alone make "
+        return (head + f"; the gauge's {spec.gauge.length * mm:.3g} mm backing and limits.pocket_margin (or "
+                f"cad.corner_radius, where larger) alone make "
                 f"them {rule * mm:.4g} mm: a pocket_margin of at most {margin * mm:.3g} mm, a gauge with a longer "
                 "grid for its backing, or search.feature: none (or hole on a rectangle) would be inside")
     least = domain_box(corrections.family(g), corrections.load()).get("length_ratio", (0.0,))[0]

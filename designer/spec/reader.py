@@ -171,8 +171,11 @@ class Spec:
         return self.load.position_max + self.limits.tip_margin
 
     def pocket_size(self) -> tuple[float, float]:
-        """Pocket length along and width across the beam (MODEL.md section 1)."""
-        margin = self.limits.pocket_margin
+        """Pocket length along and width across the beam (MODEL.md section 1): the gauge backing
+        with ``limits.pocket_margin`` all round, and at least ``cad.corner_radius``, so that the
+        backing lies on the flat floor, inside the radius the end mill leaves where the floor
+        meets the walls."""
+        margin = max(self.limits.pocket_margin, self.cad.corner_radius)
         return self.gauge.length + 2 * margin, self.gauge.width + 2 * margin
 
     def to_dict(self) -> dict:

@@ -207,3 +207,31 @@ def test_a_search_keeps_its_pockets_deeper_than_a_given_channel(examples):
     assert depth >= getattr(spec.cad, cad_key) + 1e-5 - 1e-12
     beam = cad.resolve(result.record)     # the CAD's checks of the channel and the radius
     assert beam.section == "round"
+
+
+@pytest.mark.parametrize("change", [{"limits": {"pocket_margin": "0 mm"}}, {"cad": {"corner_radius": "1.6 mm"}}])
+def test_a_search_keeps_its_flats_long_enough_for_the_corner_radius(examples, change):
+    """A flat's floor, between the radii the end mill leaves where it meets the walls, must hold
+    the gauge backing: its length less two corner radii. With limits.pocket_margin 0 mm (the
+    default corner radius 0.2 mm) or a 1.6 mm corner radius (the 1 mm default margin), the search
+    reported flats the CAD then refused (exit 2 after the search, naming design.feature.length,
+    which a spec to optimize does not have). The pocket's margin is now at least the corner
+    radius (Spec.pocket_size): BF350-3AA's 6.9 mm backing needs a 7.3 mm flat with R0.2 and a
+    10.1 mm one with R1.6."""
+    import yaml
+
+    from designer.result.pipeline import DesignOptions, design
+    from designer.spec.reader import parse_spec
+
+    raw = yaml.safe_load((examples / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    for block, values in change.items():
+        raw.setdefault(block, {}).update(values)
+    spec = parse_spec(raw)
+    result = design(spec, DesignOptions(tradeoff=False))
+    assert result.record["status"] == "optimal"
+    feature = result.record["design"]["feature"]
+    corner = spec.cad.corner_radius
+    assert feature["length"] >= 6.9e-3 + 2 * corner - 1e-9
+    assert feature["length"] - 2 * corner >= spec.gauge.length - 1e-9
+    beam = cad.resolve(result.record)     # the CAD's check of the floor passes
+    assert beam.section == "round"
