@@ -88,6 +88,7 @@ class BeamCad:
     tool: str = ""             # the end mill that cuts the pockets or flats ("end mill Ø3 R0.2 mm"); "" if none
     stock: str = ""            # the stock item the section is cut from ("round bar Ø10 mm (EN 754-3)"); "" if none
     tolerances: str = ""       # the tolerances the design was checked at ("ISO 2768-m"); "" if none
+    tolerances_hold: bool = False   # whether every limit holds at each of their corners
 
     @property
     def radius(self) -> float:

@@ -140,3 +140,21 @@ def test_the_design_s_name_stays_inside_the_title_block(name):
     right = ax.transData.inverted().transform(title.get_window_extent(renderer))[1, 0]
     assert right <= sheet.PAPER[0] - sheet.BORDER - 1.0
     assert title.get_text() == name or len(name) > 100   # cut only when even the smallest size is too wide
+
+
+def test_the_tolerance_note_says_every_limit_holds_only_where_the_record_says_so():
+    """The drawing's note 2 said 'every limit holds at their extremes' of any design checked at
+    tolerance corners, also of one whose corners break limits (its title block saying
+    INFEASIBLE): the note now follows design.json's tolerances.constraints."""
+    from designer.outputs import drawing
+
+    r = record("rect_pockets")
+    held = {"name": "stress_feature", "satisfied": True}
+    for rows, said in [([held], "2. Tolerances ISO 2768-m: every limit holds at their extremes. Break sharp edges "
+                                "0.2 max."),
+                       ([held, {"name": "fatigue_feature", "satisfied": False}],
+                        "2. Tolerances ISO 2768-m: some limits break at their extremes (report.md). Break sharp "
+                        "edges 0.2 max.")]:
+        r["tolerances"] = {"label": "ISO 2768-m", "constraints": rows}
+        fig = drawing.plot_drawing(cad.resolve(r))
+        assert said in [t.get_text() for t in fig.axes[0].texts]

@@ -176,13 +176,20 @@ def resolve(record: dict) -> BeamCad:
                    feature=fkind, pocket_depth=depth, pocket_length=p_len, pocket_width=p_wid,
                    hole_diameter=hole, end_mill=end_mill, floor_radius=corner, tool=tool, gauge_name=gauge_name,
                    gauge_length=gauge_length, gauge_width=gauge_width, clamp=clamp, channels=channels, grooves=grooves,
-                   stock=_stock_label(d.get("stock")), tolerances=_tolerance_label(record.get("tolerances")))
+                   stock=_stock_label(d.get("stock")), tolerances=_tolerance_label(record.get("tolerances")),
+                   tolerances_hold=_tolerances_hold(record.get("tolerances")))
 
 
 def _tolerance_label(block) -> str:
     """The tolerances design.json's ``tolerances`` says the design was checked at ("" without them)."""
     label = block.get("label") if isinstance(block, dict) else None
     return label if isinstance(label, str) else ""
+
+
+def _tolerances_hold(block) -> bool:
+    """Whether design.json's ``tolerances`` gives every limit as met at its worst corner."""
+    rows = block.get("constraints") if isinstance(block, dict) else None
+    return isinstance(rows, list) and all(isinstance(c, dict) and c.get("satisfied") is True for c in rows)
 
 
 def _stock_label(stock) -> str:

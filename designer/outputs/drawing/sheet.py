@@ -261,7 +261,10 @@ def _notes(pen, beam: BeamCad, X) -> None:
     lines = ["NOTES",
              "1. Dimensions in mm. Positions along the beam are from the clamp face (X = 0).",
              "2. General tolerances ISO 2768-m. Break sharp edges 0.2 max." if not beam.tolerances else
-             f"2. Tolerances {beam.tolerances}: every limit holds at their extremes. Break sharp edges 0.2 max.",
+             f"2. Tolerances {beam.tolerances}: every limit holds at their extremes. Break sharp edges 0.2 max."
+             if beam.tolerances_hold else
+             f"2. Tolerances {beam.tolerances}: some limits break at their extremes (report.md). Break sharp "
+             "edges 0.2 max.",
              "3. Gauge faces and pocket floors: flat, Ra 1.6 or better, free of burrs "
              "(strain gauges are bonded there).",
              ]
