@@ -21,7 +21,7 @@ from designer.model.sections import Geometry, wire_channel
 
 # The limits of docs/model.md §4 a built part must meet whatever its sizes within tolerance.
 CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_snr", "adc_range", "fatigue_feature",
-                 "deflection", "natural_frequency")
+                 "deflection", "natural_frequency", "stress_groove", "fatigue_groove")
 # Of those, the limits worst where the part is strongest: every section size at its largest and
 # the feature at its smallest (the least strain, so the least signal); the others are worst where
 # it is weakest (``searched_corners``).

@@ -280,7 +280,9 @@ def stress_rows(record: dict) -> list[tuple]:
     labels = {"stress_root": "root stress (nominal) / allowable",
               "stress_feature": "feature stress, static (nominal) / yield allowable",
               "fatigue_feature": f"feature stress, fatigue (K_f {p.get('fatigue_factor', 1):.3g} × nominal; "
-                                 f"K_t {p.get('stress_concentration', 1):.3g}) / fatigue allowable"}
+                                 f"K_t {p.get('stress_concentration', 1):.3g}) / fatigue allowable",
+              "stress_groove": "groove stress, static (nominal) / yield allowable",
+              "fatigue_groove": "groove stress, fatigue (K_f × nominal) / fatigue allowable"}
     present = [n for n in labels if n in by_name]
     binding = min(present, key=lambda n: by_name[n]["margin"]) if present else None
     for name in present:

@@ -74,7 +74,7 @@ def test_spec_cad_keys_override_the_defaults():
 @pytest.mark.parametrize("depth, ok", [(0.0008, True), (0.00081, False), (0.004, False)])
 def test_a_groove_is_at_most_the_default_s_share_of_the_section_the_beam_model_leaves_out(depth, ok):
     """The round-flats record's bar is 16 mm across: 5 % of it is 0.8 mm. A 4 mm groove (half the
-    radius) had been drawn, and the design reported as holding, on the beam model that has no
+    radius) had been drawn, and the design reported as holding, on a beam model that had no
     groove; the 3-D check of such a part found 2173 MPa at the groove."""
     rec = record("round_flats")
     rec["spec"]["cad"]["groove_depth"] = depth
@@ -84,7 +84,7 @@ def test_a_groove_is_at_most_the_default_s_share_of_the_section_the_beam_model_l
     with pytest.raises(DesignFileError) as err:
         cad.resolve(rec)
     assert str(err.value) == (f"spec.cad.groove_depth: {depth!r} m ({depth * 1e3:g} mm) is too deep; it must be at "
-                              "most 0.8 mm (5% of the section's smaller side: the beam model leaves grooves out)")
+                              "most 0.8 mm (5% of the section's smaller side)")
 
 
 def test_non_standard_bolt_gets_a_rounded_up_clearance():

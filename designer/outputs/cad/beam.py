@@ -23,6 +23,7 @@ from typing import Any
 
 from designer import model
 from designer.errors import DesignFileError, brief
+from designer.model import grooves
 from designer.model.sections import round_down
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
@@ -42,11 +43,10 @@ BOLT_EDGE = 1.5
 # Default clamp length: 1.5 times the section's larger side, rounded up to 5 mm.
 CLAMP_LENGTH_PER_SIZE = 1.5
 CLAMP_LENGTH_STEP = 0.005
-# Load grooves: 0.5 mm wide holds the "very thin string" the paper hung its masses from
-# (Noh et al. 2025, section 4.2.1); 0.3 mm deep, at most 5 % of the section's smaller side.
-GROOVE_WIDTH = 0.0005
-GROOVE_DEPTH = 0.0003
-GROOVE_DEPTH_FRACTION = 0.05
+# Load grooves (model.grooves, whose stress the model checks): 0.5 mm wide holds the "very thin
+# string" the paper hung its masses from (Noh et al. 2025, section 4.2.1); 0.3 mm deep, at most 5 %
+# of the section's smaller side.
+GROOVE_WIDTH, GROOVE_DEPTH, GROOVE_DEPTH_FRACTION = grooves.WIDTH, grooves.DEPTH, grooves.DEPTH_FRACTION
 # Defaults are rounded down to this step (0.01 mm, as designs are reported, MODEL.md 5).
 ROUND_STEP = 1e-5
 # Lengths closer than this are equal (m): below the 0.01 mm resolution of design.json.
@@ -345,10 +345,10 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
     g_depth = _length(cad, "groove_depth", "spec.cad", required=False)
     if g_depth is None:
         g_depth = round_down(min(GROOVE_DEPTH, GROOVE_DEPTH_FRACTION * min(width, height)), ROUND_STEP)
-    # the beam model leaves the grooves out (docs/model.md §12): they are kept to the default's
-    # share of the section, where a groove of 3 mm on an 8 mm bar had cut it nearly through
+    # kept to the default's share of the section, which the beam model's groove stress (Roark's
+    # K_t, docs/model.md §4) takes as a notch on the bar; a 3 mm groove had cut an 8 mm bar nearly through
     shallow = GROOVE_DEPTH_FRACTION * min(width, height)
-    deepest, what = shallow, f"{GROOVE_DEPTH_FRACTION:.0%} of the section's smaller side: the beam model leaves grooves out"
+    deepest, what = shallow, f"{GROOVE_DEPTH_FRACTION:.0%} of the section's smaller side"
     if kind == "tube":
         min_wall = float(limits.get("min_wall") or 0.0)
         if wall - min_wall < shallow:

@@ -1,0 +1,84 @@
+"""The load grooves' stress (docs/model.md §4): with ``cad.load_grooves``, U-grooves all around
+the beam at the load positions, each a notch of the groove's depth ``t`` with half its width as
+root radius ``r``, in the section left under it.
+
+The groove nearest the clamp carries the largest moment, ``F_max (x_max - x_g)``; its nominal
+stress is ``M c / I`` of the net section (a round bar's ``D - 2t``; a tube's outer diameter
+``D - 2t`` over its bore; a rectangle's ``(b - 2t) x (h - 2t)``, the groove running over all
+four faces), and its peak ``K_t`` times that. ``K_t`` is Roark's (W. C. Young and R. G. Budynas,
+Roark's Formulas for Stress and Strain, 7th ed., Table 17.1): a U-notch in a circular shaft in
+bending for round bars and tubes (for a tube an approximation: the chart is of a solid shaft),
+two opposite U-notches in a rectangular bar in in-plane bending for rectangles, each
+``K_t = C1 + C2 (2t/D) + C3 (2t/D)^2 + C4 (2t/D)^3`` with ``C_i = a + b sqrt(t/r) + c t/r`` on
+``0.25 <= t/r <= 2`` and ``2 <= t/r <= 50`` (``D`` the section's size in the load direction); a
+groove shallower than ``t/r = 0.25`` is taken at it.
+"""
+
+from __future__ import annotations
+
+import math
+
+from designer.model.ops import NUMERIC, Ops
+from designer.model.sections import Geometry
+
+# The CAD's grooves: 0.5 mm wide holds the "very thin string" the paper hung its masses from; by
+# default 0.3 mm deep or 5 % of the section's smaller side, whichever is less (docs/spec.md 2.8)
+WIDTH = 0.5e-3
+DEPTH = 0.3e-3
+DEPTH_FRACTION = 0.05
+ROOT_RADIUS = WIDTH / 2
+# Roark's Table 17.1: (a, b, c) of C1..C4 on t/r <= 2 and on t/r >= 2
+SHAFT = (((0.455, 3.354, -0.769), (0.891, -12.721, 4.593), (0.286, 15.481, -6.392), (-0.632, -6.115, 2.568)),
+         ((0.935, 1.922, 0.004), (-0.552, -5.327, 0.086), (0.754, 6.281, -0.121), (-0.138, -2.876, 0.031)))
+BAR = (((0.723, 2.845, -0.504), (-1.836, -5.746, 1.314), (7.254, -1.885, 1.646), (-5.140, 4.785, -2.456)),
+       ((0.833, 2.069, -0.009), (0.024, -5.383, 0.126), (-0.856, 6.460, -0.199), (0.999, -3.146, 0.082)))
+LEAST_RATIO, SPLIT_RATIO = 0.25, 2.0
+
+
+def positions(spec) -> tuple:
+    """Where the grooves are (m from the clamp face): ``cad.groove_positions``, or ``x_min``, the
+    middle of the load range and ``x_max``."""
+    if spec.cad.groove_positions:
+        return tuple(spec.cad.groove_positions)
+    lo, hi = spec.load.position_min, spec.load.position_max
+    return lo, (lo + hi) / 2, hi
+
+
+def default_depth(smaller_side, ops: Ops = NUMERIC):
+    """The grooves' depth when ``cad.groove_depth`` is not given, before the CAD rounds it down to
+    the 0.01 mm grid: 0.3 mm or 5 % of the section's smaller side, whichever is less."""
+    return ops.fmin(DEPTH, DEPTH_FRACTION * smaller_side)
+
+
+def stress_concentration(section: str, depth, size, ops: Ops = NUMERIC):
+    """Roark's ``K_t`` of a groove ``depth`` deep in a section ``size`` across (h or D)."""
+    ratio = ops.fmax(depth / ROOT_RADIUS, LEAST_RATIO)
+    # the default depth (at most 0.3 mm, t/r 1.2) and any given one, a number, pick the range
+    upper = isinstance(depth, (int, float)) and depth / ROOT_RADIUS > SPLIT_RATIO
+    rows = (SHAFT if section != "rectangle" else BAR)[1 if upper else 0]
+    root = ops.sqrt(ratio)
+    c = [a + b * root + k * ratio for a, b, k in rows]
+    s = 2 * depth / size
+    return c[0] + s * (c[1] + s * (c[2] + s * c[3]))
+
+
+def groove_stress(g: Geometry, spec, ops: Ops = NUMERIC):
+    """``(nominal stress, K_t)`` at the groove nearest the clamp under ``F_max`` at ``x_max``; None
+    without grooves or with none inside the load range's reach."""
+    if not spec.cad.load_grooves:
+        return None
+    x_max = spec.load.position_max
+    arm = x_max - min(positions(spec))
+    if not arm > 0:
+        return None
+    smaller = ops.fmin(g.width, g.height) if g.section == "rectangle" else g.diameter
+    t = spec.cad.groove_depth if spec.cad.groove_depth is not None else default_depth(smaller, ops)
+    moment = spec.load.force_max * arm
+    if g.section == "rectangle":
+        b, h = g.width - 2 * t, g.height - 2 * t
+        nominal = moment * (h / 2) / (b * h ** 3 / 12)
+    else:
+        d = g.diameter - 2 * t
+        bore = g.diameter - 2 * g.wall if g.section == "tube" else 0.0
+        nominal = moment * (d / 2) / (math.pi * (d ** 4 - bore ** 4) / 64)
+    return nominal, stress_concentration(g.section, t, g.size, ops)

@@ -1,0 +1,157 @@
+"""The load grooves' stress (docs/model.md §4, designer.model.grooves): Roark's K_t of a U-notch
+and the nominal stress of the net section under the groove nearest the clamp."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+
+from designer.model import grooves
+from designer.result.evaluation import evaluate, fixed_design
+from designer.spec.reader import parse_spec
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+FLATS = {"material": "Ti-6Al-4V", "section": {"kind": "round", "diameter": "7.88 mm"},
+         "stations": ["9.45 mm", "30.55 mm"], "feature": {"kind": "pocket", "depth": "1.55 mm", "length": "8.9 mm"},
+         "length": "115 mm"}
+
+
+@pytest.mark.parametrize("section", ["round", "tube", "rectangle"])
+@pytest.mark.parametrize("ratio", [0.25, 1.0, 2.0, 4.0, 16.0])
+def test_a_shallow_groove_s_k_t_tends_to_the_elliptical_notch_s(section, ratio):
+    """As the groove's share of the section 2t/D tends to 0, a U-notch of depth t and root radius
+    r is a notch in a half-plane: C. E. Inglis (1913), K_t = 1 + 2 a/b for an elliptical notch,
+    a/b = sqrt(t/r) at the same depth and root radius. Roark's fits give it within 5 %."""
+    depth = ratio * grooves.ROOT_RADIUS
+    kt = float(grooves.stress_concentration(section, depth, 1e3))
+    assert kt == pytest.approx(1 + 2 * math.sqrt(ratio), rel=0.05)
+
+
+def test_roark_s_two_ranges_meet_where_they_split():
+    # Roark's Table 17.1 gives C1..C4 on t/r <= 2 and t/r >= 2 separately: one K_t at 2
+    below = grooves.stress_concentration("round", 2 * grooves.ROOT_RADIUS * (1 - 1e-9), 8e-3)
+    above = grooves.stress_concentration("round", 2 * grooves.ROOT_RADIUS * (1 + 1e-9), 8e-3)
+    assert float(below) == pytest.approx(float(above), rel=2e-3)
+
+
+def _gripper() -> dict:
+    return yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
+
+
+def _spec(cad, section=None):
+    raw = _gripper()
+    raw["cad"] = cad
+    raw["design"] = dict(FLATS, **({"section": section} if section else {}))
+    return parse_spec(raw)
+
+
+def test_the_groove_nearest_the_clamp_carries_the_load_range_s_moment_on_its_net_section():
+    """The gripper finger's Ø7.88 mm bar with the default grooves (0.3 mm deep, at 40, 75 and
+    110 mm): under 20 N at 110 mm the groove at 40 mm carries 20 x 0.070 = 1.4 N m on a 7.28 mm
+    net diameter, 32 M / (pi d^3) = 36.96 MPa (the solid circular section, Roark Table 9.1); its
+    K_t at t/r = 1.2, 2t/D = 0.0761 is Roark's 2.686, and the fatigue limit takes K_f = 1 +
+    q (K_t - 1) with Peterson's q at r = 0.25 mm."""
+    spec = _spec({"load_grooves": True})
+    ev = evaluate(fixed_design(spec), spec)
+    by_name = {lim.name: lim for lim in ev.limits}
+    d = 7.88e-3 - 2 * 0.3e-3
+    nominal = 32 * 20 * 0.070 / (math.pi * d ** 3)
+    assert float(by_name["stress_groove"].value) == pytest.approx(nominal, rel=1e-9)
+    assert nominal == pytest.approx(36.96e6, rel=1e-3)
+    params = ev.design.material_params(spec)
+    q = grooves.ROOT_RADIUS / (grooves.ROOT_RADIUS + params.notch_length)
+    kt = float(grooves.stress_concentration("round", 0.3e-3, 7.88e-3))
+    assert kt == pytest.approx(2.686, abs=0.001)
+    assert float(by_name["fatigue_groove"].value) == pytest.approx((1 + q * (kt - 1)) * nominal, rel=1e-9)
+    assert float(by_name["fatigue_groove"].limit) == pytest.approx(float(params.allowable))
+    # without grooves there are no such limits
+    plain = _spec({})
+    assert not [lim for lim in evaluate(fixed_design(plain), plain).limits if "groove" in lim.name]
+
+
+def test_a_rectangle_s_groove_runs_over_all_four_faces():
+    """A 10 x 6 mm bar with a 0.3 mm groove at 40 mm: the net section is 9.4 x 5.4 mm,
+    I = 9.4 x 5.4^3 / 12, and the nominal stress M (5.4/2) / I."""
+    spec = _spec({"load_grooves": True}, section={"kind": "rectangle", "width": "10 mm", "height": "6 mm"})
+    g = fixed_design(spec).geometry
+    nominal, kt = grooves.groove_stress(g, spec)
+    b, h = 9.4e-3, 5.4e-3
+    assert float(nominal) == pytest.approx(20 * 0.070 * (h / 2) / (b * h ** 3 / 12), rel=1e-9)
+    assert float(kt) == pytest.approx(float(grooves.stress_concentration("rectangle", 0.3e-3, 6e-3)))
+
+
+def test_a_plain_bar_s_grooves_break_the_fatigue_limit_its_root_meets():
+    """A plain Ø7.88 mm Ti-6Al-4V bar under 55 N at 110 mm: the root's nominal stress is
+    32 x 55 x 0.110 / (pi 0.00788^3) = 126 MPa, half the 255 MPa allowable; the default groove at
+    40 mm carries 32 x 55 x 0.070 / (pi 0.00728^3) = 101.6 MPa on its net section, and with
+    Roark's K_t 2.69 (K_f the same where q = 1) about 270 MPa: the groove, not the root, breaks
+    the fatigue limit. The same bar without grooves meets its stress limits."""
+    raw_load = {"force": ["5 N", "55 N"], "position": ["40 mm", "110 mm"]}
+    plain = {"kind": "none"}
+
+    def judged(cad):
+        spec = parse_spec(_raw(cad, raw_load, plain))
+        return evaluate(fixed_design(spec), spec)
+
+    grooved, bare = judged({"load_grooves": True}), judged({})
+    root = next(lim for lim in bare.limits if lim.name == "stress_root")
+    assert float(root.value) == pytest.approx(32 * 55 * 0.110 / (math.pi * 0.00788 ** 3), rel=1e-6)
+    assert float(root.value) < 0.5 * 255e6
+    broken = [lim.name for lim in grooved.violations]
+    assert "fatigue_groove" in broken
+    assert not [name for name in (lim.name for lim in bare.violations) if name.startswith(("stress", "fatigue"))]
+
+
+def _raw(cad, load, feature):
+    raw = _gripper()
+    raw.update(cad=cad, load=load, design=dict(FLATS, feature=feature))
+    return raw
+
+
+PLAIN_BARS = """\
+name: grooved-plain
+load: {force: [5 N, 55 N], position: [40 mm, 110 mm]}
+electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
+gauge: BF350-3AA
+limits: {max_deflection: 3 mm, width: [4 mm, 16 mm], height: [3 mm, 16 mm]}
+targets: {force_error: 1 %, position_error: 1 mm}
+search: {materials: [Ti-6Al-4V], sections: [rectangle, round], feature: none}
+cad: {load_grooves: LOAD_GROOVES}
+"""
+
+
+def test_the_search_keeps_the_grooves_fatigue_limit_and_pays_for_it():
+    """Plain bars under 55 N: without grooves the root's stress limit sizes the bar; with the
+    default grooves the groove at 40 mm, K_f about 2.7 on its net section, binds instead, and
+    the search finds a stiffer section whose groove meets the fatigue limit at every tolerance
+    corner."""
+    from designer.search import optimize
+    from designer.spec.reader import parse_spec_text
+
+    found = {flag: optimize(parse_spec_text(PLAIN_BARS.replace("LOAD_GROOVES", flag))).best
+             for flag in ("true", "false")}
+    grooved, bare = found["true"], found["false"]
+    assert grooved.feasible and bare.feasible
+    assert not [lim for lim in bare.limits if "groove" in lim.name]
+    fatigue = next(lim for lim in grooved.limits if lim.name == "fatigue_groove")
+    assert float(fatigue.normalised) <= 0
+    corner = next(lim for lim in grooved.tolerance.limits if lim.name == "fatigue_groove")
+    assert -5e-3 < float(corner.normalised) <= 0          # it binds at its thin corner (within the 0.01 mm grid)
+    props = [ev.analysis.props for ev in (grooved, bare)]
+    assert float(props[0].I) > 1.2 * float(props[1].I)    # a stiffer bar pays for the grooves
+
+
+def test_verify_says_the_grooves_are_the_beam_model_s_figures():
+    """The 3-D mesh is refined at the features, not at a groove's 0.25 mm root radius, so its
+    peak leaves the grooves out: verify says so and names the model's groove limits."""
+    from designer.checks.fea.compare import verify_design
+    from designer.result.pipeline import DesignOptions, design
+    from designer.spec.reader import parse_spec_text
+
+    record = design(parse_spec_text(PLAIN_BARS.replace("LOAD_GROOVES", "true")), DesignOptions(tradeoff=False)).record
+    result = verify_design(record, mesh="coarse")
+    said = [m for m in result.messages if m.startswith("load grooves:")]
+    assert len(said) == 1 and "fatigue_groove" in said[0] and "stress_groove" in said[0]
