@@ -94,7 +94,8 @@ def tradeoff_fronts(spec, result: DesignResult, progress=None) -> dict | None:
 def evaluate_fixed(spec) -> DesignResult:
     """Judge the spec's fixed ``design:`` block, rounded to 0.01 mm as every reported design is."""
     ev = evaluate(fixed_design(spec).rounded(spec.cad), spec)
-    messages = [] if ev.feasible else ["the design violates: " + ", ".join(v.name for v in ev.violations)]
+    broken = dict.fromkeys(v.name for v in ev.violations)   # a limit broken nominally and at a corner: once
+    messages = [] if ev.feasible else ["the design violates: " + ", ".join(broken)]
     messages += _bore_not_from_stock(spec, ev.design)
     record = build_record("feasible" if ev.feasible else "infeasible", spec, ev, messages=messages)
     _cad_options_fit(record)

@@ -60,10 +60,12 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                       if room > 1 + 1e-12 else "") + ")"
                    + (f" with {', '.join(binding)} binding" if binding else "")
                    + f"; they would be met with electronics noise of at most {sv / need * 1e3:.3g} mV at the output "
-                   f"(now {sv * 1e3:.3g} mV), or load.force[0] of at least {spec.load.force_min * need:.4g} N "
-                   f"(now {spec.load.force_min:.4g} N), or targets of force_error >= "
-                   f"{float(a.force_error) * room * 100:.3g} % and position_error >= "
-                   f"{float(a.position_error) * room * mm:.3g} mm")
+                   f"(now {sv * 1e3:.3g} mV), "
+                   + (f"or load.force[0] of at least {spec.load.force_min * need:.4g} N (now {spec.load.force_min:.4g} "
+                      f"N), " if spec.load.force_min * need <= spec.load.force_max else "")
+                   + f"or targets of force_error >= {float(a.force_error) * room * 100:.3g} % and position_error >= "
+                   f"{float(a.position_error) * room * mm:.3g} mm"
+                   + _largest_term(spec, a))
         if spec.limits.max_deflection is not None and "deflection" in binding:
             out.append(f"the deflection limit binds: limits.max_deflection = {spec.limits.max_deflection * mm:.4g} mm; "
                        "a larger allowed deflection gives a more sensitive beam")
@@ -88,8 +90,12 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                        "range farther from the clamp")
         else:
             ratio = float(v.limit) / float(v.value)
-            out.append(f"min_signal_snr: the smallest signal is {float(v.value):.3g} noise levels, below {float(v.limit):.3g}; "
-                       f"lower the noise to {sv / ratio * 1e3:.3g} mV or raise load.force[0] to {spec.load.force_min * ratio:.4g} N")
+            snr, least = _apart(float(v.value), float(v.limit))
+            noise, now = _apart(sv / ratio * 1e3, sv * 1e3)
+            out.append(f"min_signal_snr: the smallest signal is {snr} noise levels, below {least}; "
+                       f"lower the noise to {noise} mV (now {now} mV)"
+                       + (f" or raise load.force[0] to {spec.load.force_min * ratio:.4g} N"
+                          if spec.load.force_min * ratio <= spec.load.force_max else ""))
     if "deflection" in violated:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = {float(v.limit) * mm:.4g} mm; "
@@ -103,6 +109,31 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
                    f"lower it to {float(v.value):.4g} Hz or shorten the beam")
+    return out
+
+
+def _apart(a: float, b: float) -> tuple[str, str]:
+    """``a`` and ``b`` written with as few significant digits (3 at least) as tell them apart."""
+    for digits in range(3, 8):
+        if f"{a:.{digits}g}" != f"{b:.{digits}g}":
+            break
+    return f"{a:.{digits}g}", f"{b:.{digits}g}"
+
+
+def _largest_term(spec, a) -> str:
+    """With an error budget (``environment``), its largest term at the worst load (F_min, x_max)
+    and what removes it where the spec can: '' without a budget."""
+    if not a.budget:
+        return ""
+    worst = max(a.budget, key=lambda point: (-point[0], point[1]))[2]   # F_min, x_max
+    total = sum(float(t.force_var) for t in worst)
+    top = max(worst, key=lambda t: float(t.force_var))
+    if not total > 0:
+        return ""
+    out = f"; the error budget's largest term at F_min, x_max is {top.name} ({float(top.force_var) / total:.0%} " \
+          "of the force error's variance)"
+    if top.name.startswith("zero drift") and spec.environment is not None and not spec.environment.tare:
+        out += ": environment.tare (offsets measured again, unloaded, at the operating temperature) removes it"
     return out
 
 

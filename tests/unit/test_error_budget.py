@@ -319,3 +319,37 @@ def test_the_lever_arm_s_shortening_is_the_elastica_s_to_first_order(force):
         assert budget.shortening(force, x, s, ei) == pytest.approx(s - along, rel=0.01)
     w_load = force * x ** 3 / (3 * ei)
     assert budget.shortening(force, x, x, ei) == pytest.approx(0.6 * w_load ** 2 / x, rel=1e-12)
+
+
+E10 = """\
+name: budget-adc
+load: {force: [50 gf, 5 kgf], position: [40 mm, 150 mm]}
+electronics: {adc: ADS1232, excitation: 5 V}
+gauge: CEA-06-125UW-120
+bridge: full
+limits: {max_deflection: 0.5 mm, width: [5 mm, 25 mm], height: [5 mm, 25 mm]}
+targets: {force_error: 2 %, position_error: 2 mm}
+environment: {temperature: [-20 °C, 60 °C], calibrated_at: 20 °C, hold: 8 h, TARE}
+tolerances: {class: v}
+"""
+
+
+def test_an_out_of_reach_budget_names_its_largest_term_and_no_force_beyond_the_range():
+    """An ADS1232 sensor over -20..60 °C without tare: the zero drift between the bridges is
+    nearly all of the budget at F_min, x_max. The message had asked for a load.force[0] of
+    129 N, above the 49 N load.force[1], and never named the term nor environment.tare,
+    which removes it (docs/model.md §13)."""
+    from designer.search import optimize
+    from designer.spec.reader import parse_spec_text
+
+    result = optimize(parse_spec_text(E10.replace(", TARE", "")))
+    said = next(m for m in result.messages if m.startswith("the accuracy targets are out of reach"))
+    assert "largest term at F_min, x_max is zero drift, between bridges" in said
+    assert "environment.tare" in said
+    assert "load.force[0] of at least" not in said       # the force it would take is beyond load.force[1]
+    terms = max(result.best.analysis.budget, key=lambda point: (-point[0], point[1]))[2]
+    drift = next(t for t in terms if t.name == "zero drift, between bridges")
+    assert float(drift.force_var) > 0.9 * sum(float(t.force_var) for t in terms)
+    # with tare the offsets are measured again at the operating temperature: no zero drift term
+    tared = optimize(parse_spec_text(E10.replace("TARE", "tare: true")))
+    assert not any("environment.tare" in m for m in tared.messages)

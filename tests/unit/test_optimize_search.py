@@ -446,9 +446,11 @@ def test_a_rounded_design_is_judged_with_the_wire_channels_its_rounded_pocket_ge
 
 
 def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
-    # A 1.5 x 1.2 mm gauge with 0.2 mm margins needs a 1.6 mm wide slot, and an end mill takes at
-    # most 0.6 of it (outputs/cad/mills.py): the tool catalogue (materials/tools.yaml) has R0.3 mm
-    # only on end mills of 1.5 mm and up, so with cad.corner_radius 0.3 mm no tool cuts it and a
+    # A 1.5 x 1.2 mm gauge with 0.2 mm margins needs a 1.6 mm wide slot, 1.8 mm with
+    # cad.corner_radius 0.3 mm (the margin is at least the radius, so that the backing lies on the
+    # floor: Spec.pocket_size), and an end mill takes at most 0.6 of it (outputs/cad/mills.py): the
+    # tool catalogue (materials/tools.yaml) has R0.3 mm only on end mills of 1.5 mm and up, so no
+    # tool cuts it and a
     # rectangle-only pocket search is bad input; the default radius (R0.02 under the 0.05 mm
     # shallowest pocket) is on the catalogue's Ø0.8 mm micro end mill, which makes it a design
     from designer.errors import SpecError
@@ -463,7 +465,7 @@ def test_a_slot_no_end_mill_can_cut_is_not_searched_and_says_why():
     with pytest.raises(SpecError) as err:
         search.optimize(parse_spec_text(text + "cad: {corner_radius: 0.3 mm}\n"))
     message = str(err.value)
-    assert message.startswith("search.sections: rectangle: no slot can be machined: a slot 1.6 mm wide")
+    assert message.startswith("search.sections: rectangle: no slot can be machined: a slot 1.8 mm wide")
     assert "cad.end_mill_diameter" in message
     spec = parse_spec_text(text)
     found = search.optimize(spec)

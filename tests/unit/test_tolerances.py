@@ -313,3 +313,20 @@ def test_the_nlp_s_corner_rows_are_the_corners_the_check_builds():
         compared += len(held)
     assert compared >= 10
     assert max(values["fatigue_feature"]) == pytest.approx(0.0, abs=1e-8)   # the answer holds it at a corner
+
+
+def test_the_record_names_each_limit_it_breaks_once():
+    """A station inside the load range gives a negative signal at the nominal sizes and at its
+    tolerance corners: design.json's message named min_signal_snr twice."""
+    from designer.result.pipeline import evaluate_fixed
+
+    design = {"material": "7075-T6", "section": {"kind": "rectangle", "width": "10 mm", "height": "6 mm"},
+              "stations": ["20 mm", "70 mm"], "feature": {"kind": "pocket", "depth": "1 mm"}, "length": "200 mm"}
+    spec = parse_spec({"load": {"force": ["1 N", "20 N"], "position": ["60 mm", "120 mm"]},
+                       "electronics": ELECTRONICS, "design": design})
+    result = evaluate_fixed(spec)
+    broken = [lim.name for lim in result.evaluation.violations]
+    assert broken.count("min_signal_snr") == 2          # nominal and at a corner
+    said = [m for m in result.record["messages"] if m.startswith("the design violates: ")]
+    names = said[0].removeprefix("the design violates: ").split(", ")
+    assert len(names) == len(set(names)) and set(names) == set(broken)
