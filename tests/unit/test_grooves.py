@@ -155,3 +155,9 @@ def test_verify_says_the_grooves_are_the_beam_model_s_figures():
     result = verify_design(record, mesh="coarse")
     said = [m for m in result.messages if m.startswith("load grooves:")]
     assert len(said) == 1 and "fatigue_groove" in said[0] and "stress_groove" in said[0]
+    sources = {c.name: c.source for c in result.limits}
+    assert "the mesh does not resolve the grooves" in sources["fatigue_groove"]
+    # under ISO 2768-m every corner-checked limit is judged at its worst corner, and the gauge
+    # strain's line says which (it had stood under the nominal design's table unexplained)
+    strain = [m for m in result.messages if m.startswith("gauge strain at station 1")]
+    assert strain[0].startswith("gauge strain at station 1 (at the worst tolerance corner (")

@@ -208,6 +208,9 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
                       * gauges[0].fea_strain, "bridge output from the 3-D gauge strain, station 1"),
         "stress_root": (float(a.stress_root), "beam model: the idealised clamp is singular in 3-D"),
     }
+    for name in ("stress_groove", "fatigue_groove"):   # the mesh does not resolve the grooves' root radius
+        fea.update({lim.name: (float(lim.value), "beam model (Roark's K_t): the mesh does not resolve the grooves")
+                    for lim in ev.limits if lim.name == name})
     # With tolerances (docs/model.md §14) a limit the corners check is judged at its worst corner:
     # the model's value there times the 3-D/model ratio the check measured on the nominal design.
     corner = {} if ev.tolerance is None else {

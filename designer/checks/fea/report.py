@@ -251,7 +251,8 @@ def with_messages(r: VerifyResult, fatigue: bool, feature: str, seconds: float,
     by_name = {c.name: c for c in r.limits}
     strain = by_name.get("gauge_strain")
     if strain is not None:
-        msgs.append(f"gauge strain at station 1: {strain.fea_value / MICRO:.0f} µε against the gauge's "
+        where = f" ({strain.source.split(':')[0]})" if strain.source.startswith("at the worst") else ""
+        msgs.append(f"gauge strain at station 1{where}: {strain.fea_value / MICRO:.0f} µε against the gauge's "
                     f"{strain.limit / MICRO:.0f} µε limit: {'within' if strain.satisfied else 'OVER'} the limit")
     peak = r.stress_peak
     x, y, z = (v * 1e3 for v in peak.location)
