@@ -235,3 +235,19 @@ def test_a_search_keeps_its_flats_long_enough_for_the_corner_radius(examples, ch
     assert feature["length"] - 2 * corner >= spec.gauge.length - 1e-9
     beam = cad.resolve(result.record)     # the CAD's check of the floor passes
     assert beam.section == "round"
+
+
+@pytest.mark.parametrize("length, tail", [
+    # 10 mm holds two bolts of 10 / 6 = 1.666 mm (holes 1.5 diameters from each end and apart)
+    (0.010, "; or give a spec.cad.bolt_diameter of at most 1.66 mm"),
+    # 0.05 mm holds none of the 0.01 mm grid's: no smaller bolt to offer (it had been offered)
+    (0.00005, ""),
+])
+def test_a_short_clamp_offers_a_bolt_it_can_hold(length, tail):
+    r = record("prototype_b")
+    r["spec"]["cad"].update(clamp_length=length)
+    with pytest.raises(DesignFileError) as err:
+        cad.resolve(r)
+    assert str(err.value) == (f"spec.cad.clamp_length: {length!r} m ({length * 1e3:g} mm) is too short for two 4 mm "
+                              "bolts; it must be at least 24 mm (holes 1.5 bolt diameters from the block's ends)"
+                              + tail)

@@ -24,7 +24,7 @@ from typing import Any
 from designer import model
 from designer.errors import DesignFileError, brief
 from designer.model import grooves
-from designer.model.sections import round_down
+from designer.model.sections import LEAST_CUT, round_down
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
 from designer.result.designfile import validate
 from designer.outputs.cad import mills
@@ -252,9 +252,12 @@ def _clamp(cad: dict, width: float, height: float) -> Clamp:
         length = max(CLAMP_LENGTH_PER_SIZE * max(width, height), minimum)
         length = math.ceil(length / CLAMP_LENGTH_STEP - 1e-6) * CLAMP_LENGTH_STEP
     elif length < minimum - LENGTH_EPS:
+        largest = length / (4 * BOLT_EDGE)   # the bolt the block's length holds
+        smaller = (f"; or give a spec.cad.bolt_diameter of at most {fmt_mm(round_down(largest, ROUND_STEP))} mm"
+                   if largest >= LEAST_CUT else "")
         raise DesignFileError(f"spec.cad.clamp_length: {_mm(length)} is too short for two {fmt_mm(bolt)} mm bolts; "
                               f"it must be at least {fmt_mm(minimum)} mm (holes {BOLT_EDGE:g} bolt diameters from "
-                              f"the block's ends); or give a smaller spec.cad.bolt_diameter")
+                              f"the block's ends){smaller}")
     return Clamp(length=length, width=block_width, height=height, bolt_diameter=bolt, bolt_clearance=clearance,
                  bolt_positions=(-length / 4, -3 * length / 4))
 
