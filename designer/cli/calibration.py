@@ -222,8 +222,9 @@ def run_measure(args) -> int:
         # relative errors as the paper's Table 4 gives them, over the rows that carry a load
         ef = np.abs(m.force - data.force)[loaded] / np.abs(data.force[loaded])
         ex = np.abs(m.position - data.position)[loaded] / data.position[loaded]
+        # three significant digits: a good sensor's errors are hundredths of a per cent ("0.00%" said nothing)
         text = (f"against the file's loads ({int(loaded.sum())} loaded rows): mean absolute error force "
-                f"{np.mean(ef):.2%}, position {np.mean(ex):.2%}")
+                f"{np.mean(ef) * 100:.3g} %, position {np.mean(ex) * 100:.3g} %")
         if biaxial and data.angle is not None:
             ea = np.abs(np.degrees(np.angle(np.exp(1j * (m.angle - data.angle)))))[loaded]
             text += f", angle {np.mean(ea):.3g}°"
