@@ -389,6 +389,7 @@ _LIMIT_KINDS = {
     "tip_margin": "length", "pocket_margin": "length", "gauge_gap": "length",
     "min_pocket_depth": "length", "max_pocket_fraction": "ratio", "min_snr": "ratio",
 }
+LARGEST_SAFETY_FACTOR = 100.0
 _ZERO_ALLOWED = {"clamp_clearance", "load_clearance", "tip_margin", "pocket_margin", "gauge_gap"}
 
 
@@ -403,8 +404,10 @@ def _parse_limits(raw) -> Limits:
             values[key] = units.parse_range(raw[key], "length", f"limits.{key}")
     if "fatigue" in raw:
         values["fatigue"] = boolean(raw["fatigue"], "limits.fatigue")
-    if values.get("safety_factor", 2.0) < 1:
-        raise SpecError(f"limits.safety_factor: {raw['safety_factor']!r} must be at least 1")
+    if not 1 <= values.get("safety_factor", 2.0) <= LARGEST_SAFETY_FACTOR:
+        # (a factor of 1e9 left every design's stress limit broken, and the diagnosis reasoned from
+        # a least-violating design that was no sensor)
+        raise SpecError(f"limits.safety_factor: {raw['safety_factor']!r} must be from 1 to {LARGEST_SAFETY_FACTOR:g}")
     if not values.get("max_pocket_fraction", 0.3) < 0.5:
         raise SpecError(f"limits.max_pocket_fraction: {raw['max_pocket_fraction']!r} must be below 0.5 "
                         "(pockets on both faces would meet)")
