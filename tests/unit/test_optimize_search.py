@@ -839,3 +839,27 @@ def test_rounding_that_costs_more_than_the_tie_band_also_solves_again_with_the_d
     assert found.feasible and walked.feasible
     assert found.design.geometry.depth == pytest.approx(2.20e-3) and walked.design.geometry.depth == pytest.approx(2.25e-3)
     assert found.objective < walked.objective * (1 - 0.005)
+
+
+def test_a_load_region_at_the_gauge_gaps_least_room_names_what_the_closest_design_needs(examples):
+    """The gripper finger with its load from 29.8 mm: 5 + 2 x 8.9 + 2 + 5 mm is the least room
+    the gauge gaps leave whatever the section (docs/model.md §1), but a slot's web between two
+    pockets is half the bar's height (pocket_gap), so no design fits; the report named only the
+    accuracy targets. The reported design's d_2 + l_f/2 + load_clearance is where it says the
+    load region would have to begin."""
+    import yaml
+
+    from designer.spec.reader import parse_spec
+
+    raw = yaml.safe_load((examples / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw["load"]["position"] = ["29.8 mm", "110 mm"]
+    spec = parse_spec(raw)
+    found = search.optimize(spec)
+    assert found.status == "infeasible"
+    g = found.best.design.geometry
+    reach = g.stations[-1] + g.feature_length / 2 + spec.limits.load_clearance
+    assert reach > 29.8e-3
+    said = [m for m in found.messages if m.startswith("load_clearance:")]
+    assert said == [f"load_clearance: the closest design's stations, their features and limits.load_clearance reach "
+                    f"{reach * 1e3:.4g} mm, past load.position[0] = 29.8 mm; a load region from {reach * 1e3:.4g} mm "
+                    "out, fewer stations, a smaller gauge or smaller margins would leave them room"]
