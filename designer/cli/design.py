@@ -374,6 +374,11 @@ MIN_DRAWS, MAX_DRAWS = 100, 10_000_000
 MAX_GRID = 100
 
 
+# simulate: where the Monte Carlo leaves linear propagation by more than this, at a smallest
+# signal under LINEAR_SNR noise levels, the output says why
+LINEAR_AGREEMENT, LINEAR_SNR = 0.1, 10.0
+
+
 def run_simulate(args) -> int:
     import time
 
@@ -431,6 +436,11 @@ def run_simulate(args) -> int:
     console.print(f"{len(forces) * args.draws:,} draws in {seconds:.2f} s; largest |MC/model - 1| = "
                   f"{res.worst_ratio:.2%} (the Monte Carlo's own 1σ scatter is "
                   f"{1 / math.sqrt(2 * args.draws):.2%})")
+    snr = p.get("min_signal_snr")
+    if res.worst_ratio > LINEAR_AGREEMENT and isinstance(snr, (int, float)) and snr < LINEAR_SNR:
+        console.print(f"the model's 1σ is the noise propagated linearly, which holds while every signal is well "
+                      f"above the noise; this design's smallest signal is {snr:.3g} noise levels, where the "
+                      f"estimator's ratios of noisy outputs have wide tails: the Monte Carlo's figures are its own")
     if args.readings:
         readings = _optional("designer.calibration.readings")
         if readings is None:
