@@ -94,8 +94,9 @@ def slot_end_mill(spec) -> float:
         smallest = min(t.diameter for t in catalogue.end_mills().end_mills)
         raise DesignFileError(
             f"a slot {fmt_mm(wp)} mm wide (the gauge's {fmt_mm(spec.gauge.width)} mm and twice "
-            f"limits.pocket_margin, or cad.corner_radius where larger) leaves no catalogue end mill (from {fmt_mm(smallest)} mm) that cuts it with "
-            f"the {fmt_mm(spec.cad.corner_radius)} mm cad.corner_radius and keeps the gauge on its flat floor; "
+            f"limits.pocket_margin, or cad.corner_radius where larger) leaves no catalogue end mill (from "
+            f"{fmt_mm(smallest)} mm) that cuts it with the {fmt_mm(spec.cad.corner_radius)} mm cad.corner_radius "
+            "and keeps the gauge on its flat floor; "
             "give cad.end_mill_diameter, a smaller cad.corner_radius or a larger limits.pocket_margin") from None
 
 
