@@ -39,15 +39,21 @@ LEAST_RATIO, SPLIT_RATIO = 0.25, 2.0
 # where its top and side grooves meet at the section's edges, which the chart's opposite notches
 # leave out. A tube takes the round bar's.
 FACTOR_3D = {"rectangle": 1.21, "round": 1.03, "tube": 1.03}
+# The limits model.limits judges the grooves by (docs/model.md §4)
+LIMIT_NAMES = ("stress_groove", "fatigue_groove")
+
+
+def default_positions(x_min: float, x_max: float) -> tuple:
+    """Where the grooves are when ``cad.groove_positions`` is not given (m from the clamp face):
+    ``x_min``, the middle of the load range and ``x_max``."""
+    return x_min, (x_min + x_max) / 2, x_max
 
 
 def positions(spec) -> tuple:
-    """Where the grooves are (m from the clamp face): ``cad.groove_positions``, or ``x_min``, the
-    middle of the load range and ``x_max``."""
+    """Where a spec's grooves are: ``cad.groove_positions``, or ``default_positions``."""
     if spec.cad.groove_positions:
         return tuple(spec.cad.groove_positions)
-    lo, hi = spec.load.position_min, spec.load.position_max
-    return lo, (lo + hi) / 2, hi
+    return default_positions(spec.load.position_min, spec.load.position_max)
 
 
 def default_depth(smaller_side, ops: Ops = NUMERIC):

@@ -10,7 +10,7 @@ import numpy as np
 
 from designer.model.analysis import fatigue_factor, notch_sensitivity
 from designer.model.electronics import volts_per_strain
-from designer.model.grooves import ROOT_RADIUS, groove_stress
+from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS, ROOT_RADIUS, groove_stress
 from designer.model.objective import FEASIBILITY_TOLERANCE
 from designer.model.ops import NUMERIC, Ops
 from designer.model.sections import LEAST_CUT, Geometry, feature_length
@@ -111,10 +111,11 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     groove = groove_stress(g, spec, ops)
     if groove is not None:   # the load grooves of cad.load_grooves: static and fatigue as at a feature
         nominal, kt = groove
-        out.append(Limit("stress_groove", nominal, m.static_allowable, unit="Pa"))
+        static, fatigue = GROOVE_LIMITS
+        out.append(Limit(static, nominal, m.static_allowable, unit="Pa"))
         if lim.fatigue:
             factor = fatigue_factor(notch_sensitivity(ROOT_RADIUS, m.notch_length), kt)
-            out.append(Limit("fatigue_groove", factor * nominal, m.allowable, unit="Pa"))
+            out.append(Limit(fatigue, factor * nominal, m.allowable, unit="Pa"))
     out += [Limit(f"station_gap_{i + 1}", d[i + 1] - d[i], l_f + lim.gauge_gap, upper=False, scale=mm, unit="m")
             for i in range(len(d) - 1)]
     if g.feature == "hole" or (g.feature == "pocket" and g.section != "tube"):

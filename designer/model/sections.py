@@ -320,7 +320,7 @@ def unbuildable(g: Geometry) -> tuple[str, str] | None:
     if g.feature == "pocket":
         if not g.depth > 0:
             return "feature.depth", f"{_value(g.depth)} must be positive"
-        limit, what = (g.wall, "the tube wall") if g.section == "tube" else (size / 2, "half the section height")
+        limit, what = pocket_reach(g)
         if not g.depth < limit:
             return "feature.depth", f"{_value(g.depth)} is not less than {what} ({_mm(limit)})"
         if g.section == "rectangle" and not g.pocket_width < g.width:
@@ -339,6 +339,29 @@ def unbuildable(g: Geometry) -> tuple[str, str] | None:
     if any(b <= a for a, b in zip(g.stations, g.stations[1:])):
         return "stations", f"{[round(float(s) * 1e3, 6) for s in g.stations]} mm must increase from the clamp outwards"
     return None
+
+
+def pocket_reach(g: Geometry) -> tuple:
+    """How deep a pocket or flat may be before the part is no beam, and what that is: a tube's
+    wall, or half the section height (numbers or arrays)."""
+    return (g.wall, "the tube wall") if g.section == "tube" else (g.size / 2, "half the section height")
+
+
+def no_beam(g: Geometry) -> np.ndarray:
+    """``unbuildable``'s rules of the sizes, for each design of ``g`` (numbers or arrays, as the
+    tolerance corners build them): a pocket or flat as deep as ``pocket_reach``, a hole as wide as
+    the section, a tube's wall as thick as its radius. A pocket or hole of no depth is a plain
+    section here (a tolerance corner leaves it uncut); the beam model still gives numbers past
+    these (a flat past a round bar's centre), but no part has them."""
+    size = np.asarray(g.size, dtype=float)
+    lost = np.zeros(np.shape(size), dtype=bool)
+    if g.section == "tube":
+        lost |= np.asarray(g.wall, dtype=float) >= size / 2
+    if g.feature == "pocket":
+        lost |= np.asarray(g.depth, dtype=float) >= np.asarray(pocket_reach(g)[0], dtype=float)
+    elif g.feature == "hole":
+        lost |= np.asarray(g.hole, dtype=float) >= size
+    return lost
 
 
 def stations_before_load(stations, x_min: float) -> tuple[str, str] | None:

@@ -15,13 +15,14 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from designer.model import grooves
 from designer.model.analysis import analyse
 from designer.model.limits import Limit, limits
-from designer.model.sections import Geometry, wire_channel
+from designer.model.sections import Geometry, no_beam, wire_channel
 
 # The limits of docs/model.md §4 a built part must meet whatever its sizes within tolerance.
 CORNER_LIMITS = ("stress_root", "stress_feature", "gauge_strain", "min_signal_snr", "adc_range", "fatigue_feature",
-                 "deflection", "natural_frequency", "stress_groove", "fatigue_groove")
+                 "deflection", "natural_frequency", *grooves.LIMIT_NAMES)
 # Of those, the limits worst where the part is strongest: every section size at its largest and
 # the feature at its smallest (the least strain, so the least signal); the others are worst where
 # it is weakest (``searched_corners``).
@@ -128,34 +129,17 @@ def _worst_rows(g: Geometry, m, spec, adjust) -> np.ndarray:
 
 def _at_corners(built: Geometry, m, spec, adjust):
     """``(analysis, CORNER_LIMITS limits, how many designs)`` of ``built`` (``corners``' arrays);
-    a limit's value is NaN, as the model gives none, where the design is no beam (``_no_beam``)."""
+    a limit's value is NaN, as the model gives none, where the design is no beam (``sections.no_beam``)."""
     with np.errstate(all="ignore"):
         a = analyse(built, m, spec, adjust=adjust)
         count = _count(built)
-        lost = np.broadcast_to(_no_beam(built), (count,))
+        lost = np.broadcast_to(no_beam(built), (count,))
         lims = [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS]
         if lost.any():
             lims = [replace(lim, value=np.where(lost, np.nan, np.broadcast_to(np.asarray(lim.value, dtype=float),
                                                                               (count,))))
                     for lim in lims]
         return a, lims, count
-
-
-def _no_beam(built: Geometry) -> np.ndarray:
-    """Whether each design of ``built`` is no beam, by ``sections.unbuildable``'s rules on its
-    sizes: a pocket or flat as deep as half the section (a tube's wall), a hole as wide as the
-    section, a tube's wall as thick as its radius. The beam model still gives numbers for some
-    (a flat past a round bar's centre), but no part has them."""
-    size = np.asarray(built.size, dtype=float)
-    lost = np.zeros(np.shape(size), dtype=bool)
-    if built.section == "tube":
-        lost |= np.asarray(built.wall, dtype=float) >= size / 2
-    if built.feature == "pocket":
-        reach = np.asarray(built.wall, dtype=float) if built.section == "tube" else size / 2
-        lost |= np.asarray(built.depth, dtype=float) >= reach
-    elif built.feature == "hole":
-        lost |= np.asarray(built.hole, dtype=float) >= size
-    return lost
 
 
 @dataclass(frozen=True)

@@ -37,14 +37,12 @@ def test_roark_s_two_ranges_meet_where_they_split():
     assert float(below) == pytest.approx(float(above), rel=2e-3)
 
 
-def _gripper() -> dict:
-    return yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
-
-
-def _spec(cad, section=None):
-    raw = _gripper()
-    raw["cad"] = cad
-    raw["design"] = dict(FLATS, **({"section": section} if section else {}))
+def _spec(cad, load=None, **design):
+    """The gripper finger's spec with ``cad`` and the FLATS design (``design`` changing its keys)."""
+    raw = yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw.update(cad=cad, design=dict(FLATS, **design))
+    if load is not None:
+        raw["load"] = load
     return parse_spec(raw)
 
 
@@ -97,7 +95,7 @@ def test_a_plain_bar_s_grooves_break_the_fatigue_limit_its_root_meets():
     plain = {"kind": "none"}
 
     def judged(cad):
-        spec = parse_spec(_raw(cad, raw_load, plain))
+        spec = _spec(cad, raw_load, feature=plain)
         return evaluate(fixed_design(spec), spec)
 
     grooved, bare = judged({"load_grooves": True}), judged({})
@@ -107,12 +105,6 @@ def test_a_plain_bar_s_grooves_break_the_fatigue_limit_its_root_meets():
     broken = [lim.name for lim in grooved.violations]
     assert "fatigue_groove" in broken
     assert not [name for name in (lim.name for lim in bare.violations) if name.startswith(("stress", "fatigue"))]
-
-
-def _raw(cad, load, feature):
-    raw = _gripper()
-    raw.update(cad=cad, load=load, design=dict(FLATS, feature=feature))
-    return raw
 
 
 PLAIN_BARS = """\

@@ -24,6 +24,7 @@ from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_
 from designer.checks.fea.report import GaugeCheck, LimitCheck, MeshRun, VerifyResult, with_messages, write_outputs
 from designer.checks.fea.solve import solution, solve
 from designer.errors import InputError, describe_allowed
+from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS
 
 
 @dataclass(frozen=True)
@@ -161,7 +162,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         gauge_grid=(pb.grid_length, pb.grid_width), feature_length=pb.feature_length, messages=(),
         seconds=0.0, floor_radius=beam.floor_radius)
     result = with_messages(result, spec.limits.fatigue, pb.feature, time.perf_counter() - start, mesh_option)
-    grooves = [lim for lim in ev.limits if lim.name in ("stress_groove", "fatigue_groove")]
+    grooves = [lim for lim in ev.limits if lim.name in GROOVE_LIMITS]
     if grooves:   # the mesh is refined at the features, not at the grooves' 0.25 mm root radius
         said = ", ".join(f"{lim.name} {float(lim.value) / 1e6:.1f} MPa against {float(lim.limit) / 1e6:.1f} MPa"
                          for lim in grooves)
@@ -208,9 +209,8 @@ def _recheck(ev, spec, gauges, main: Figures, a) -> tuple:
                       * gauges[0].fea_strain, "bridge output from the 3-D gauge strain, station 1"),
         "stress_root": (float(a.stress_root), "beam model: the idealised clamp is singular in 3-D"),
     }
-    for name in ("stress_groove", "fatigue_groove"):   # the mesh does not resolve the grooves' root radius
-        fea.update({lim.name: (float(lim.value), "beam model (Roark's K_t): the mesh does not resolve the grooves")
-                    for lim in ev.limits if lim.name == name})
+    fea.update({lim.name: (float(lim.value), "beam model (Roark's K_t): the mesh does not resolve the grooves")
+                for lim in ev.limits if lim.name in GROOVE_LIMITS})
     # With tolerances (docs/model.md §14) a limit the corners check is judged at its worst corner:
     # the model's value there times the 3-D/model ratio the check measured on the nominal design.
     corner = {} if ev.tolerance is None else {

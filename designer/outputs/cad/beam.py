@@ -43,10 +43,9 @@ BOLT_EDGE = 1.5
 # Default clamp length: 1.5 times the section's larger side, rounded up to 5 mm.
 CLAMP_LENGTH_PER_SIZE = 1.5
 CLAMP_LENGTH_STEP = 0.005
-# Load grooves (model.grooves, whose stress the model checks): 0.5 mm wide holds the "very thin
-# string" the paper hung its masses from (Noh et al. 2025, section 4.2.1); 0.3 mm deep, at most 5 %
-# of the section's smaller side.
-GROOVE_WIDTH, GROOVE_DEPTH, GROOVE_DEPTH_FRACTION = grooves.WIDTH, grooves.DEPTH, grooves.DEPTH_FRACTION
+# Load grooves: their sizes and defaults are the model's (model.grooves, whose stress it checks):
+# 0.5 mm wide holds the "very thin string" the paper hung its masses from (Noh et al. 2025,
+# section 4.2.1); 0.3 mm deep, at most 5 % of the section's smaller side.
 # Defaults are rounded down to this step (0.01 mm, as designs are reported, MODEL.md 5).
 ROUND_STEP = 1e-5
 # Lengths closer than this are equal (m): below the 0.01 mm resolution of design.json.
@@ -342,16 +341,16 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
             raise DesignFileError(f"spec.load.position: {rng!r} must be [x_min, x_max] in metres to place the "
                                   f"default load grooves; or give spec.cad.groove_positions")
         x_min, x_max = float(rng[0]), float(rng[1])
-        positions = [x_min, (x_min + x_max) / 2, x_max]
+        positions = list(grooves.default_positions(x_min, x_max))
     if not isinstance(positions, list) or not positions:
         raise DesignFileError(f"spec.cad.groove_positions: {brief(positions)} must be a list of positions (m)")
     g_depth = _length(cad, "groove_depth", "spec.cad", required=False)
     if g_depth is None:
-        g_depth = round_down(min(GROOVE_DEPTH, GROOVE_DEPTH_FRACTION * min(width, height)), ROUND_STEP)
+        g_depth = round_down(float(grooves.default_depth(min(width, height))), ROUND_STEP)
     # kept to the default's share of the section, which the beam model's groove stress (Roark's
     # K_t, docs/model.md §4) takes as a notch on the bar; a 3 mm groove had cut an 8 mm bar nearly through
-    shallow = GROOVE_DEPTH_FRACTION * min(width, height)
-    deepest, what = shallow, f"{GROOVE_DEPTH_FRACTION:.0%} of the section's smaller side"
+    shallow = grooves.DEPTH_FRACTION * min(width, height)
+    deepest, what = shallow, f"{grooves.DEPTH_FRACTION:.0%} of the section's smaller side"
     if kind == "tube":
         min_wall = float(limits.get("min_wall") or 0.0)
         if wall - min_wall < shallow:
@@ -359,7 +358,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
     if not 0 < g_depth <= deepest + LENGTH_EPS:
         raise DesignFileError(f"spec.cad.groove_depth: {_mm(g_depth)} is too deep; it must be at most "
                               f"{fmt_mm(deepest)} mm ({what})")
-    half = GROOVE_WIDTH / 2
+    half = grooves.WIDTH / 2
     lo, hi = stations[-1] + l_f / 2 + half, length - half
     out = []
     for i, x in enumerate(positions):
@@ -373,8 +372,8 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
         out.append(float(x))
     out.sort()
     for a, b in zip(out, out[1:]):
-        if not b - a > GROOVE_WIDTH:
+        if not b - a > grooves.WIDTH:
             raise DesignFileError(f"{key}: grooves at {fmt_mm(a)} mm and {fmt_mm(b)} mm overlap; they must be more "
-                                  f"than {fmt_mm(GROOVE_WIDTH)} mm apart")
-    return Grooves(positions=tuple(out), width=GROOVE_WIDTH, depth=g_depth)
+                                  f"than {fmt_mm(grooves.WIDTH)} mm apart")
+    return Grooves(positions=tuple(out), width=grooves.WIDTH, depth=g_depth)
 
