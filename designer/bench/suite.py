@@ -200,7 +200,7 @@ def _feature_length(d: _Draft, hole: float | None = None) -> float:
 
 
 def _room(d: _Draft) -> float:
-    """The smallest x_min with room for the stations, reckoned as ``model.minimum_room`` does (a hole
+    """The smallest x_min with room for the stations, ``model.minimum_room`` and the load clearance (a hole
     no narrower than the smallest wall) from the draft's numbers: the draft is not a Spec yet."""
     lim = d.limits
     lf = _feature_length(d, hole=lim.get("min_wall", 1e-3))

@@ -56,6 +56,16 @@ def positions(spec) -> tuple:
     return default_positions(spec.load.position_min, spec.load.position_max)
 
 
+def stations_end(spec) -> float:
+    """Where the last gauge feature must end (m from the clamp face): ``limits.load_clearance``
+    before the load region and, with load grooves, half a groove's width before the first groove
+    (docs/model.md §1), which the CAD cuts between the last feature and the free end."""
+    end = spec.load.position_min - spec.limits.load_clearance
+    if spec.cad.load_grooves:
+        end = min(end, min(positions(spec)) - WIDTH / 2)
+    return end
+
+
 def default_depth(smaller_side, ops: Ops = NUMERIC):
     """The grooves' depth when ``cad.groove_depth`` is not given, before the CAD rounds it down to
     the 0.01 mm grid: 0.3 mm or 5 % of the section's smaller side, whichever is less."""

@@ -10,7 +10,8 @@ import numpy as np
 
 from designer.model.analysis import fatigue_factor, notch_sensitivity
 from designer.model.electronics import volts_per_strain
-from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS, ROOT_RADIUS, groove_stress
+from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS, ROOT_RADIUS, WIDTH as GROOVE_WIDTH, groove_stress
+from designer.model.grooves import positions as groove_positions
 from designer.model.objective import FEASIBILITY_TOLERANCE
 from designer.model.ops import NUMERIC, Ops
 from designer.model.sections import LEAST_CUT, Geometry, feature_length
@@ -98,6 +99,10 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]
+    if spec.cad.load_grooves and (first := min(groove_positions(spec))) - GROOVE_WIDTH / 2 < \
+            load.position_min - lim.load_clearance:
+        # a groove nearer the clamp than the load clearance: the last feature ends before it
+        out.append(Limit("groove_clearance", d[-1] + l_f / 2 + GROOVE_WIDTH / 2, first, scale=mm, unit="m"))
     front_end = spec.front_end_noise
     if front_end is not None:
         # the bridge's output at F_max, x_max (station 1, the largest) inside the front-end's input range
@@ -310,7 +315,8 @@ def smallest_feature_length(spec, feature: str):
 
 
 def minimum_room(spec, feature: str | None = None) -> float:
-    """The smallest x_min that leaves room for the stations (the geometry rules of docs/model.md §1)."""
+    """The least length from the clamp face to the end of the last gauge feature that the stations
+    need (the geometry rules of docs/model.md §1), to be set against ``grooves.stations_end``."""
     lim, n = spec.limits, spec.stations
     lf = smallest_feature_length(spec, feature or spec.search.feature)
-    return lim.clamp_clearance + n * lf + (n - 1) * lim.gauge_gap + lim.load_clearance
+    return lim.clamp_clearance + n * lf + (n - 1) * lim.gauge_gap

@@ -3,20 +3,32 @@
 from __future__ import annotations
 
 from designer import model
-from designer.model import corrections, domain
+from designer.model import corrections, domain, grooves
 from designer.result.evaluation import Evaluation
 
 
 def no_room(spec) -> str:
-    """Why the stations cannot fit before the load region (the geometry rules of docs/model.md
-    section 1, ``model.minimum_room``), whatever the section; '' when they can."""
-    room = model.minimum_room(spec)
-    if not spec.load.position_min < room - 1e-9:
+    """Why the stations cannot fit before the load region and the load grooves (the geometry rules
+    of docs/model.md section 1, ``model.minimum_room``), whatever the section, led by the key to
+    change; '' when they can."""
+    need, end = model.minimum_room(spec), grooves.stations_end(spec)
+    if not end < need - 1e-9:
         return ""
-    return (f"no room for {spec.stations} gauge stations before the load region: load.position[0] is "
-            f"{spec.load.position_min * 1e3:.4g} mm but the clamp clearance, {spec.stations} features of "
-            f"their length, the gauge gaps and the load clearance need at least {room * 1e3:.4g} mm; "
-            "move the load region out, use fewer stations, a smaller gauge or smaller margins")
+    needs = (f"the clamp clearance, {spec.stations} features of their length and the gauge gaps need "
+             f"{need * 1e3:.4g} mm from the clamp face")
+    fix = "use fewer stations, a smaller gauge or smaller margins"
+    if need <= spec.load.position_min - spec.limits.load_clearance + 1e-9:   # room but for a groove
+        first, past = min(grooves.positions(spec)) * 1e3, (need + grooves.WIDTH / 2) * 1e3
+        key, which, move = (("cad.groove_positions", "load groove", f"move the grooves out past {past:.4g} mm")
+                            if spec.cad.groove_positions else
+                            ("cad.load_grooves", "default load groove at load.position[0],",
+                             f"give cad.groove_positions past {past:.4g} mm"))
+        return (f"{key}: no room for {spec.stations} gauge stations before the {which} {first:.4g} mm: {needs}, "
+                f"and the groove leaves {end * 1e3:.4g} mm; {move}, or {fix}")
+    return (f"load.position: no room for {spec.stations} gauge stations before the load region: {needs}, and "
+            f"limits.load_clearance {spec.limits.load_clearance * 1e3:.4g} mm more: load.position[0] is "
+            f"{spec.load.position_min * 1e3:.4g} mm but must be at least "
+            f"{(need + spec.limits.load_clearance) * 1e3:.4g} mm; move the load region out, or {fix}")
 
 
 def diagnose(spec, best: Evaluation, candidates) -> list[str]:
@@ -103,6 +115,12 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         out.append(f"load_clearance: the closest design's stations, their features and limits.load_clearance "
                    f"reach {float(v.value) * mm:.4g} mm, past load.position[0] = {spec.load.position_min * mm:.4g} "
                    f"mm; a load region from {float(v.value) * mm:.4g} mm out, fewer stations, a smaller gauge or "
+                   "smaller margins would leave them room")
+    if "groove_clearance" in violated and not no_room(spec):
+        v = violated["groove_clearance"]
+        out.append(f"groove_clearance: the closest design's stations and their features, with half a groove's width, "
+                   f"reach {float(v.value) * mm:.4g} mm, past the load groove at {float(v.limit) * mm:.4g} mm; "
+                   f"cad.groove_positions from {float(v.value) * mm:.4g} mm out, fewer stations, a smaller gauge or "
                    "smaller margins would leave them room")
     if "deflection" in violated:
         v = violated["deflection"]

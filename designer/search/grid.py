@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from designer import model
-from designer.model import MaterialParams
+from designer.model import MaterialParams, grooves
 from designer.search.problem import MM, Solve, in_nlp_units
 
 GRID_LEVELS = 9               # points per section variable in the grid method
@@ -59,6 +59,6 @@ def _spread_stations(problem, x):
     lf = np.broadcast_to(model.feature_length(problem.family.feature, spec.pocket_size()[0] / MM, named.get("hole"),
                                               spec.gauge.length / MM), (len(x),))
     first = lim.clamp_clearance / MM + lf / 2
-    last = (spec.load.position_min - lim.load_clearance) / MM - lf / 2
+    last = grooves.stations_end(spec) / MM - lf / 2
     t = np.linspace(0, 1, spec.stations)
     return first[:, None] + (last - first)[:, None] * t[None, :]

@@ -17,8 +17,7 @@ import numpy as np
 
 from designer import interrupt, model
 from designer.errors import SpecError
-from designer.model import Geometry, MaterialParams
-from designer.model import corrections, domain, tolerance
+from designer.model import Geometry, MaterialParams, corrections, domain, grooves, tolerance
 from designer.model.limits import pocket_floors, shallowest_pocket
 from designer.model.ops import ops_for
 from designer.model.sections import wire_channel
@@ -235,7 +234,7 @@ class FamilyVariables:
             half = model.feature_length(self.family.feature, spec.pocket_size()[0] / MM, v.get("hole"),
                                         spec.gauge.length / MM) / 2
             first = lim.clamp_clearance / MM + half
-            last = max((spec.load.position_min - lim.load_clearance) / MM - half, first + 1.0)
+            last = max(grooves.stations_end(spec) / MM - half, first + 1.0)
             for i, d in enumerate(np.linspace(first, last, spec.stations)):
                 v[f"station_{i + 1}"] = d
             x = np.clip([v[n] for n in self.names], self.lower, self.upper)

@@ -347,7 +347,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
               "fallbacks": [f"{c.material} {c.family.label}: {f}" for c in candidates for f in c.fallbacks]}
     if not any(c.evaluation is not None for c in candidates):
         if crowded := no_room(spec):
-            raise SpecError(f"load.position: {crowded}")
+            raise SpecError(crowded)
         if unmachinable:
             raise SpecError("search.sections: " + "; ".join(f"{fam.label}: {why}" for fam, why in unmachinable.items()))
         notes = "; ".join(dict.fromkeys(c.stock_note for c in candidates if c.stock_note))

@@ -327,7 +327,31 @@ def parse_spec(raw: dict, default_name: str = "sensor", folder: Path | None = No
     if design is not None and spec.free_length < x_max:
         raise SpecError(f"design.length: {spec.free_length * 1e3:g} mm is shorter than the largest load "
                         f"position load.position[1] = {x_max * 1e3:g} mm")
+    if spec.cad.load_grooves:
+        _check_grooves(spec)
     return spec
+
+
+def _check_grooves(spec) -> None:
+    """The load grooves on the beam, half a groove's width inside its free end, and apart (the
+    CAD's rules, checked before a search that would end in them)."""
+    from designer.model import grooves
+
+    given = spec.cad.groove_positions
+    at = sorted(grooves.positions(spec))
+    end = spec.free_length - grooves.WIDTH / 2
+    if at[-1] > end + 1e-12:
+        where = ("design.length" if spec.design is not None and spec.design.length is not None
+                 else "load.position[1] + limits.tip_margin")
+        key = (f"cad.groove_positions[{given.index(at[-1])}]: {at[-1] * 1e3:g} mm" if given else
+               f"cad.load_grooves: the default groove at load.position[1] = {at[-1] * 1e3:g} mm")
+        raise SpecError(f"{key} is past the free end less half a groove's width ({where} = "
+                        f"{spec.free_length * 1e3:g} mm, less {grooves.WIDTH / 2 * 1e3:g} mm); must be at most "
+                        f"{end * 1e3:g} mm" + ("" if given else "; give limits.tip_margin or cad.groove_positions"))
+    for a, b in zip(at, at[1:]):
+        if not b - a > grooves.WIDTH:
+            raise SpecError(f"cad.groove_positions: grooves at {a * 1e3:g} mm and {b * 1e3:g} mm overlap; they must "
+                            f"be more than {grooves.WIDTH * 1e3:g} mm apart")
 
 
 def _parse_catalogue(raw, folder: Path | None) -> tuple:

@@ -157,3 +157,74 @@ def test_verify_says_the_grooves_are_the_beam_model_s_figures():
     # strain's line says which (it had stood under the nominal design's table unexplained)
     strain = [m for m in result.messages if m.startswith("gauge strain at station 1")]
     assert strain[0].startswith("gauge strain at station 1 (at the worst tolerance corner (")
+
+
+def _grooved_finger(tmp_path, cad, limits=None) -> Path:
+    """The gripper finger's search spec with load grooves ``cad`` (and ``limits`` added)."""
+    raw = yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw["cad"] = dict(cad, load_grooves=True)
+    raw["limits"].update(limits or {})
+    path = tmp_path / "spec.yaml"
+    path.write_text(yaml.safe_dump(raw), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("cad, limits, first", [
+    ({"groove_positions": ["30 mm", "60 mm", "100 mm"]}, {}, 30e-3),   # a groove inside the stations' room
+    ({}, {"load_clearance": "0 mm"}, 40e-3)])                        # the default groove at x_min, no clearance
+def test_the_search_keeps_the_stations_clear_of_the_grooves(tmp_path, cad, limits, first):
+    """The CAD cuts a groove only between the last gauge feature and the free end, half a
+    groove's width (0.25 mm) clear of the feature (docs/spec.md 2.8). The search knew only the
+    load clearance, so a groove at 30 mm, or the default groove at x_min = 40 mm without a load
+    clearance, was refused by the CAD after the search (exit 2); the search now keeps the last
+    feature clear of it and the design's STEP is written."""
+    import json
+
+    from designer.cli import main
+
+    out = tmp_path / "out"
+    assert main(["optimize", str(_grooved_finger(tmp_path, cad, limits)), "-o", str(out), "--no-plots",
+                 "--quiet"]) == 0
+    record = json.loads((out / "design.json").read_text(encoding="utf-8"))
+    g = record["design"]
+    reach = g["stations"][-1] + g["feature"]["length"] / 2
+    assert reach + grooves.WIDTH / 2 <= first + 1e-9
+    assert (out / record["files"]["step"]).is_file()
+
+
+@pytest.mark.parametrize("cad, limits, said", [
+    ({"groove_positions": ["30 mm", "115 mm"]}, {},
+     "cad.groove_positions[1]: 115 mm is past the free end less half a groove's width (load.position[1] + "
+     "limits.tip_margin = 115 mm, less 0.25 mm); must be at most 114.75 mm"),
+    ({"groove_positions": ["50 mm", "50.3 mm"]}, {},
+     "cad.groove_positions: grooves at 50 mm and 50.3 mm overlap; they must be more than 0.5 mm apart"),
+    ({}, {"tip_margin": "0 mm"},
+     "cad.load_grooves: the default groove at load.position[1] = 110 mm is past the free end less half a "
+     "groove's width (load.position[1] + limits.tip_margin = 110 mm, less 0.25 mm); must be at most 109.75 mm; "
+     "give limits.tip_margin or cad.groove_positions")])
+def test_grooves_off_the_beam_are_refused_before_the_search(tmp_path, capsys, cad, limits, said):
+    """Grooves past the free end or overlapping were refused by the CAD after the search, naming
+    design.json's spec.cad; they are the spec's keys, refused before it."""
+    from designer.cli import main
+
+    out = tmp_path / "out"
+    assert main(["optimize", str(_grooved_finger(tmp_path, cad, limits)), "-o", str(out), "--quiet"]) == 2
+    assert capsys.readouterr().err.strip() == f"fpdesign: error: {said}"
+    assert not out.exists()
+
+
+def test_no_room_before_a_groove_names_the_groove():
+    """2 stations of 8.9 mm flats, 5 mm clamp clearance and a 2 mm gauge gap need 24.8 mm from the
+    clamp face (docs/model.md §1); a groove at 12 mm leaves 11.75 mm, and the message names the
+    groove's key, not the load region, which has room (40 mm)."""
+    from designer.search.diagnosis import no_room
+    from designer.spec.reader import parse_spec
+
+    raw = yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw["search"]["sections"] = ["round"]
+    raw["cad"] = {"load_grooves": True, "groove_positions": ["12 mm", "60 mm"]}
+    said = no_room(parse_spec(raw))
+    assert said.startswith("cad.groove_positions: no room for 2 gauge stations before the load groove 12 mm")
+    assert "need 24.8 mm" in said and "leaves 11.75 mm" in said and "past 25.05 mm" in said
+    raw["cad"]["groove_positions"] = ["26 mm", "60 mm"]
+    assert no_room(parse_spec(raw)) == ""

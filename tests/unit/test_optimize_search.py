@@ -810,7 +810,7 @@ def test_stations_that_fit_no_section_before_the_load_are_bad_input_without_a_ro
     # where a bar gives a (least-infeasible) design, the spec is reported infeasible with the same
     # reason first among what would resolve it, and still no stock row is solved
     found = search.optimize(parse_spec_text(text))
-    assert found.status == "infeasible" and re.match(room, found.messages[1]) and rows == []
+    assert found.status == "infeasible" and re.match(f"load.position: {room}", found.messages[1]) and rows == []
 
 
 def test_rounding_that_costs_more_than_the_tie_band_also_solves_again_with_the_depth_held(monkeypatch):
