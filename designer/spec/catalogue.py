@@ -211,12 +211,7 @@ def read_user(path: str | Path, shown: str | None = None) -> tuple[str, dict]:
 
     shown = shown or str(path)
     text = read_text(Path(path), CatalogueError)
-    try:
-        raw = strict_yaml.load(text)
-    except strict_yaml.StrictYamlError as exc:
-        raise CatalogueError(f"{shown}: {exc}") from exc
-    except yaml.YAMLError as exc:
-        raise CatalogueError(f"{shown}: {strict_yaml.syntax_error(exc)}") from exc
+    raw = strict_yaml.load_as(text, shown, CatalogueError)
     return shown, user_content(raw, shown)
 
 

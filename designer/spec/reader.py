@@ -10,8 +10,6 @@ import math
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-import yaml
-
 from designer.spec import catalogue
 from designer.spec import strict_yaml, units
 from designer.spec.catalogue import Gauge
@@ -228,12 +226,7 @@ def load_spec(path: str | Path, catalogues=()) -> Spec:
 
 def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor", folder: Path | None = None,
                     catalogues=()) -> Spec:
-    try:
-        raw = strict_yaml.load(text)
-    except strict_yaml.StrictYamlError as exc:
-        raise SpecError(f"{source}: {exc}") from exc
-    except yaml.YAMLError as exc:
-        raise SpecError(f"{source}: {strict_yaml.syntax_error(exc)}") from exc
+    raw = strict_yaml.load_as(text, source, SpecError)
     if raw is None:
         raise SpecError(f"{source}: the file is empty; a spec needs at least 'load' and 'electronics'")
     if not isinstance(raw, dict):

@@ -71,6 +71,17 @@ def load(text: str):
     return yaml.load(text, Loader=_Loader)  # noqa: S506 - _Loader is a SafeLoader
 
 
+def load_as(text: str, source: str, error: type[Exception]):
+    """``load(text)``, its failure raised as ``error`` with the one-line message, led by ``source``
+    (the file as the user named it)."""
+    try:
+        return load(text)
+    except StrictYamlError as exc:
+        raise error(f"{source}: {exc}") from exc
+    except yaml.YAMLError as exc:
+        raise error(f"{source}: {syntax_error(exc)}") from exc
+
+
 def load_shipped(text: str):
     """A YAML file that ships with the package: read with libyaml's parser where PyYAML has it,
     a key given twice refused (StrictYamlError); yaml.YAMLError when it is not YAML."""
