@@ -259,7 +259,9 @@ def large_deflection(design: dict, forces: int = GRID_FORCES, positions: int = G
         return m
 
     top = solve_elastica(load.force_max, load.position_max, float(g.length), segs, stations + (load.position_max,))
-    linear = model.tip_deflection(g, props, E, load.force_max, load.position_max)
+    # linear theory on the elastica's own EI(s): the features' reduced sections and the wire channels
+    linear = (model.tip_deflection(g, props, E, load.force_max, load.position_max)
+              + model.channel_deflection(g, props, E, load.force_max, load.position_max))
     moment_ratio = tuple(float(top.moment(i) / (load.force_max * (load.position_max - s)))
                          for i, s in enumerate(stations))
 

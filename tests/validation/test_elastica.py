@@ -220,3 +220,25 @@ def test_bending_errors_past_the_targets_are_said_when_the_targets_hold_the_nois
                     "the 10 mm target; the targets are judged on the noise alone without environment: its error "
                     "budget takes in the lever arm's shortening (docs/model.md §13); or a smaller "
                     "limits.max_deflection keeps the beam linear"]
+
+
+def test_linear_theory_s_figure_takes_the_wire_channels_as_the_elastica_does(examples):
+    """The summary's "linear theory" deflection and the elastica's must meet as the load falls
+    (Euler-Bernoulli, Gere & Goodno App. H: the relative difference is of order (w/L)^2, here
+    (0.8/115)^2 ~ 5e-5), both on the same EI(s). The gripper finger's Ø7.88 mm bar with 1.55 mm
+    flats and the default wire channels: the linear figure had left the channels out, 1.7 %
+    short of the elastica's own small-deflection drop."""
+    import yaml
+
+    from designer.spec.reader import parse_spec
+
+    raw = yaml.safe_load((examples / "gripper-finger.yaml").read_text(encoding="utf-8"))
+    raw["design"] = {"material": "Ti-6Al-4V", "section": {"kind": "round", "diameter": "7.88 mm"},
+                     "stations": ["9.45 mm", "30.55 mm"],
+                     "feature": {"kind": "pocket", "depth": "1.55 mm", "length": "8.9 mm"}, "length": "115 mm"}
+    spec = parse_spec(raw)
+    ev = evaluate(fixed_design(spec), spec)
+    assert ev.design.geometry.channel_width > 0     # the channels are there
+    r = elastica.large_deflection(json.loads(json.dumps(build_record("feasible", spec, ev))))
+    assert r.deflection / 0.115 < 0.01
+    assert r.linear_deflection == pytest.approx(r.deflection, rel=2e-4)
