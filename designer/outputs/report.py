@@ -283,6 +283,10 @@ def stress_rows(record: dict) -> list[tuple]:
                                  f"K_t {p.get('stress_concentration', 1):.3g}) / fatigue allowable",
               "stress_groove": "groove stress, static (nominal) / yield allowable",
               "fatigue_groove": "groove stress, fatigue (K_f × nominal) / fatigue allowable"}
+    if "fatigue_groove" in by_name and "stress_groove" in by_name and by_name["stress_groove"]["value"] > 0:
+        # both on the groove's nominal stress: their ratio is its K_f (docs/model.md §4)
+        k_f = by_name["fatigue_groove"]["value"] / by_name["stress_groove"]["value"]
+        labels["fatigue_groove"] = f"groove stress, fatigue (K_f {k_f:.3g} × nominal) / fatigue allowable"
     present = [n for n in labels if n in by_name]
     binding = min(present, key=lambda n: by_name[n]["margin"]) if present else None
     for name in present:

@@ -66,6 +66,12 @@ def test_the_groove_nearest_the_clamp_carries_the_load_range_s_moment_on_its_net
     kt *= 1.03      # the 3-D check's figure over the chart's (benchmarks/groove_kt_check.md)
     assert float(by_name["fatigue_groove"].value) == pytest.approx((1 + q * (kt - 1)) * nominal, rel=1e-9)
     assert float(by_name["fatigue_groove"].limit) == pytest.approx(float(params.allowable))
+    # the report's and the summary's row says which K_f it took
+    from designer.outputs.report import stress_rows
+    from designer.result.record import build_record
+
+    rows = dict(stress_rows(build_record("feasible", spec, ev)))
+    assert f"groove stress, fatigue (K_f {1 + q * (kt - 1):.3g} × nominal) / fatigue allowable" in rows
     # without grooves there are no such limits
     plain = _spec({})
     assert not [lim for lim in evaluate(fixed_design(plain), plain).limits if "groove" in lim.name]
