@@ -72,6 +72,18 @@ def default_depth(smaller_side, ops: Ops = NUMERIC):
     return ops.fmin(DEPTH, DEPTH_FRACTION * smaller_side)
 
 
+def smaller_side(g: Geometry, ops: Ops = NUMERIC):
+    """The section's smaller side (a round bar's or tube's diameter), of which the groove may take
+    DEPTH_FRACTION."""
+    return ops.fmin(g.width, g.height) if g.section == "rectangle" else g.diameter
+
+
+def depth(g: Geometry, spec, ops: Ops = NUMERIC):
+    """The grooves' depth on ``g``: ``cad.groove_depth``, or ``default_depth``."""
+    given = spec.cad.groove_depth
+    return given if given is not None else default_depth(smaller_side(g, ops), ops)
+
+
 def stress_concentration(section: str, depth, size, ops: Ops = NUMERIC):
     """Roark's ``K_t`` of a groove ``depth`` deep in a section ``size`` across (h or D)."""
     ratio = ops.fmax(depth / ROOT_RADIUS, LEAST_RATIO)
@@ -93,8 +105,7 @@ def groove_stress(g: Geometry, spec, ops: Ops = NUMERIC):
     arm = x_max - min(positions(spec))
     if not arm > 0:
         return None
-    smaller = ops.fmin(g.width, g.height) if g.section == "rectangle" else g.diameter
-    t = spec.cad.groove_depth if spec.cad.groove_depth is not None else default_depth(smaller, ops)
+    t = depth(g, spec, ops)
     moment = spec.load.force_max * arm
     if g.section == "rectangle":
         b, h = g.width - 2 * t, g.height - 2 * t

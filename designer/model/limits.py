@@ -11,7 +11,8 @@ import numpy as np
 from designer.model.analysis import fatigue_factor, notch_sensitivity
 from designer.model.electronics import volts_per_strain
 from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS, ROOT_RADIUS, WIDTH as GROOVE_WIDTH, groove_stress
-from designer.model.grooves import positions as groove_positions
+from designer.model.grooves import DEPTH_FRACTION as GROOVE_DEPTH_FRACTION, depth as groove_depth
+from designer.model.grooves import positions as groove_positions, smaller_side as groove_smaller_side
 from designer.model.objective import FEASIBILITY_TOLERANCE
 from designer.model.ops import NUMERIC, Ops
 from designer.model.sections import LEAST_CUT, Geometry, feature_length
@@ -278,6 +279,12 @@ def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
     if g.section == "tube":
         out += [Limit("wall_min", g.wall, lim.min_wall, upper=False, unit="m"),
                 Limit("bore_min", g.diameter - 2 * g.wall, lim.min_wall, upper=False, unit="m")]
+    if spec.cad.load_grooves:   # the CAD's rules for the grooves' depth (docs/spec.md 2.8)
+        t = groove_depth(g, spec, ops)
+        if spec.cad.groove_depth is not None:   # (the default is at most the share itself)
+            out.append(Limit("groove_depth", t, GROOVE_DEPTH_FRACTION * groove_smaller_side(g, ops), unit="m"))
+        if g.section == "tube":
+            out.append(Limit("groove_wall", g.wall - t, lim.min_wall, upper=False, unit="m"))
     if g.feature == "pocket":
         size = g.size
         out += [Limit("pocket_depth_min", g.depth, shallowest_pocket(spec), upper=False, unit="m"),

@@ -75,6 +75,9 @@ def parse_cad(raw, limits, design, system: str = "none") -> CadOptions:
             raise SpecError(f"cad.groove_positions: {brief(positions)} must be a list of positions")
         values["groove_positions"] = tuple(
             units.parse_positive(p, "length", f"cad.groove_positions[{i}]") for i, p in enumerate(positions))
+    if not values.get("load_grooves") and (stray := [k for k in ("groove_positions", "groove_depth") if k in values]):
+        raise SpecError(f"cad.{stray[0]}: given without cad.load_grooves: true, so no groove is cut; set "
+                        "cad.load_grooves: true or leave it out")
     if (step := values.get("depth_step")) is not None:
         if abs(step / 1e-5 - (k := round(step / 1e-5))) > 1e-6 or not DEPTH_STEPS[0] <= k <= DEPTH_STEPS[1]:
             raise SpecError(f"cad.depth_step: {step * 1e3:g} mm is not allowed; must be a multiple of 0.01 mm from "

@@ -330,7 +330,13 @@ def _check_grooves(spec) -> None:
     CAD's rules, checked before a search that would end in them)."""
     from designer.model import grooves
 
-    given = spec.cad.groove_positions
+    given, t = spec.cad.groove_positions, spec.cad.groove_depth
+    lim = spec.limits
+    largest = min(lim.width[1], lim.height[1])
+    if t is not None and spec.design is None and t > grooves.DEPTH_FRACTION * largest + 1e-12:
+        raise SpecError(f"cad.groove_depth: {t * 1e3:g} mm is too deep for any section limits.width and limits.height "
+                        f"allow: a groove is at most {grooves.DEPTH_FRACTION:.0%} of the section's smaller side, "
+                        f"{grooves.DEPTH_FRACTION * largest * 1e3:.4g} mm on the largest ({largest * 1e3:g} mm)")
     at = sorted(grooves.positions(spec))
     end = spec.free_length - grooves.WIDTH / 2
     if at[-1] > end + 1e-12:
@@ -338,11 +344,13 @@ def _check_grooves(spec) -> None:
                  else "load.position[1] + limits.tip_margin")
         key = (f"cad.groove_positions[{given.index(at[-1])}]: {at[-1] * 1e3:g} mm" if given else
                f"cad.load_grooves: the default groove at load.position[1] = {at[-1] * 1e3:g} mm")
+        hint = ("" if given else "; give cad.groove_positions, or a longer design.length" if where == "design.length"
+                else "; give limits.tip_margin or cad.groove_positions")
         raise SpecError(f"{key} is past the free end less half a groove's width ({where} = "
                         f"{spec.free_length * 1e3:g} mm, less {grooves.WIDTH / 2 * 1e3:g} mm); must be at most "
-                        f"{end * 1e3:g} mm" + ("" if given else "; give limits.tip_margin or cad.groove_positions"))
+                        f"{end * 1e3:g} mm{hint}")
     for a, b in zip(at, at[1:]):
-        if not b - a > grooves.WIDTH:
+        if not b - a > grooves.WIDTH + 1e-9:   # (0.5 mm apart: one groove twice as wide)
             raise SpecError(f"cad.groove_positions: grooves at {a * 1e3:g} mm and {b * 1e3:g} mm overlap; they must "
                             f"be more than {grooves.WIDTH * 1e3:g} mm apart")
 

@@ -168,7 +168,7 @@ def test_verify_says_the_grooves_are_the_beam_model_s_figures():
 def _grooved_finger(tmp_path, cad, limits=None) -> Path:
     """The gripper finger's search spec with load grooves ``cad`` (and ``limits`` added)."""
     raw = yaml.safe_load((EXAMPLES / "gripper-finger.yaml").read_text(encoding="utf-8"))
-    raw["cad"] = dict(cad, load_grooves=True)
+    raw["cad"] = {"load_grooves": True, **cad}
     raw["limits"].update(limits or {})
     path = tmp_path / "spec.yaml"
     path.write_text(yaml.safe_dump(raw), encoding="utf-8")
@@ -207,7 +207,20 @@ def test_the_search_keeps_the_stations_clear_of_the_grooves(tmp_path, cad, limit
     ({}, {"tip_margin": "0 mm"},
      "cad.load_grooves: the default groove at load.position[1] = 110 mm is past the free end less half a "
      "groove's width (load.position[1] + limits.tip_margin = 110 mm, less 0.25 mm); must be at most 109.75 mm; "
-     "give limits.tip_margin or cad.groove_positions")])
+     "give limits.tip_margin or cad.groove_positions"),
+    # exactly a groove's width apart: one groove twice as wide (the float difference is 0.5000000000000004 mm)
+    ({"groove_positions": ["40 mm", "40.5 mm"]}, {},
+     "cad.groove_positions: grooves at 40 mm and 40.5 mm overlap; they must be more than 0.5 mm apart"),
+    # 5 % of the largest smaller side limits.width and limits.height allow (16 mm): no section carries it
+    ({"groove_depth": "1 mm"}, {},
+     "cad.groove_depth: 1 mm is too deep for any section limits.width and limits.height allow: a groove is at "
+     "most 5% of the section's smaller side, 0.8 mm on the largest (16 mm)"),
+    ({"groove_depth": 0.3}, {},      # a plain number is metres
+     "cad.groove_depth: 300 mm is too deep for any section limits.width and limits.height allow: a groove is at "
+     "most 5% of the section's smaller side, 0.8 mm on the largest (16 mm)"),
+    ({"groove_positions": ["60 mm"], "load_grooves": False}, {},
+     "cad.groove_positions: given without cad.load_grooves: true, so no groove is cut; set cad.load_grooves: "
+     "true or leave it out")])
 def test_grooves_off_the_beam_are_refused_before_the_search(tmp_path, capsys, cad, limits, said):
     """Grooves past the free end or overlapping were refused by the CAD after the search, naming
     design.json's spec.cad; they are the spec's keys, refused before it."""
@@ -234,3 +247,47 @@ def test_no_room_before_a_groove_names_the_groove():
     assert "need 24.8 mm" in said and "leaves 11.75 mm" in said and "past 25.05 mm" in said
     raw["cad"]["groove_positions"] = ["26 mm", "60 mm"]
     assert no_room(parse_spec(raw)) == ""
+
+
+TUBE = """
+load: {force: [0.5 N, 20 N], position: [40 mm, 110 mm]}
+electronics: {excitation: 5 V, gain: 128, noise_rti: 50 nV}
+gauge: BF350-3AA
+limits: {width: [4 mm, 16 mm], height: [3 mm, 16 mm]}
+targets: {force_error: 3 %, position_error: 3 mm}
+search: {sections: [tube], feature: none}
+objective: mass
+cad: {load_grooves: true}
+"""
+
+
+def test_a_tube_s_groove_leaves_the_least_wall(tmp_path):
+    """The CAD cuts a tube's groove at most to the wall less limits.min_wall (docs/spec.md 2.8).
+    The lightest tube sat at the least wall (1 mm) and the default 0.3 mm groove was refused by
+    the CAD after the search ("at most 0 mm"), or, without CAD, reported holding with a 0.7 mm
+    wall under the groove. The search now keeps wall - t >= min_wall (groove_wall)."""
+    import json
+
+    from designer.cli import main
+
+    path = tmp_path / "tube.yaml"
+    path.write_text(TUBE, encoding="utf-8")
+    out = tmp_path / "out"
+    assert main(["optimize", str(path), "-o", str(out), "--no-plots", "--quiet"]) == 0
+    record = json.loads((out / "design.json").read_text(encoding="utf-8"))
+    section = record["design"]["section"]
+    t = min(0.3e-3, 0.05 * section["diameter"])       # the default depth (docs/spec.md 2.8)
+    assert section["wall"] - t >= 1e-3 - 1e-9          # limits.min_wall's default, 1 mm
+    assert (out / record["files"]["step"]).is_file()
+
+
+def test_a_given_groove_depth_is_a_limit_of_the_section():
+    """A 0.39 mm groove is at most 5 % of the section's smaller side (docs/spec.md 2.8): on a
+    Ø7 mm bar (0.35 mm allowed) the beam model breaks groove_depth; on Ø8 mm it holds. The
+    search had reported bars too thin for the groove, which the CAD then refused."""
+    for diameter, holds in (("7 mm", False), ("8 mm", True)):
+        spec = _spec({"load_grooves": True, "groove_depth": "0.39 mm"},
+                     section={"kind": "round", "diameter": diameter}, feature={"kind": "none"})
+        limit = next(lim for lim in evaluate(fixed_design(spec), spec).limits if lim.name == "groove_depth")
+        assert float(limit.limit) == pytest.approx(0.05 * float(diameter.split()[0]) * 1e-3)
+        assert (float(limit.normalised) <= 0) == holds

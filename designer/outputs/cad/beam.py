@@ -357,7 +357,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
             deepest, what = wall - min_wall, f"the tube wall less spec.limits.min_wall ({fmt_mm(min_wall)} mm)"
     if not 0 < g_depth <= deepest + LENGTH_EPS:
         raise DesignFileError(f"spec.cad.groove_depth: {_mm(g_depth)} is too deep; it must be at most "
-                              f"{fmt_mm(deepest)} mm ({what})")
+                              f"{deepest * 1e3:.4g} mm ({what})")
     half = grooves.WIDTH / 2
     lo, hi = stations[-1] + l_f / 2 + half, length - half
     out = []
@@ -366,13 +366,14 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
             raise DesignFileError(f"spec.cad.groove_positions[{i}]: {x!r} must be a number (m from the clamp face)")
         if not lo - LENGTH_EPS <= x <= hi + LENGTH_EPS:
             which = f"{key}" if key.endswith("positions") else f"{key} (default groove at {fmt_mm(x)} mm)"
+            move = "move it" if key.endswith("positions") else "give spec.cad.groove_positions"
             raise DesignFileError(f"{which}: a groove at {_mm(x)} does not fit: grooves must lie between the last "
                                   f"gauge feature and the free end, from {fmt_mm(lo)} mm to {fmt_mm(hi)} mm; "
-                                  f"give spec.cad.groove_positions or set spec.cad.load_grooves: false")
+                                  f"{move} or set spec.cad.load_grooves: false")
         out.append(float(x))
     out.sort()
     for a, b in zip(out, out[1:]):
-        if not b - a > grooves.WIDTH:
+        if not b - a > grooves.WIDTH + LENGTH_EPS:   # (0.5 mm apart: one groove twice as wide)
             raise DesignFileError(f"{key}: grooves at {fmt_mm(a)} mm and {fmt_mm(b)} mm overlap; they must be more "
                                   f"than {fmt_mm(grooves.WIDTH)} mm apart")
     return Grooves(positions=tuple(out), width=grooves.WIDTH, depth=g_depth)
