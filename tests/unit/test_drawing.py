@@ -158,3 +158,38 @@ def test_the_tolerance_note_says_every_limit_holds_only_where_the_record_says_so
         r["tolerances"] = {"label": "ISO 2768-m", "constraints": rows}
         fig = drawing.plot_drawing(cad.resolve(r))
         assert said in [t.get_text() for t in fig.axes[0].texts]
+
+
+@pytest.mark.parametrize("count, spacing", [(3, 0.02), (18, 0.0035), (60, 0.001)])
+def test_every_groove_s_position_is_written_above_the_notes(count, spacing):
+    """Each load groove's position from the clamp face is on the drawing, all of it above the
+    band of notes and the title block (66 mm from the sheet's bottom edge). Each groove on a
+    dimension line of its own, 18 grooves 3.5 mm apart had run down over the notes and off the
+    sheet; past six they are ordinates, their figures in as many rows as they need not to touch
+    (measured on the rendered text)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from designer.outputs import drawing
+    from designer.outputs.part import fmt_mm
+
+    rec = record("rect_pockets")
+    positions = [0.082 + spacing * i for i in range(count)]
+    rec["spec"]["cad"]["groove_positions"] = positions
+    fig = drawing.plot_drawing(cad.resolve(rec))
+    ax = fig.axes[0]
+    renderer = FigureCanvasAgg(fig).get_renderer()
+    boxes = {}
+    for t in ax.texts:
+        box = ax.transData.inverted().transform(t.get_window_extent(renderer))
+        boxes.setdefault(t.get_text(), []).append(box)
+    for x in positions:
+        figure = fmt_mm(x)
+        assert figure in boxes, figure
+        assert min(b[:, 1].min() for b in boxes[figure]) > 66.0
+    if count > 6:    # the ordinates' figures do not overlap one another
+        figures = [min(boxes[fmt_mm(x)], key=lambda b: b[:, 1].min()) for x in positions]
+        for i, a in enumerate(figures):
+            for b in figures[i + 1:]:
+                apart = (a[1, 0] <= b[0, 0] + 0.05 or b[1, 0] <= a[0, 0] + 0.05 or a[1, 1] <= b[0, 1] + 0.05
+                         or b[1, 1] <= a[0, 1] + 0.05)
+                assert apart, (a, b)

@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from designer.outputs.drawing.pen import ARROW, LABEL_PT, NOTE_PT, TIER, Pen
+from designer.outputs.drawing.pen import ARROW, DIM_PT, EXT_GAP, LABEL_PT, NOTE_PT, PT, TIER, Pen
 from designer.outputs.drawing.section import draw_section
 from designer.outputs.drawing.views import VIEW_LEFT, VIEW_WIDTH, ViewSetup, channel_runs, draw_view, length_axis
 from designer.outputs.part import MM, BeamCad, fmt_mm
@@ -18,6 +18,52 @@ BORDER = 10.0                 # mm
 MIN_VIEW_DEPTH = 9.0          # a view is drawn at least this deep (mm), exaggerating if needed ...
 MIN_EXAGGERATION = 1.5        # ... by at least this factor (a thinner view is left true to scale)
 CALLOUT_BAND = 13.0           # height of the band of feature notes between the views, mm
+# Load grooves each dimensioned from the clamp face on a line of their own, up to this many; more
+# are given as ordinates: one extension line each down to a common line, the position written
+# along it (and the figures in as many rows as they need not to touch)
+STACKED_GROOVES = 6
+
+
+def _ordinate_rows(grooves, X) -> list[int]:
+    """Each groove's row of ordinate figures: the next row where its figure would touch the one
+    before it in the row the groove before it took."""
+    rows, height = [], DIM_PT * PT + 0.6      # a figure written along its line is its height across
+    for j, xg in enumerate(grooves):
+        rows.append(0 if j == 0 or X(xg) - X(grooves[j - 1]) >= height else (rows[-1] + 1) % _row_count(grooves, X))
+    return rows
+
+
+def _row_count(grooves, X) -> int:
+    gaps = [X(b) - X(a) for a, b in zip(grooves, grooves[1:])]
+    return max(1, math.ceil((DIM_PT * PT + 0.6) / min(gaps))) if gaps else 1
+
+
+def _figure_length(grooves) -> float:
+    return max(Pen.text_width(fmt_mm(x)) for x in grooves) + 1.5
+
+
+def _grooves_depth(grooves, X) -> float:
+    """How far below the first dimension line the grooves' dimensions reach, mm."""
+    if len(grooves) <= STACKED_GROOVES:
+        return len(grooves) * TIER
+    return TIER + _row_count(grooves, X) * _figure_length(grooves)
+
+
+def _dimension_grooves(pen, grooves, X, tier1: float, feet) -> None:
+    """The grooves' positions from the clamp face below the top view: each on a dimension line of
+    its own, or, past STACKED_GROOVES, as ordinates from the clamp face (0)."""
+    if len(grooves) <= STACKED_GROOVES:
+        for j, xg in enumerate(grooves):
+            pen.dim_h(X(0.0), X(xg), tier1 - (j + 1) * TIER, fmt_mm(xg), feet=feet, side="below")
+        return
+    base = tier1 - TIER
+    pen.line([X(0.0), X(0.0)], [feet[0] - EXT_GAP, base], "thin")
+    pen.text(X(0.0), base - 1.0, "0", rotation=90, ha="right", va="center")
+    length = _figure_length(grooves)
+    for xg, row in zip(grooves, _ordinate_rows(grooves, X)):
+        end = base - row * length
+        pen.line([X(xg), X(xg)], [feet[1] - EXT_GAP, end], "thin")
+        pen.text(X(xg), end - 1.0, fmt_mm(xg), rotation=90, ha="right", va="center", mask=True)
 
 
 def plot_drawing(beam: BeamCad, ax=None):
@@ -53,7 +99,7 @@ def plot_drawing(beam: BeamCad, ax=None):
              CALLOUT_BAND,
              10.0,                            # section marks A-A
              top_depth,
-             (1 + len(grooves)) * TIER + 12.0]  # bolts, pocket length, grooves and the view's name
+             TIER + _grooves_depth(grooves, X) + 12.0]  # bolts, pocket length, grooves and the view's name
     top_limit, bottom_limit = PAPER[1] - BORDER - 3.0, 66.0
     spare = max(0.0, top_limit - bottom_limit - sum(bands))
     gap = min(spare / 4, 14.0)
@@ -118,14 +164,12 @@ def plot_drawing(beam: BeamCad, ax=None):
         edge = -beam.flat_half_chord if beam.section != "rectangle" else -beam.pocket_width / 2
         pen.dim_h(X(dn - beam.pocket_length / 2), X(dn + beam.pocket_length / 2), tier1,
                   fmt_mm(beam.pocket_length), feet=(YT(edge), YT(edge)), side="below")
-    for j, xg in enumerate(grooves):
-        pen.dim_h(X(0.0), X(xg), tier1 - (j + 1) * TIER, fmt_mm(xg), feet=(YT(-th), YT(-beam.width / 2)),
-                  side="below")
+    _dimension_grooves(pen, grooves, X, tier1, (YT(-th), YT(-beam.width / 2)))
     top_label = top.name
     if top_k > X.scale * 1.01:
         top_label += f"  (widths drawn x{top_k / X.scale:.1f})"
-    pen.text(X(-c.length), tier1 - len(grooves) * TIER - 6.0, top_label, size=LABEL_PT, ha="left", va="top",
-             weight="bold")
+    pen.text(X(-c.length), tier1 - _grooves_depth(grooves, X) - 6.0, top_label, size=LABEL_PT, ha="left",
+             va="top", weight="bold")
 
     # section A-A through the first station, marked on the top view
     d0 = beam.stations[0]
