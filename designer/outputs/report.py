@@ -76,6 +76,8 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         rows[3] = ("feature", f"{rows[3][1]}; {longer}")
     if d["feature"].get("tool"):
         rows.insert(4, ("end mill", tool_text(d["feature"]["tool"], d["section"])))
+    if grooves := groove_text(record):
+        rows.insert(5 if d["feature"].get("tool") else 4, ("load grooves", grooves))
     if d.get("stock"):
         rows.insert(3, ("stock", d["stock"]["label"]))
     if record.get("stock"):
@@ -109,6 +111,25 @@ def longer_pocket_text(record: dict) -> str:
         return f"longer than the gauge's {rule * 1e3:.2f} mm pocket, as the design gives it"
     return (f"longer than the gauge's {rule * 1e3:.2f} mm pocket, as the 3-D corrections need on this section "
             "(docs/model.md §1)")
+
+
+def groove_text(record: dict) -> str:
+    """The load grooves as cut: ``3 × 0.5 mm wide, 0.30 mm deep, at 40, 75, 110 mm from the
+    clamp``; "" without them. The default positions and depth as the CAD takes them (the depth
+    rounded down to the 0.01 mm grid)."""
+    from designer.model import grooves
+    from designer.model.sections import round_down
+
+    spec = record["spec"]
+    cad = spec.get("cad") or {}
+    if not cad.get("load_grooves"):
+        return ""
+    section = record["design"]["section"]
+    at = cad.get("groove_positions") or grooves.default_positions(*spec["load"]["position"])
+    smaller = min(section["width"], section["height"]) if section["kind"] == "rectangle" else section["diameter"]
+    depth = cad.get("groove_depth") or round_down(float(grooves.default_depth(smaller)), 1e-5)
+    return (f"{len(at)} × {grooves.WIDTH * 1e3:g} mm wide, {depth * 1e3:.2f} mm deep, at "
+            f"{', '.join(f'{x * 1e3:.4g}' for x in sorted(at))} mm from the clamp")
 
 
 def tool_text(tool: dict, section: dict) -> str:

@@ -3,6 +3,7 @@ and the nominal stress of the net section under the groove nearest the clamp."""
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -291,3 +292,24 @@ def test_a_given_groove_depth_is_a_limit_of_the_section():
         limit = next(lim for lim in evaluate(fixed_design(spec), spec).limits if lim.name == "groove_depth")
         assert float(limit.limit) == pytest.approx(0.05 * float(diameter.split()[0]) * 1e-3)
         assert (float(limit.normalised) <= 0) == holds
+
+
+@pytest.mark.parametrize("section, cad, said", [
+    ({"kind": "round", "diameter": "7.88 mm"}, {},
+     "3 × 0.5 mm wide, 0.30 mm deep, at 40, 75, 110 mm from the clamp"),
+    # 5 % of a 4.9 mm side is 0.245 mm, below 0.3 mm: the CAD cuts it rounded down to 0.24 mm
+    ({"kind": "rectangle", "width": "10 mm", "height": "4.9 mm"}, {"groove_positions": ["90 mm", "50 mm"]},
+     "2 × 0.5 mm wide, 0.24 mm deep, at 50, 90 mm from the clamp")])
+def test_the_summary_says_where_the_grooves_are_and_how_deep(section, cad, said):
+    """design.json records the spec's cad keys, null where the defaults hold (docs/spec.md 2.8:
+    x_min, the middle and x_max; 0.3 mm or 5 % of the smaller side): the summary and the report
+    say where the grooves are cut and how deep, so that the groove stress can be traced."""
+    from designer.outputs.report import summary_rows
+    from designer.result.record import build_record
+
+    spec = _spec({"load_grooves": True, **cad}, section=section, feature={"kind": "none"})
+    record = json.loads(json.dumps(build_record("feasible", spec, evaluate(fixed_design(spec), spec))))
+    assert dict(summary_rows(record))["load grooves"] == said
+    plain = _spec({}, section=section, feature={"kind": "none"})
+    bare = build_record("feasible", plain, evaluate(fixed_design(plain), plain))
+    assert "load grooves" not in dict(summary_rows(bare))
