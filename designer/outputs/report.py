@@ -309,11 +309,21 @@ def stress_rows(record: dict) -> list[tuple]:
         k_f = by_name["fatigue_groove"]["value"] / by_name["stress_groove"]["value"]
         labels["fatigue_groove"] = f"groove stress, fatigue (K_f {k_f:.3g} × nominal) / fatigue allowable"
     present = [n for n in labels if n in by_name]
-    binding = min(present, key=lambda n: by_name[n]["margin"]) if present else None
+    # "binds" where the design sits on a limit, at its nominal sizes or at its worst tolerance corner;
+    # where none does, the least margin is named
+    corners = {c["name"]: c for c in (record.get("tolerances") or {}).get("constraints", [])}
+    flags = {}
+    for name in present:
+        at = corners.get(name)
+        flags[name] = ("  (binds)" if by_name[name].get("active") else
+                       f"  (binds at {at['corner']})" if at is not None and at.get("active") else "")
+    if len(present) < 2:
+        flags = dict.fromkeys(present, "")
+    elif not any(flags.values()):
+        flags[min(present, key=lambda n: by_name[n]["margin"])] = "  (least margin)"
     for name in present:
         c = by_name[name]
-        rows.append((labels[name], f"{c['value'] * 1e-6:.4g} / {c['limit'] * 1e-6:.4g} MPa"
-                     + ("  (binds)" if name == binding and len(present) > 1 else "")))
+        rows.append((labels[name], f"{c['value'] * 1e-6:.4g} / {c['limit'] * 1e-6:.4g} MPa{flags[name]}"))
     if not present:  # an older record
         rows.append(("max stress / allowable", f"{p['max_stress'] * 1e-6:.4g} / {p['stress_allowable'] * 1e-6:.4g} MPa"))
     return rows

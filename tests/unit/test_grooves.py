@@ -313,3 +313,20 @@ def test_the_summary_says_where_the_grooves_are_and_how_deep(section, cad, said)
     plain = _spec({}, section=section, feature={"kind": "none"})
     bare = build_record("feasible", plain, evaluate(fixed_design(plain), plain))
     assert "load grooves" not in dict(summary_rows(bare))
+
+
+def test_a_stress_row_says_binds_only_where_the_design_sits_on_the_limit():
+    """The summary marks the stress limit with the least margin; under 2 N instead of 20 N the
+    gripper finger's bar has 90 % of its fatigue allowance left, and "(binds)" said otherwise."""
+    from designer.outputs.report import stress_rows
+    from designer.result.record import build_record
+
+    light = _spec({"load_grooves": True}, load={"force": ["0.5 N", "2 N"], "position": ["40 mm", "110 mm"]})
+    rows = [value for _, value in stress_rows(build_record("feasible", light, evaluate(fixed_design(light), light)))]
+    assert sum(v.endswith("(least margin)") for v in rows) == 1 and not any(v.endswith("(binds)") for v in rows)
+    # the gripper finger's own design under 20 N: its fatigue limit binds at the thin corner of its
+    # tolerances (ISO 2768-m), 16 % inside it at the nominal sizes
+    full = _spec({"load_grooves": True})
+    rows = dict(stress_rows(build_record("feasible", full, evaluate(fixed_design(full), full))))
+    fatigue = next(v for k, v in rows.items() if k.startswith("feature stress, fatigue"))
+    assert fatigue.endswith("(binds at D min, p max)")
