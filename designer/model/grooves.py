@@ -58,12 +58,10 @@ def positions(spec) -> tuple:
 
 def stations_end(spec) -> float:
     """Where the last gauge feature must end (m from the clamp face): ``limits.load_clearance``
-    before the load region and, with load grooves, half a groove's width before the first groove
-    (docs/model.md §1), which the CAD cuts between the last feature and the free end."""
-    end = spec.load.position_min - spec.limits.load_clearance
-    if spec.cad.load_grooves:
-        end = min(end, min(positions(spec)) - WIDTH / 2)
-    return end
+    before the load region and, with load grooves, before the first groove's edge (docs/model.md
+    §1), which the CAD cuts between the last feature and the free end."""
+    first = min(positions(spec)) - WIDTH / 2 if spec.cad.load_grooves else spec.load.position_min
+    return min(spec.load.position_min, first) - spec.limits.load_clearance
 
 
 def default_depth(smaller_side, ops: Ops = NUMERIC):

@@ -100,10 +100,11 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
         Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
     ]
-    if spec.cad.load_grooves and (first := min(groove_positions(spec))) - GROOVE_WIDTH / 2 < \
-            load.position_min - lim.load_clearance:
-        # a groove nearer the clamp than the load clearance: the last feature ends before it
-        out.append(Limit("groove_clearance", d[-1] + l_f / 2 + GROOVE_WIDTH / 2, first, scale=mm, unit="m"))
+    if spec.cad.load_grooves and (first := min(groove_positions(spec))) - GROOVE_WIDTH / 2 < load.position_min:
+        # the first groove's edge before the load region: the load clearance is kept from it as from
+        # the load (the groove is a notch of its own, and the CAD cuts it beyond the last feature)
+        out.append(Limit("groove_clearance", d[-1] + l_f / 2 + lim.load_clearance + GROOVE_WIDTH / 2, first,
+                         scale=mm, unit="m"))
     front_end = spec.front_end_noise
     if front_end is not None:
         # the bridge's output at F_max, x_max (station 1, the largest) inside the front-end's input range

@@ -18,13 +18,14 @@ def no_room(spec) -> str:
              f"{need * 1e3:.4g} mm from the clamp face")
     fix = "use fewer stations, a smaller gauge or smaller margins"
     if need <= spec.load.position_min - spec.limits.load_clearance + 1e-9:   # room but for a groove
-        first, past = min(grooves.positions(spec)) * 1e3, (need + grooves.WIDTH / 2) * 1e3
-        key, which, move = (("cad.groove_positions", "load groove", f"move the grooves out past {past:.4g} mm")
+        first = min(grooves.positions(spec)) * 1e3
+        past = (need + spec.limits.load_clearance + grooves.WIDTH / 2) * 1e3
+        key, which, move = (("cad.groove_positions", "load groove at", f"move the grooves out past {past:.4g} mm")
                             if spec.cad.groove_positions else
-                            ("cad.load_grooves", "default load groove at load.position[0],",
+                            ("cad.load_grooves", "default load groove at load.position[0] =",
                              f"give cad.groove_positions past {past:.4g} mm"))
         return (f"{key}: no room for {spec.stations} gauge stations before the {which} {first:.4g} mm: {needs}, "
-                f"and the groove leaves {end * 1e3:.4g} mm; {move}, or {fix}")
+                f"and limits.load_clearance before the groove's edge leaves {end * 1e3:.4g} mm; {move}, or {fix}")
     return (f"load.position: no room for {spec.stations} gauge stations before the load region: {needs}, and "
             f"limits.load_clearance {spec.limits.load_clearance * 1e3:.4g} mm more: load.position[0] is "
             f"{spec.load.position_min * 1e3:.4g} mm but must be at least "

@@ -176,15 +176,15 @@ def _grooved_finger(tmp_path, cad, limits=None) -> Path:
     return path
 
 
-@pytest.mark.parametrize("cad, limits, first", [
-    ({"groove_positions": ["30 mm", "60 mm", "100 mm"]}, {}, 30e-3),   # a groove inside the stations' room
-    ({}, {"load_clearance": "0 mm"}, 40e-3)])                        # the default groove at x_min, no clearance
-def test_the_search_keeps_the_stations_clear_of_the_grooves(tmp_path, cad, limits, first):
-    """The CAD cuts a groove only between the last gauge feature and the free end, half a
-    groove's width (0.25 mm) clear of the feature (docs/spec.md 2.8). The search knew only the
-    load clearance, so a groove at 30 mm, or the default groove at x_min = 40 mm without a load
-    clearance, was refused by the CAD after the search (exit 2); the search now keeps the last
-    feature clear of it and the design's STEP is written."""
+@pytest.mark.parametrize("cad, limits, first, clearance", [
+    ({"groove_positions": ["32 mm", "60 mm", "100 mm"]}, {}, 32e-3, 5e-3),   # a groove inside the stations' room
+    ({}, {"load_clearance": "0 mm"}, 40e-3, 0.0)])                          # the default groove at x_min
+def test_the_search_keeps_the_stations_clear_of_the_grooves(tmp_path, cad, limits, first, clearance):
+    """The CAD cuts a groove only between the last gauge feature and the free end (docs/spec.md
+    2.8). The search knew only the load region, so a groove at 32 mm, or the default groove at
+    x_min = 40 mm without a load clearance, was refused by the CAD after the search (exit 2); the
+    search now keeps the load clearance from the first groove's edge (half its width, 0.25 mm,
+    before it), as from the load, and the design's STEP is written."""
     import json
 
     from designer.cli import main
@@ -195,7 +195,7 @@ def test_the_search_keeps_the_stations_clear_of_the_grooves(tmp_path, cad, limit
     record = json.loads((out / "design.json").read_text(encoding="utf-8"))
     g = record["design"]
     reach = g["stations"][-1] + g["feature"]["length"] / 2
-    assert reach + grooves.WIDTH / 2 <= first + 1e-9
+    assert reach + clearance + grooves.WIDTH / 2 <= first + 1e-9
     assert (out / record["files"]["step"]).is_file()
 
 
@@ -235,8 +235,9 @@ def test_grooves_off_the_beam_are_refused_before_the_search(tmp_path, capsys, ca
 
 def test_no_room_before_a_groove_names_the_groove():
     """2 stations of 8.9 mm flats, 5 mm clamp clearance and a 2 mm gauge gap need 24.8 mm from the
-    clamp face (docs/model.md §1); a groove at 12 mm leaves 11.75 mm, and the message names the
-    groove's key, not the load region, which has room (40 mm)."""
+    clamp face (docs/model.md §1); a groove at 12 mm, less half its width and the 5 mm load
+    clearance, leaves 6.75 mm, and the message names the groove's key, not the load region, which
+    has room (40 mm). Past 24.8 + 5 + 0.25 = 30.05 mm there is room."""
     from designer.search.diagnosis import no_room
     from designer.spec.reader import parse_spec
 
@@ -244,9 +245,11 @@ def test_no_room_before_a_groove_names_the_groove():
     raw["search"]["sections"] = ["round"]
     raw["cad"] = {"load_grooves": True, "groove_positions": ["12 mm", "60 mm"]}
     said = no_room(parse_spec(raw))
-    assert said.startswith("cad.groove_positions: no room for 2 gauge stations before the load groove 12 mm")
-    assert "need 24.8 mm" in said and "leaves 11.75 mm" in said and "past 25.05 mm" in said
-    raw["cad"]["groove_positions"] = ["26 mm", "60 mm"]
+    assert said.startswith("cad.groove_positions: no room for 2 gauge stations before the load groove at 12 mm")
+    assert "need 24.8 mm" in said and "leaves 6.75 mm" in said and "past 30.05 mm" in said
+    raw["cad"]["groove_positions"] = ["30 mm", "60 mm"]
+    assert no_room(parse_spec(raw)).startswith("cad.groove_positions: no room")
+    raw["cad"]["groove_positions"] = ["30.1 mm", "60 mm"]
     assert no_room(parse_spec(raw)) == ""
 
 
