@@ -37,7 +37,8 @@ def test_drawing_of_slot_pockets_gives_pocket_length_width_depth_and_tool():
         assert expected in lines, expected
     assert "SLOT 8.9 x 5.5 x 1 DEEP, R1.5 CORNERS (Ø3 END MILL)" in texts
     assert "WIRE CHANNEL 1.5 WIDE x 0.5 DEEP" in texts
-    assert "3x LOAD GROOVE 0.5 WIDE x 0.3 DEEP ALL AROUND" in texts
+    # the root a half circle of half the width, the U-notch the beam model's K_t is of (docs/model.md §4)
+    assert "3x LOAD GROOVE 0.5 WIDE x 0.3 DEEP, R0.25 FULL-RADIUS ROOT, ALL AROUND" in texts
 
 
 def test_a_stock_design_s_drawing_names_its_stock_item_and_a_bad_one_is_refused():

@@ -98,16 +98,8 @@ def build_solid(beam: BeamCad):
                                            pnt=V(xb * s, 0, -Hc / 2 - E), dir=V(0, 0, 1)))
 
     if beam.grooves is not None:
-        gw, gd = beam.grooves.width * s, beam.grooves.depth * s
         for xg in beam.grooves.positions:
-            x0 = xg * s - gw / 2
-            if beam.section == "rectangle":
-                outer = cq.Solid.makeBox(gw, W + 2 * E, H + 2 * E, pnt=V(x0, -W / 2 - E, -H / 2 - E))
-                inner = cq.Solid.makeBox(gw, W - 2 * gd, H - 2 * gd, pnt=V(x0, -W / 2 + gd, -H / 2 + gd))
-            else:
-                outer = cq.Solid.makeCylinder(R + E, gw, pnt=V(x0, 0, 0), dir=V(1, 0, 0))
-                inner = cq.Solid.makeCylinder(R - gd, gw, pnt=V(x0, 0, 0), dir=V(1, 0, 0))
-            tools.append(outer.cut(inner))
+            tools.append(_groove_tool(beam, xg * s, W, H))
 
     shape = base.cut(*tools).clean() if tools else base
     solids = shape.Solids()
@@ -116,3 +108,42 @@ def build_solid(beam: BeamCad):
                        f"({len(solids)} solids); please report this design")
     return solids[0]
 
+
+
+def _groove_tool(beam: BeamCad, x: float, W: float, H: float):
+    """The cutter of one load groove at ``x`` (mm): a full-radius groove, its root a half circle of
+    half the groove's width (the U-notch whose K_t the beam model takes, docs/model.md §4, as a
+    full-radius grooving insert cuts it), ``depth`` below the surface: all around a round bar or
+    tube (a torus and the ring above its middle), across every face of a rectangle (a cylinder and
+    the slab above its axis on each, crossing at the edges). A groove shallower than its radius is
+    the circular arc alone."""
+    import cadquery as cq
+
+    V = cq.Vector
+    s, E = 1.0 / MM, TOOL_OVERRUN_MM
+    r, depth = beam.grooves.width * s / 2, beam.grooves.depth * s
+    if beam.section != "rectangle":
+        R = W / 2
+        centre = R - depth + r      # the root circle's centre, from the axis
+        ring = cq.Solid.makeCylinder(R + E, 2 * r, pnt=V(x - r, 0, 0), dir=V(1, 0, 0))
+        if centre > 0:
+            ring = ring.cut(cq.Solid.makeCylinder(centre, 2 * r, pnt=V(x - r, 0, 0), dir=V(1, 0, 0)))
+        return ring.fuse(cq.Solid.makeTorus(centre, r, pnt=V(x, 0, 0), dir=V(1, 0, 0))).clean()
+    parts = []
+    for axis, half, span in (("z", H / 2, W), ("y", W / 2, H)):
+        for sign in (1.0, -1.0):
+            centre = sign * (half - depth + r)
+            rise = half + E - (half - depth + r)          # from the root circle's centre out past the face
+            if axis == "z":
+                root = cq.Solid.makeCylinder(r, span + 2 * E, pnt=V(x, -span / 2 - E, centre), dir=V(0, 1, 0))
+                z0 = centre if sign > 0 else centre - rise
+                slab = cq.Solid.makeBox(2 * r, span + 2 * E, rise, pnt=V(x - r, -span / 2 - E, z0))
+            else:
+                root = cq.Solid.makeCylinder(r, span + 2 * E, pnt=V(x, centre, -span / 2 - E), dir=V(0, 0, 1))
+                y0 = centre if sign > 0 else centre - rise
+                slab = cq.Solid.makeBox(2 * r, rise, span + 2 * E, pnt=V(x - r, y0, -span / 2 - E))
+            parts.append(root.fuse(slab))
+    tool = parts[0]
+    for part in parts[1:]:
+        tool = tool.fuse(part)
+    return tool.clean()

@@ -112,12 +112,14 @@ def planar_faces(solid, axis: str, level_mm: float, tol_mm: float = 1e-4) -> lis
 
 def cylinders(solid, axis: str, radius_mm: float, tol_mm: float = 1e-4) -> list[tuple]:
     """A point on the axis (mm) of each cylindrical face along ``axis`` with radius ``radius_mm``."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+
     i = "xyz".index(axis)
     out = []
     for face in solid.Faces():
         if face.geomType() != "CYLINDER":
             continue
-        cyl = face._geomAdaptor().Cylinder()
+        cyl = BRepAdaptor_Surface(face.wrapped).Cylinder()   # (a trimmed surface's too)
         direction = cyl.Axis().Direction()
         d = (direction.X(), direction.Y(), direction.Z())
         if abs(abs(d[i]) - 1.0) > 1e-9 or abs(cyl.Radius() - radius_mm) > tol_mm:

@@ -240,7 +240,8 @@ def _callouts(pen, beam: BeamCad, X, YS, YT, y) -> None:
     if beam.grooves is not None:
         g = beam.grooves
         items.append(((X(g.positions[0]), YT(beam.width / 2 - g.depth)),
-                      f"{len(g.positions)}x LOAD GROOVE {fmt_mm(g.width)} WIDE x {fmt_mm(g.depth)} DEEP ALL AROUND"))
+                      f"{len(g.positions)}x LOAD GROOVE {fmt_mm(g.width)} WIDE x {fmt_mm(g.depth)} DEEP, "
+                      f"R{fmt_mm(g.width / 2)} FULL-RADIUS ROOT, ALL AROUND"))
     _place_callouts(pen, items, y)
 
 
