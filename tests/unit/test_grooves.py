@@ -52,7 +52,8 @@ def test_the_groove_nearest_the_clamp_carries_the_load_range_s_moment_on_its_net
     110 mm): under 20 N at 110 mm the groove at 40 mm carries 20 x 0.070 = 1.4 N m on a 7.28 mm
     net diameter, 32 M / (pi d^3) = 36.96 MPa (the solid circular section, Roark Table 9.1); its
     K_t at t/r = 1.2, 2t/D = 0.0761 is Roark's 2.686, and the fatigue limit takes K_f = 1 +
-    q (K_t - 1) with Peterson's q at r = 0.25 mm, K_t times the 3-D check's 1.03 over the chart's."""
+    q (K_t - 1) with Peterson's q at r = 0.25 mm, K_t times the 3-D check's 1.05 over the chart's
+    (benchmarks/groove_kt_check.md: a Ø16 mm bar's 0.8 mm groove, converged, 1.041 of Roark's)."""
     spec = _spec({"load_grooves": True})
     ev = evaluate(fixed_design(spec), spec)
     by_name = {lim.name: lim for lim in ev.limits}
@@ -64,7 +65,7 @@ def test_the_groove_nearest_the_clamp_carries_the_load_range_s_moment_on_its_net
     q = grooves.ROOT_RADIUS / (grooves.ROOT_RADIUS + params.notch_length)
     kt = float(grooves.stress_concentration("round", 0.3e-3, 7.88e-3))
     assert kt == pytest.approx(2.686, abs=0.001)
-    kt *= 1.03      # the 3-D check's figure over the chart's (benchmarks/groove_kt_check.md)
+    kt *= 1.05      # the 3-D check's figure over the chart's (benchmarks/groove_kt_check.md)
     assert float(by_name["fatigue_groove"].value) == pytest.approx((1 + q * (kt - 1)) * nominal, rel=1e-9)
     assert float(by_name["fatigue_groove"].limit) == pytest.approx(float(params.allowable))
     # the report's and the summary's row says which K_f it took
@@ -86,10 +87,11 @@ def test_a_rectangle_s_groove_runs_over_all_four_faces():
     nominal, kt = grooves.groove_stress(g, spec)
     b, h = 9.4e-3, 5.4e-3
     assert float(nominal) == pytest.approx(20 * 0.070 * (h / 2) / (b * h ** 3 / 12), rel=1e-9)
-    # Roark's opposite notches, times the 3-D effect of the grooves' meeting at the section's edges
-    # (benchmarks/groove_kt_check.md: at least 1.21 on this bar)
-    assert float(kt) == pytest.approx(1.21 * float(grooves.stress_concentration("rectangle", 0.3e-3, 6e-3)))
-    assert grooves.FACTOR_3D["rectangle"] == 1.21
+    # Roark's opposite notches, times the 3-D effect of the grooves' roots meeting at the section's
+    # edges (benchmarks/groove_kt_check.md: this very bar's groove in 3-D, converged: K_t 4.789
+    # against the chart's 2.648, 1.809 of it)
+    assert float(kt) == pytest.approx(1.81 * float(grooves.stress_concentration("rectangle", 0.3e-3, 6e-3)))
+    assert float(kt) == pytest.approx(4.789, rel=0.005)
 
 
 def test_a_plain_bar_s_grooves_break_the_fatigue_limit_its_root_meets():
