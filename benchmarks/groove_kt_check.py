@@ -1,5 +1,6 @@
 """The load grooves' K_t in 3-D (docs/model.md §4, designer.model.grooves): a submodel of one groove
-in pure bending, its root meshed ever finer until the peak settles.
+in pure bending (designer.checks.fea.groove, which verify runs on a design's groove), its root
+meshed ever finer until the peak settles.
 
 Each case is a straight segment of the bar, 2.5 section sizes long either side of one groove,
 built in gmsh's OpenCASCADE kernel with the groove the model assumes: 0.5 mm wide, ``t`` deep,
@@ -37,7 +38,6 @@ from __future__ import annotations
 import argparse
 import math
 import time
-from types import SimpleNamespace
 
 import numpy as np
 
@@ -56,16 +56,6 @@ CASES = [
 ]
 # Elements at the root: r / n for each n
 MESHES = (4, 6, 9, 12, 18)
-ROOT_RADIUS = 0.25          # mm (grooves.ROOT_RADIUS)
-E_MPA, POISSON = 71.7e3, 0.33
-MOMENT = 1000.0             # N mm
-HALF_LENGTH = 2.5           # section sizes either side of the groove
-FAR_ELEMENTS = 8.0          # elements across the section's smaller size, far from the groove
-FINE_REACH = 0.4            # the root's element size holds within this share of r of the groove's faces ...
-GRADING = 0.3               # ... and grows from there by this much per unit distance
-CG_TOLERANCE = 1e-9
-# Edges of scikit-fem's ElementTetP2 after its four vertices (designer.checks.fea.solve._EDGES)
-_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]])
 
 
 def default_depth(kind: str, dims: dict) -> float:
@@ -76,268 +66,6 @@ def default_depth(kind: str, dims: dict) -> float:
 
     smaller = min(dims["width"], dims["height"]) if kind == "rectangle" else dims["diameter"]
     return round_down(float(grooves.default_depth(smaller * 1e-3)), 1e-5) * 1e3
-
-
-def _profile(occ, plane, surface: float, t: float, profile: str) -> int:
-    """A groove's cutting profile, a plane face over ``x`` in ``[-r, r]``: ``plane(x, s)`` is the
-    point at depth coordinate ``s`` (the bar's surface at ``s = surface``). A U: walls down to
-    ``surface - t + r``, then the semicircle; a square slot: walls down to a flat floor at ``t``."""
-    r = ROOT_RADIUS
-    top = surface + 1.0
-    if profile == "u":
-        sc = surface - t + r
-        pts = [occ.addPoint(*plane(x, s)) for x, s in ((-r, sc), (-r, top), (r, top), (r, sc), (0.0, sc - r))]
-        centre = occ.addPoint(*plane(0.0, sc))
-        curves = [occ.addLine(pts[0], pts[1]), occ.addLine(pts[1], pts[2]), occ.addLine(pts[2], pts[3]),
-                  occ.addCircleArc(pts[3], centre, pts[4]), occ.addCircleArc(pts[4], centre, pts[0])]
-    else:
-        floor = surface - t
-        pts = [occ.addPoint(*plane(x, s)) for x, s in ((-r, floor), (-r, top), (r, top), (r, floor))]
-        curves = [occ.addLine(pts[i], pts[(i + 1) % 4]) for i in range(4)]
-    return occ.addPlaneSurface([occ.addCurveLoop(curves)])
-
-
-def segment(kind: str, dims: dict, t: float, profile, n: float) -> tuple:
-    """gmsh's eighth of the segment, meshed with elements ``r / n`` at the groove's faces: points
-    (3, N) and tetrahedra (4, E) in mm, the vertices on the groove's faces (for the plain segment,
-    on its top surface within the groove's width) and the segment's half length."""
-    import gmsh
-
-    r, h = ROOT_RADIUS, ROOT_RADIUS / n
-    gmsh.initialize(["-noenv"])
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.option.setNumber("General.NumThreads", 2)
-        gmsh.model.add("groove")
-        occ = gmsh.model.occ
-        cutters = []
-        if kind == "rectangle":
-            W, H = dims["width"], dims["height"]
-            L, top = HALF_LENGTH * max(W, H), H / 2
-            bar = [(3, occ.addBox(0, 0, 0, L, W / 2, H / 2))]
-            if profile:
-                face = _profile(occ, lambda x, s: (x, -1.0, s), H / 2, t, profile)
-                cutters += occ.extrude([(2, face)], 0, W / 2 + 2, 0)
-                face = _profile(occ, lambda x, s: (x, s, -1.0), W / 2, t, profile)
-                cutters += occ.extrude([(2, face)], 0, 0, H / 2 + 2)
-            far = min(W, H) / FAR_ELEMENTS
-        else:
-            D = dims["diameter"]
-            R = D / 2
-            L, top = HALF_LENGTH * D, R
-            cylinder, box = occ.addCylinder(0, 0, 0, L, 0, 0, R), occ.addBox(0, 0, 0, L, R + 1, R + 1)
-            bar, _ = occ.intersect([(3, cylinder)], [(3, box)])
-            if kind == "tube":
-                cutters.append((3, occ.addCylinder(-1, 0, 0, L + 2, 0, 0, R - dims["wall"])))
-            if profile:
-                face = _profile(occ, lambda x, s: (x, 0.0, s), R, t, profile)
-                cutters += occ.revolve([(2, face)], 0, 0, 0, 1, 0, 0, 2 * math.pi)
-            far = (D if kind == "round" else min(D, 4 * dims["wall"])) / FAR_ELEMENTS
-        cutters = [c for c in cutters if c[0] == 3]
-        if cutters:
-            bar, _ = occ.cut(bar, cutters)
-        occ.synchronize()
-        if len(gmsh.model.getEntities(3)) != 1:
-            raise RuntimeError("the segment is not one solid")
-        # the groove's faces: all within x <= r, off the mid-plane
-        groove = [tag for _, tag in gmsh.model.getEntities(2)
-                  if 1e-6 < gmsh.model.getBoundingBox(2, tag)[3] <= r + 1e-4]
-        fields = gmsh.model.mesh.field
-        distance = fields.add("Distance")
-        if groove:
-            reach = 2 * math.pi * (max(dims.get("width", 0), dims.get("height", 0)) or dims["diameter"]) / 4
-            fields.setNumbers(distance, "SurfacesList", groove)
-            fields.setNumber(distance, "Sampling", int(min(1500, max(100, 3 * reach / h))))
-            root = distance
-        else:
-            # the plain segment: the same sizes about where the groove's root would be (free curves
-            # at x = 0, the root's centre line, r below the sizes' reach)
-            if kind == "rectangle":
-                zc, yc = H / 2 - t + r, W / 2 - t + r
-                a, b, c = occ.addPoint(0, 0, zc), occ.addPoint(0, yc, zc), occ.addPoint(0, yc, 0)
-                curves = [occ.addLine(a, b), occ.addLine(b, c)]
-            else:
-                rc = R - t + r
-                o, a, b = occ.addPoint(0, 0, 0), occ.addPoint(0, 0, rc), occ.addPoint(0, rc, 0)
-                curves = [occ.addCircleArc(a, o, b)]
-            occ.synchronize()
-            fields.setNumbers(distance, "CurvesList", curves)
-            fields.setNumber(distance, "Sampling", 2000)
-            root = fields.add("MathEval")
-            fields.setString(root, "F", f"F{distance} - {r}")
-        threshold = fields.add("Threshold")
-        fields.setNumber(threshold, "InField", root)
-        fields.setNumber(threshold, "SizeMin", h)
-        fields.setNumber(threshold, "SizeMax", far)
-        fields.setNumber(threshold, "DistMin", FINE_REACH * r)
-        fields.setNumber(threshold, "DistMax", FINE_REACH * r + (far - h) / GRADING)
-        fields.setAsBackgroundMesh(threshold)
-        for name, value in (("Mesh.MeshSizeFromPoints", 0), ("Mesh.MeshSizeFromCurvature", 0),
-                            ("Mesh.MeshSizeExtendFromBoundary", 0), ("Mesh.MeshSizeMax", far),
-                            ("Mesh.Algorithm3D", 10), ("Mesh.Optimize", 1)):
-            gmsh.option.setNumber(name, value)
-        gmsh.model.mesh.generate(3)
-        tags, coords, _ = gmsh.model.mesh.getNodes()
-        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-        index[tags.astype(np.int64)] = np.arange(len(tags))
-        points = coords.reshape(-1, 3).T.copy()
-        types, _, nodes = gmsh.model.mesh.getElements(3)
-        if list(types) != [4]:
-            raise RuntimeError(f"gmsh made elements of types {list(types)}, not only linear tetrahedra")
-        tets = index[nodes[0].astype(np.int64)].reshape(-1, 4).T
-        on_groove = np.zeros(points.shape[1], dtype=bool)
-        for tag in groove:
-            on_groove[index[gmsh.model.mesh.getNodes(2, tag, includeBoundary=True)[0].astype(np.int64)]] = True
-    finally:
-        gmsh.finalize()
-    used = np.unique(tets)            # drop the free curves' nodes
-    remap = np.full(points.shape[1], -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    points, tets, on_groove = points[:, used], remap[tets], on_groove[used]
-    if not groove:
-        on_groove = (points[0] <= r + 1e-9) & (points[2] >= top - 1e-6)
-    return points, tets, np.flatnonzero(on_groove), L
-
-
-def solve_bending(points: np.ndarray, tets: np.ndarray, L: float) -> tuple:
-    """The eighth in pure bending: ``u_x = 0`` on ``x = 0``, ``u_y = 0`` on ``y = 0``,
-    ``u_x = u_y = 0`` on ``z = 0``, one vertex's ``u_z`` held, ``sigma = M z / I`` on ``x = L``.
-    Returns the mesh, its P2 dofs, the displacements (3, N) and the CG iterations."""
-    import scipy.sparse as sp
-    import scipy.sparse.linalg as spla
-    from skfem import ElementTetP2, FacetBasis, Functional, LinearForm, MeshTet, asm
-    from skfem.assembly import Dofs
-
-    from designer.checks.fea.solve import _coarse_solver, _prolongation, _sliver_dofs, stiffness
-
-    mesh = MeshTet(points, tets)
-    dofs = Dofs(mesh, ElementTetP2())
-    n_nodes = dofs.N
-    tol = 1e-7 * L
-
-    def held(xyz):
-        x0, y0, z0 = (np.abs(xyz[i]) < tol for i in range(3))
-        return np.array([x0 | z0, y0 | z0, np.zeros_like(x0)]).T
-
-    on_neutral = np.flatnonzero(np.abs(mesh.p[2]) < tol)
-    anchor = on_neutral[np.argmax(mesh.p[0, on_neutral])]
-    fixed = held(np.hstack([mesh.p, mesh.p[:, mesh.edges].mean(axis=1)]))      # vertex dofs, then edge dofs
-    fixed[anchor, 2] = True
-    fixed_v = held(mesh.p)
-    fixed_v[anchor, 2] = True
-    end = FacetBasis(mesh, ElementTetP2(), facets=mesh.facets_satisfying(lambda x: np.abs(x[0] - L) < tol,
-                                                                          boundaries_only=True))
-    inertia = 4 * asm(Functional(lambda w: w.x[2] ** 2), end)
-    f = np.zeros(3 * n_nodes)
-    f[0::3] = asm(LinearForm(lambda v, w: MOMENT * w.x[2] / inertia * v), end)
-    f[fixed.ravel()] = 0.0
-    K = stiffness(mesh, dofs.element_dofs, n_nodes, E_MPA, POISSON, fixed)
-    # designer.checks.fea.solve._two_level_cg's preconditioner, on this problem's constraints
-    free_v = ~fixed_v.ravel()
-    P = sp.kron(_prolongation(mesh, n_nodes), sp.eye(3), format="csr")
-    P = (sp.diags((~fixed.ravel()).astype(float)) @ P).tocsc()[:, free_v].tocsr()
-    coarse_solve = _coarse_solver(P.T @ (K @ P), mesh.p, free_v)
-    dinv = 1.0 / K.diagonal()
-    root = np.sqrt(dinv)
-    scaled = spla.LinearOperator(K.shape, lambda v: root * (K @ (root * v)), dtype=float)
-    omega_dinv = 1.5 / spla.eigsh(scaled, k=1, which="LA", tol=1e-2, return_eigenvectors=False)[0] * dinv
-    slivers = _sliver_dofs(mesh.p, mesh.t, dofs.element_dofs, fixed)
-    K_columns = K[:, slivers].tocsr()
-    patch = (spla.splu(K_columns[slivers].tocsc(), permc_spec="MMD_AT_PLUS_A", options={"SymmetricMode": True})
-             if len(slivers) else None)
-
-    def exactly(x, residual):
-        if patch is not None:
-            step = patch.solve(residual[slivers])
-            x[slivers] += step
-            residual -= K_columns @ step
-
-    def cycle(rhs):
-        x = omega_dinv * rhs
-        residual = rhs - K @ x
-        exactly(x, residual)
-        x += P @ coarse_solve(P.T @ residual)
-        residual = rhs - K @ x
-        exactly(x, residual)
-        return x + omega_dinv * residual
-
-    count = [0]
-
-    def tick(_):
-        count[0] += 1
-
-    u, info = spla.cg(K, f, M=spla.LinearOperator(K.shape, cycle, dtype=float), rtol=CG_TOLERANCE, maxiter=3000,
-                      callback=tick)
-    residual = np.linalg.norm(f - K @ u) / np.linalg.norm(f)
-    if info != 0 or not residual < 10 * CG_TOLERANCE:
-        raise RuntimeError(f"conjugate gradients stopped at a relative residual of {residual:.1e}")
-    return mesh, dofs, u.reshape(-1, 3).T, count[0]
-
-
-def corner_stress(mesh, dofs, u: np.ndarray, elements: np.ndarray) -> np.ndarray:
-    """``sigma_xx`` (E, 4) at the four corners of ``elements``, each element's own value."""
-    from designer.checks.fea.solve import lame
-
-    x = mesh.p[:, mesh.t[:, elements]]
-    inv = np.linalg.inv((x[:, 1:] - x[:, :1]).transpose(2, 0, 1))
-    g = np.empty((len(elements), 4, 3))                        # barycentric gradients
-    g[:, 1:] = inv
-    g[:, 0] = -inv.sum(axis=1)
-    G = np.zeros((len(elements), 4, 10, 3))                    # element, corner, shape function, d/dx
-    for k in range(4):
-        for i in range(4):                                     # vertex i: (4 lambda_i - 1) grad lambda_i
-            G[:, k, i] = (3.0 if i == k else -1.0) * g[:, i]
-        for e, (i, j) in enumerate(_EDGES):                    # edge ij: 4 (lambda_i grad lambda_j + ...)
-            if k in (i, j):
-                G[:, k, 4 + e] = 4 * g[:, j if k == i else i]
-    grad = np.einsum("aie,ekic->ekac", u[:, dofs.element_dofs[:, elements]], G)
-    lam, mu = lame(E_MPA, POISSON)
-    return 2 * mu * grad[:, :, 0, 0] + lam * np.einsum("ekaa->ek", grad)
-
-
-def root_peak(mesh, dofs, u: np.ndarray, nodes: np.ndarray) -> dict:
-    """The largest ``sigma_xx`` over ``nodes``: averaged over the elements at each vertex, and the
-    largest single element's; where each is; and (for the rectangle's middle of the top face) the
-    averaged largest on ``y = 0``."""
-    touched = np.zeros(mesh.p.shape[1], dtype=bool)
-    touched[nodes] = True
-    elements = np.flatnonzero(touched[mesh.t].any(axis=0))
-    s = corner_stress(mesh, dofs, u, elements)
-    corners = mesh.t[:, elements].T
-    n = mesh.p.shape[1]
-    total, count, largest = np.zeros(n), np.zeros(n), np.full(n, -np.inf)
-    for k in range(4):
-        np.add.at(total, corners[:, k], s[:, k])
-        np.add.at(count, corners[:, k], 1.0)
-        np.maximum.at(largest, corners[:, k], s[:, k])
-    averaged = total[nodes] / count[nodes]
-    i, j = int(np.argmax(averaged)), int(np.argmax(largest[nodes]))
-    mid = np.abs(mesh.p[1, nodes]) < 1e-9
-    return {"averaged": float(averaged[i]), "raw": float(largest[nodes][j]), "at": mesh.p[:, nodes[i]],
-            "raw_at": mesh.p[:, nodes[j]], "mid": float(np.max(averaged[mid])) if mid.any() else float("nan")}
-
-
-def reference(kind: str, dims: dict, t: float, grooved: bool) -> tuple:
-    """``(nominal stress (MPa) under MOMENT, Roark's K_t)``: ``grooves.groove_stress``'s net-section
-    ``M c / I`` and ``grooves.stress_concentration`` (without FACTOR_3D), in SI and back; for the
-    plain segment the gross section's ``M c / I``."""
-    from designer.model import grooves
-
-    m = 1e-3
-    g = SimpleNamespace(section=kind, width=dims.get("width", 0.0) * m, height=dims.get("height", 0.0) * m,
-                        diameter=dims.get("diameter", 0.0) * m, wall=dims.get("wall", 0.0) * m)
-    g.size = g.height if kind == "rectangle" else g.diameter
-    kt = float(grooves.stress_concentration(kind, t * m, g.size))
-    if not grooved:
-        if kind == "rectangle":
-            return MOMENT * (dims["height"] / 2) / (dims["width"] * dims["height"] ** 3 / 12), kt
-        bore = dims["diameter"] - 2 * dims["wall"] if kind == "tube" else 0.0
-        return MOMENT * (dims["diameter"] / 2) / (math.pi * (dims["diameter"] ** 4 - bore ** 4) / 64), kt
-    # the groove 1 m from the load: M = F_max x 1 m = MOMENT N mm
-    spec = SimpleNamespace(cad=SimpleNamespace(load_grooves=True, groove_positions=[0.0], groove_depth=t * m),
-                           load=SimpleNamespace(position_max=1.0, force_max=MOMENT * m))
-    nominal, _ = grooves.groove_stress(g, spec)
-    return float(nominal) / 1e6, kt
 
 
 def richardson(ns, values) -> tuple:
@@ -367,6 +95,8 @@ def richardson(ns, values) -> tuple:
 
 
 def check(label: str, kind: str, dims: dict, depth, profile, meshes) -> dict:
+    from designer.checks.fea.groove import reference, root_peak, segment, solve_bending
+
     t = depth if depth is not None else default_depth(kind, dims)
     nominal, kt_roark = reference(kind, dims, t, profile is not None)
     runs = []

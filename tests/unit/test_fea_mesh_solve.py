@@ -86,7 +86,7 @@ def test_the_slivers_unknowns_are_solved_exactly_and_save_iterations(monkeypatch
 
     element_dofs = Dofs(slab, ElementTetP2()).element_dofs
     fixed = np.zeros((element_dofs.max() + 1, 3), dtype=bool)
-    nodes = fea_solve._sliver_dofs(slab.p, slab.t, element_dofs, fixed)[::3] // 3
+    nodes = fea_solve.sliver_dofs(slab.p, slab.t, element_dofs, fixed)[::3] // 3
     xyz = np.hstack([slab.p, slab.p[:, slab.edges].mean(axis=1)])
     assert len(nodes) and np.all((xyz[0, nodes] > 8 * mm - 1e-9) & (xyz[0, nodes] < 8.02 * mm + 1e-9))
     reference = fea_solve.solve(plain.p, plain.t, pb)

@@ -232,7 +232,7 @@ def _direct(K, f: np.ndarray, free: np.ndarray) -> np.ndarray:
     return u
 
 
-def _sliver_dofs(points: np.ndarray, tets: np.ndarray, element_dofs: np.ndarray, fixed: np.ndarray) -> np.ndarray:
+def sliver_dofs(points: np.ndarray, tets: np.ndarray, element_dofs: np.ndarray, fixed: np.ndarray) -> np.ndarray:
     """The free dofs of the tetrahedra whose volume is below SLIVER_QUALITY of a regular one's on
     their root-mean-square edge, at most the worst MAX_SLIVER_SHARE of the tetrahedra (sorted;
     empty when the mesh has none)."""
@@ -246,16 +246,16 @@ def _sliver_dofs(points: np.ndarray, tets: np.ndarray, element_dofs: np.ndarray,
     return dofs[~fixed.ravel()[dofs]]
 
 
-def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: Problem,
-                  slivers: np.ndarray) -> tuple[np.ndarray, int]:
+def two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, free_v: np.ndarray,
+                 slivers: np.ndarray, tolerance: float = CG_TOLERANCE) -> tuple[np.ndarray, int]:
     """Conjugate gradients, preconditioned by damped Jacobi on P2 around a solve of the Galerkin
     P1 problem on the mesh's vertices (exact, or one multigrid cycle: ``_coarse_solver``); the
-    dofs of ``slivers`` (``_sliver_dofs``) are also solved exactly, next to the Jacobi steps (a
-    symmetric multiplicative cycle)."""
+    dofs of ``slivers`` (``sliver_dofs``) are also solved exactly, next to the Jacobi steps (a
+    symmetric multiplicative cycle). ``fixed``: the held components (n_nodes, 3); ``free_v``: the
+    vertices' free components, flattened."""
     import scipy.sparse as sp
     import scipy.sparse.linalg as spla
 
-    free_v = ~_constrained(mesh.p, pb).T.ravel()
     P = sp.kron(_prolongation(mesh, n_nodes), sp.eye(3), format="csr")
     P = (sp.diags((~fixed.ravel()).astype(float)) @ P).tocsc()[:, free_v].tocsr()
     coarse_solve = _coarse_solver(P.T @ (K @ P), mesh.p, free_v)
@@ -290,7 +290,7 @@ def _two_level_cg(K, f: np.ndarray, mesh, n_nodes: int, fixed: np.ndarray, pb: P
     def tick(_):
         count[0] += 1
 
-    x, info = spla.cg(K, f, M=spla.LinearOperator(K.shape, cycle, dtype=float), rtol=CG_TOLERANCE,
+    x, info = spla.cg(K, f, M=spla.LinearOperator(K.shape, cycle, dtype=float), rtol=tolerance,
                       maxiter=CG_MAX_ITERATIONS, callback=tick)
     if info != 0:
         raise SolverError(f"the finite-element solve did not converge in {CG_MAX_ITERATIONS} iterations")
@@ -349,8 +349,8 @@ def solve(points, tets, pb: Problem) -> Solution:
     if pb.plate:
         u, iterations = _direct(K, f, ~fixed.ravel()), 0
     else:
-        slivers = _sliver_dofs(mesh.p, mesh.t, dofs.element_dofs, fixed)
-        u, iterations = _two_level_cg(K, f, mesh, n_nodes, fixed, pb, slivers)
+        slivers = sliver_dofs(mesh.p, mesh.t, dofs.element_dofs, fixed)
+        u, iterations = two_level_cg(K, f, mesh, n_nodes, fixed, ~_constrained(mesh.p, pb).T.ravel(), slivers)
     residual = np.linalg.norm(f - K @ u) / np.linalg.norm(f)
     if not residual <= RESIDUAL_LIMIT:
         raise SolverError(f"the finite-element solve left a relative residual of {residual:.1e} (more than "
