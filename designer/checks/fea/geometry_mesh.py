@@ -141,6 +141,7 @@ class Problem:
     floor_radius: float     # the pockets' floor radius (the end mill's corner radius; 0: none)
     plate: bool             # a thin wide plate: elements flatter than the depth across its width
     shear_stiffness: float = float("inf")   # kappa G A of the plain section beyond the cut (Cowper)
+    grooves: tuple = ()     # the load grooves' spans (x0, x1), which a submodel checks (``groove``)
 
 
 def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Problem:
@@ -187,7 +188,9 @@ def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Pro
                    bore=beam.radius - beam.wall if beam.section == "tube" else 0.0,
                    radius=beam.radius if beam.section != "rectangle" else 0.0,
                    floor_radius=beam.floor_radius if beam.feature == "pocket" else 0.0, plate=plate,
-                   shear_stiffness=float(shear_stiffness(geometry, sp, material.E, material.poisson)))
+                   shear_stiffness=float(shear_stiffness(geometry, sp, material.E, material.poisson)),
+                   grooves=() if beam.grooves is None else tuple(
+                       (x - beam.grooves.width / 2, x + beam.grooves.width / 2) for x in beam.grooves.positions))
 
 
 def write_step_apart(record: dict, path: Path) -> None:

@@ -284,15 +284,21 @@ def _kept(sol: Solution, pb: Problem, refinement: float) -> np.ndarray:
     """The vertices whose stress counts: STRESS_EXCLUSION away from the clamp and cut faces, and
     also nearer the clamp inside a feature's span (its floor radius at the clamp-side end carries
     the largest moment of the features, and a pocket may start closer to the clamp than half a
-    depth) except in the elements that touch the clamp face, over which its singular peak spreads."""
+    depth) except in the elements that touch the clamp face, over which its singular peak spreads;
+    and not within STRESS_EXCLUSION_ELEMENTS elements of a load groove, whose 0.25 mm root this
+    mesh does not resolve (a submodel checks it: ``groove``)."""
     x = sol.mesh.p[0]
-    margin = max(STRESS_EXCLUSION * pb.depth, STRESS_EXCLUSION_ELEMENTS * pb.global_size / refinement)
+    elements = STRESS_EXCLUSION_ELEMENTS * pb.global_size / refinement
+    margin = max(STRESS_EXCLUSION * pb.depth, elements)
     tol = PLANE_TOLERANCE * pb.size
     touching = np.any(x[sol.mesh.t] <= tol, axis=0)
     at_clamp = np.zeros(x.shape, dtype=bool)
     at_clamp[np.unique(sol.mesh.t[:, touching])] = True
     in_span = np.any([(x >= a - tol) & (x <= b + tol) for a, b in pb.spans], axis=0)
-    return ((x >= margin) | (in_span & ~at_clamp)) & (x <= pb.cut - margin)
+    kept = ((x >= margin) | (in_span & ~at_clamp)) & (x <= pb.cut - margin)
+    for a, b in pb.grooves:
+        kept &= (x < a - elements) | (x > b + elements)
+    return kept
 
 
 def stress_peaks(sol: Solution, pb: Problem, refinement: float) -> tuple[StressPeak, float, tuple, tuple]:
