@@ -143,7 +143,8 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     gauges = tuple(GaugeCheck(d, fea, float(m), coarse)
                    for d, fea, m, coarse in zip(pb.stations, main.gauges, a.gauge_strain, partner.gauges))
     allowable = float(ev.limits[0].limit)
-    groove = _groove_submodel(beam, mesh) if any(lim.name in GROOVE_LIMITS for lim in ev.limits) else None
+    groove = (_groove_submodel(beam, mesh, pb.poisson) if any(lim.name in GROOVE_LIMITS for lim in ev.limits)
+              else None)
     limits = _recheck(ev, spec, gauges, main, a, groove)
     x, z, eps = main.profile
     segments = model.rigidity_segments(model_design.geometry, a.props, pb.E)
@@ -180,7 +181,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
     return result
 
 
-def _groove_submodel(beam, mesh: str):
+def _groove_submodel(beam, mesh: str, poisson: float):
     """The 3-D K_t of the groove nearest the clamp (``groove.groove_kt``) on ``beam``'s section, at
     the root divisions of the ``mesh`` level; the groove as the CAD cuts it."""
     from designer.checks.fea.groove import ROOT_DIVISIONS, groove_kt
@@ -188,7 +189,7 @@ def _groove_submodel(beam, mesh: str):
     mm = 1e3
     dims = ({"width": beam.width * mm, "height": beam.height * mm} if beam.section == "rectangle" else
             {"diameter": beam.width * mm, **({"wall": beam.wall * mm} if beam.section == "tube" else {})})
-    return groove_kt(beam.section, dims, beam.grooves.depth * mm, ROOT_DIVISIONS[mesh])
+    return groove_kt(beam.section, dims, beam.grooves.depth * mm, ROOT_DIVISIONS[mesh], poisson=poisson)
 
 
 def _recheck(ev, spec, gauges, main: Figures, a, groove=None) -> tuple:

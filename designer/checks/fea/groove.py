@@ -34,7 +34,7 @@ from designer.errors import SolverError
 from designer.model import grooves
 
 ROOT_RADIUS = grooves.ROOT_RADIUS * 1e3    # mm
-E_MPA, POISSON = 71.7e3, 0.33   # (K_t does not depend on the modulus; Poisson's ratio a metal's)
+E_MPA, POISSON = 71.7e3, 0.33   # K_t does not depend on the modulus; verify gives the design's Poisson's ratio
 MOMENT = 1000.0             # N mm
 HALF_LENGTH = 2.5           # section sizes either side of the groove
 FAR_ELEMENTS = 8.0          # elements across the section's smaller size, far from the groove
@@ -44,8 +44,6 @@ CG_TOLERANCE = 1e-9
 # Root elements r / n of verify's mesh levels: at r/6 every groove of the converged study reads
 # within 1.2 % of its converged K_t (benchmarks/groove_kt_check.md), at r/4 within 1.9 %
 ROOT_DIVISIONS = {"coarse": 4.0, "normal": 6.0, "fine": 9.0}
-# Edges of scikit-fem's ElementTetP2 after its four vertices (designer.checks.fea.solve._EDGES)
-_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]])
 
 
 @dataclass(frozen=True)
@@ -184,7 +182,7 @@ def segment(kind: str, dims: dict, t: float, profile, n: float) -> tuple:
     return points, tets, np.flatnonzero(on_groove), L
 
 
-def solve_bending(points: np.ndarray, tets: np.ndarray, L: float) -> tuple:
+def solve_bending(points: np.ndarray, tets: np.ndarray, L: float, poisson: float = POISSON) -> tuple:
     """The eighth in pure bending: ``u_x = 0`` on ``x = 0``, ``u_y = 0`` on ``y = 0``,
     ``u_x = u_y = 0`` on ``z = 0``, one vertex's ``u_z`` held, ``sigma = M z / I`` on ``x = L``.
     Returns the mesh, its P2 dofs, the displacements (3, N) and the CG iterations."""
@@ -214,7 +212,7 @@ def solve_bending(points: np.ndarray, tets: np.ndarray, L: float) -> tuple:
     f = np.zeros(3 * n_nodes)
     f[0::3] = asm(LinearForm(lambda v, w: MOMENT * w.x[2] / inertia * v), end)
     f[fixed.ravel()] = 0.0
-    K = stiffness(mesh, dofs.element_dofs, n_nodes, E_MPA, POISSON, fixed)
+    K = stiffness(mesh, dofs.element_dofs, n_nodes, E_MPA, poisson, fixed)
     slivers = sliver_dofs(mesh.p, mesh.t, dofs.element_dofs, fixed)
     u, iterations = two_level_cg(K, f, mesh, n_nodes, fixed, ~fixed_v.ravel(), slivers, CG_TOLERANCE)
     residual = np.linalg.norm(f - K @ u) / np.linalg.norm(f)
@@ -223,9 +221,9 @@ def solve_bending(points: np.ndarray, tets: np.ndarray, L: float) -> tuple:
     return mesh, dofs, u.reshape(-1, 3).T, iterations
 
 
-def corner_stress(mesh, dofs, u: np.ndarray, elements: np.ndarray) -> np.ndarray:
+def corner_stress(mesh, dofs, u: np.ndarray, elements: np.ndarray, poisson: float = POISSON) -> np.ndarray:
     """``sigma_xx`` (E, 4) at the four corners of ``elements``, each element's own value."""
-    from designer.checks.fea.solve import lame
+    from designer.checks.fea.solve import _EDGES, lame
 
     x = mesh.p[:, mesh.t[:, elements]]
     inv = np.linalg.inv((x[:, 1:] - x[:, :1]).transpose(2, 0, 1))
@@ -240,18 +238,18 @@ def corner_stress(mesh, dofs, u: np.ndarray, elements: np.ndarray) -> np.ndarray
             if k in (i, j):
                 G[:, k, 4 + e] = 4 * g[:, j if k == i else i]
     grad = np.einsum("aie,ekic->ekac", u[:, dofs.element_dofs[:, elements]], G)
-    lam, mu = lame(E_MPA, POISSON)
+    lam, mu = lame(E_MPA, poisson)
     return 2 * mu * grad[:, :, 0, 0] + lam * np.einsum("ekaa->ek", grad)
 
 
-def root_peak(mesh, dofs, u: np.ndarray, nodes: np.ndarray) -> dict:
+def root_peak(mesh, dofs, u: np.ndarray, nodes: np.ndarray, poisson: float = POISSON) -> dict:
     """The largest ``sigma_xx`` over ``nodes``: averaged over the elements at each vertex, and the
     largest single element's; where each is; and (for the rectangle's middle of the top face) the
     averaged largest on ``y = 0``."""
     touched = np.zeros(mesh.p.shape[1], dtype=bool)
     touched[nodes] = True
     elements = np.flatnonzero(touched[mesh.t].any(axis=0))
-    s = corner_stress(mesh, dofs, u, elements)
+    s = corner_stress(mesh, dofs, u, elements, poisson)
     corners = mesh.t[:, elements].T
     n = mesh.p.shape[1]
     total, count, largest = np.zeros(n), np.zeros(n), np.full(n, -np.inf)
@@ -289,15 +287,17 @@ def reference(kind: str, dims: dict, t: float, grooved: bool) -> tuple:
 
 
 
-def groove_kt(kind: str, dims: dict, t: float, n: float, profile: str | None = "u") -> GrooveKt:
+def groove_kt(kind: str, dims: dict, t: float, n: float, profile: str | None = "u",
+              poisson: float = POISSON) -> GrooveKt:
     """The 3-D ``K_t`` of a groove ``t`` mm deep on a section ``kind`` of ``dims`` (mm: ``width``
-    and ``height``, or ``diameter`` and a tube's ``wall``), its root meshed at ``r / n``; of the
-    plain segment (``profile`` None) the gross section's ``M c / I`` ratio, 1 by beam theory."""
+    and ``height``, or ``diameter`` and a tube's ``wall``), its root meshed at ``r / n``, of a
+    material of ``poisson``; of the plain segment (``profile`` None) the gross section's
+    ``M c / I`` ratio, 1 by beam theory."""
     t0 = time.perf_counter()
     nominal, _ = reference(kind, dims, t, profile is not None)
     points, tets, nodes, L = segment(kind, dims, t, profile, n)
-    mesh, dofs, u, _ = solve_bending(points, tets, L)
-    out = root_peak(mesh, dofs, u, nodes)
+    mesh, dofs, u, _ = solve_bending(points, tets, L, poisson)
+    out = root_peak(mesh, dofs, u, nodes, poisson)
     return GrooveKt(kt=out["averaged"] / nominal, kt_element=out["raw"] / nominal,
                     at=tuple(float(v) for v in out["at"]), divisions=n, tetrahedra=int(tets.shape[1]),
                     seconds=time.perf_counter() - t0)
