@@ -59,13 +59,11 @@ MESHES = (4, 6, 9, 12, 18)
 
 
 def default_depth(kind: str, dims: dict) -> float:
-    """The CAD's default groove depth (mm): ``grooves.default_depth`` of the smaller side, rounded
-    down as designer.outputs.cad.beam rounds it."""
+    """The CAD's default groove depth (mm): ``grooves.cut_depth`` of the smaller side."""
     from designer.model import grooves
-    from designer.model.sections import round_down
 
     smaller = min(dims["width"], dims["height"]) if kind == "rectangle" else dims["diameter"]
-    return round_down(float(grooves.default_depth(smaller * 1e-3)), 1e-5) * 1e3
+    return grooves.cut_depth(smaller * 1e-3) * 1e3
 
 
 def richardson(ns, values) -> tuple:

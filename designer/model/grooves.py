@@ -70,6 +70,14 @@ def default_depth(smaller_side, ops: Ops = NUMERIC):
     return ops.fmin(DEPTH, DEPTH_FRACTION * smaller_side)
 
 
+def cut_depth(smaller_side: float) -> float:
+    """The default depth as the CAD cuts it: ``default_depth`` rounded down to the 0.01 mm grid
+    (the model takes it unrounded, up to 0.01 mm deeper)."""
+    from designer.model.sections import round_down
+
+    return round_down(float(default_depth(smaller_side)), 1e-5)
+
+
 def smaller_side(g: Geometry, ops: Ops = NUMERIC):
     """The section's smaller side (a round bar's or tube's diameter), of which the groove may take
     DEPTH_FRACTION."""

@@ -118,7 +118,6 @@ def groove_text(record: dict) -> str:
     clamp``; "" without them. The default positions and depth as the CAD takes them (the depth
     rounded down to the 0.01 mm grid)."""
     from designer.model import grooves
-    from designer.model.sections import round_down
 
     spec = record["spec"]
     cad = spec.get("cad") or {}
@@ -127,7 +126,7 @@ def groove_text(record: dict) -> str:
     section = record["design"]["section"]
     at = cad.get("groove_positions") or grooves.default_positions(*spec["load"]["position"])
     smaller = min(section["width"], section["height"]) if section["kind"] == "rectangle" else section["diameter"]
-    depth = cad.get("groove_depth") or round_down(float(grooves.default_depth(smaller)), 1e-5)
+    depth = cad.get("groove_depth") or grooves.cut_depth(smaller)
     return (f"{len(at)} × {grooves.WIDTH * 1e3:g} mm wide, {depth * 1e3:.2f} mm deep, at "
             f"{', '.join(f'{x * 1e3:.4g}' for x in sorted(at))} mm from the clamp")
 

@@ -346,7 +346,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
         raise DesignFileError(f"spec.cad.groove_positions: {brief(positions)} must be a list of positions (m)")
     g_depth = _length(cad, "groove_depth", "spec.cad", required=False)
     if g_depth is None:
-        g_depth = round_down(float(grooves.default_depth(min(width, height))), ROUND_STEP)
+        g_depth = grooves.cut_depth(min(width, height))
     # kept to the default's share of the section, which the beam model's groove stress (Roark's
     # K_t, docs/model.md §4) takes as a notch on the bar; a 3 mm groove had cut an 8 mm bar nearly through
     shallow = grooves.DEPTH_FRACTION * min(width, height)

@@ -27,9 +27,9 @@ STACKED_GROOVES = 6
 def _ordinate_rows(grooves, X) -> list[int]:
     """Each groove's row of ordinate figures: the next row where its figure would touch the one
     before it in the row the groove before it took."""
-    rows, height = [], DIM_PT * PT + 0.6      # a figure written along its line is its height across
+    rows, height, count = [], DIM_PT * PT + 0.6, _row_count(grooves, X)   # a figure along its line: its height across
     for j, xg in enumerate(grooves):
-        rows.append(0 if j == 0 or X(xg) - X(grooves[j - 1]) >= height else (rows[-1] + 1) % _row_count(grooves, X))
+        rows.append(0 if j == 0 or X(xg) - X(grooves[j - 1]) >= height else (rows[-1] + 1) % count)
     return rows
 
 
