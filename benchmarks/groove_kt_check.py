@@ -25,11 +25,11 @@ Table 17.1, as ``grooves.stress_concentration`` has it, without ``FACTOR_3D``). 
 meshes are Richardson-extrapolated (order from the three, at most 2 for the averaged stress of
 quadratic elements). Two checks: the same segment without a groove (``K_t`` 1), and a
 square-bottomed groove (sharp inner corners, no root radius: what the CAD cut before it cut the
-full-radius groove of designer/outputs/cad/solid.py), whose corner stress grows without bound as the mesh is refined
-(M. L. Williams, J. Appl. Mech. 19 (1952) 526: a 90 degree re-entrant corner's stress goes as
+full-radius groove of designer/outputs/cad/solid.py), whose corner stress grows without bound as
+the mesh is refined (M. L. Williams, J. Appl. Mech. 19 (1952) 526: a 90 degree re-entrant corner's stress goes as
 ``rho^-0.456``), so that it has no K_t to converge to.
 
-Run by hand:  python benchmarks/groove_kt_check.py [--meshes 4 6 9 12 18]   (about 40 minutes on two cores;
+Run by hand:  python benchmarks/groove_kt_check.py [--meshes 4 6 9 12 18] [--further]   (about 40 minutes on two cores;
 the Ø16 bar's r/18 mesh is near 2.5 million tetrahedra and 10 GB)
 """
 
@@ -53,6 +53,15 @@ CASES = [
     ("tube Ø12 / Ø8, no groove", "tube", {"diameter": 12.0, "wall": 2.0}, None, None),
     ("round Ø8, square-bottomed groove", "round", {"diameter": 8.0}, None, "square"),
     ("rectangle 10 x 6, square-bottomed groove", "rectangle", {"width": 10.0, "height": 6.0}, None, "square"),
+]
+# Further sections for the factors' reach (run with --meshes 6 9 12 --further): a square, a flat and a
+# tall bar, thin-walled tubes
+FURTHER = [
+    ("rectangle 8 x 8, default groove", "rectangle", {"width": 8.0, "height": 8.0}, None, "u"),
+    ("rectangle 16 x 4, default groove", "rectangle", {"width": 16.0, "height": 4.0}, None, "u"),
+    ("rectangle 4 x 12, default groove", "rectangle", {"width": 4.0, "height": 12.0}, None, "u"),
+    ("tube Ø12 x 1, default groove", "tube", {"diameter": 12.0, "wall": 1.0}, None, "u"),
+    ("tube Ø20 x 1.2, default groove", "tube", {"diameter": 20.0, "wall": 1.2}, None, "u"),
 ]
 # Elements at the root: r / n for each n
 MESHES = (4, 6, 9, 12, 18)
@@ -128,8 +137,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--meshes", type=float, nargs="+", default=list(MESHES),
                         help="root element sizes as r / n, the n (default: %(default)s)")
+    parser.add_argument("--further", action="store_true", help="the further sections (FURTHER) instead")
     args = parser.parse_args()
-    results = [check(*case, args.meshes) for case in CASES]
+    results = [check(*case, args.meshes) for case in (FURTHER if args.further else CASES)]
     print()
     print("| case | root mesh | 3-D K_t | largest element's | 3-D / Roark | tetrahedra | s |")
     print("|---|---|---:|---:|---:|---:|---:|")

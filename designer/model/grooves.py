@@ -36,8 +36,9 @@ LEAST_RATIO, SPLIT_RATIO = 0.25, 2.0
 # Roark's K_t times the 3-D check's (benchmarks/groove_kt_check.md: a submodel of the groove in pure
 # bending, its root meshed to r/18-r/24 and converged within 0.2 %): a rectangle's 1.81, where
 # its top and side grooves' roots meet at the section's edges, which the chart's two opposite
-# notches leave out; a round bar's 0.98-1.04 (rounded up to 1.05 for the runs' scatter); a tube
-# takes the round bar's (its one, thick-walled case read 0.98).
+# notches leave out (a square, a flat and a tall bar: 1.80, 1.69, 1.63); a round bar's 0.98-1.04
+# (rounded up to 1.05 for the runs' scatter); a tube takes the round bar's (three tubes, thick and
+# thin-walled, read 0.98-0.99).
 FACTOR_3D = {"rectangle": 1.81, "round": 1.05, "tube": 1.05}
 # The limits model.limits judges the grooves by (docs/model.md §4)
 LIMIT_NAMES = ("stress_groove", "fatigue_groove")
