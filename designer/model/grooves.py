@@ -57,6 +57,12 @@ def positions(spec) -> tuple:
     return default_positions(spec.load.position_min, spec.load.position_max)
 
 
+def overlapping(at) -> tuple | None:
+    """The first two of the sorted positions ``at`` (m) that are not more than a groove's width
+    apart (grooves exactly a width apart are one groove twice as wide), or None."""
+    return next(((a, b) for a, b in zip(at, at[1:]) if not b - a > WIDTH + 1e-9), None)
+
+
 def stations_end(spec) -> float:
     """Where the last gauge feature must end (m from the clamp face): ``limits.load_clearance``
     before the load region and, with load grooves, before the first groove's edge (docs/model.md

@@ -109,20 +109,18 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                        f"lower the noise to {noise} mV (now {now} mV)"
                        + (f" or raise load.force[0] to {spec.load.force_min * ratio:.4g} N"
                           if spec.load.force_min * ratio <= spec.load.force_max else ""))
-    if "load_clearance" in violated and not no_room(spec):
-        # room by the gauge gaps alone, whatever the section, but not by this design's own rules
-        # (the webs between pockets, the fits' least pocket length)
-        v = violated["load_clearance"]
-        out.append(f"load_clearance: the closest design's stations, their features and limits.load_clearance "
-                   f"reach {float(v.value) * mm:.4g} mm, past load.position[0] = {spec.load.position_min * mm:.4g} "
-                   f"mm; a load region from {float(v.value) * mm:.4g} mm out, fewer stations, a smaller gauge or "
-                   "smaller margins would leave them room")
-    if "groove_clearance" in violated and not no_room(spec):
-        v = violated["groove_clearance"]
-        out.append(f"groove_clearance: the closest design's stations and their features, with half a groove's width, "
-                   f"reach {float(v.value) * mm:.4g} mm, past the load groove at {float(v.limit) * mm:.4g} mm; "
-                   f"cad.groove_positions from {float(v.value) * mm:.4g} mm out, fewer stations, a smaller gauge or "
-                   "smaller margins would leave them room")
+    # room by the gauge gaps alone, whatever the section, but not by this design's own rules (the
+    # webs between pockets, the fits' least pocket length): how far its stations reach, past what
+    clearances = (("load_clearance", "their features and limits.load_clearance", "load.position[0] =",
+                   "a load region"),
+                  ("groove_clearance", "their features, limits.load_clearance and half a groove's width",
+                   "the load groove at", "cad.groove_positions"))
+    for name, reach, past, move in clearances:
+        if name in violated and not no_room(spec):
+            v = violated[name]
+            out.append(f"{name}: the closest design's stations, {reach} reach {float(v.value) * mm:.4g} mm, past "
+                       f"{past} {float(v.limit) * mm:.4g} mm; {move} from {float(v.value) * mm:.4g} mm out, fewer "
+                       "stations, a smaller gauge or smaller margins would leave them room")
     if "deflection" in violated:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = {float(v.limit) * mm:.4g} mm; "

@@ -349,10 +349,10 @@ def _check_grooves(spec) -> None:
         raise SpecError(f"{key} is past the free end less half a groove's width ({where} = "
                         f"{spec.free_length * 1e3:g} mm, less {grooves.WIDTH / 2 * 1e3:g} mm); must be at most "
                         f"{end * 1e3:g} mm{hint}")
-    for a, b in zip(at, at[1:]):
-        if not b - a > grooves.WIDTH + 1e-9:   # (0.5 mm apart: one groove twice as wide)
-            raise SpecError(f"cad.groove_positions: grooves at {a * 1e3:g} mm and {b * 1e3:g} mm overlap; they must "
-                            f"be more than {grooves.WIDTH * 1e3:g} mm apart")
+    if (pair := grooves.overlapping(at)) is not None:
+        a, b = pair
+        raise SpecError(f"cad.groove_positions: grooves at {a * 1e3:g} mm and {b * 1e3:g} mm overlap; they must "
+                        f"be more than {grooves.WIDTH * 1e3:g} mm apart")
 
 
 def _parse_catalogue(raw, folder: Path | None) -> tuple:

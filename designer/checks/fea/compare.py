@@ -24,6 +24,7 @@ from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_
 from designer.checks.fea.report import GaugeCheck, LimitCheck, MeshRun, VerifyResult, with_messages, write_outputs
 from designer.checks.fea.solve import solution, solve
 from designer.errors import InputError, describe_allowed
+from designer.model import grooves
 from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS
 
 
@@ -165,8 +166,6 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         seconds=0.0, floor_radius=beam.floor_radius)
     result = with_messages(result, spec.limits.fatigue, pb.feature, time.perf_counter() - start, mesh_option)
     if groove is not None:   # the beam's mesh is refined at the features; the groove has a submodel
-        from designer.model import grooves
-
         _, kt_model = grooves.groove_stress(model_design.geometry, spec)
         said = ", ".join(f"{c.name} {c.fea_value / 1e6:.1f} MPa against {c.limit / 1e6:.1f} MPa"
                          for c in limits if c.name in GROOVE_LIMITS)
@@ -229,8 +228,6 @@ def _recheck(ev, spec, gauges, main: Figures, a, groove=None) -> tuple:
         "stress_root": (float(a.stress_root), "beam model: the idealised clamp is singular in 3-D"),
     }
     if groove is not None:
-        from designer.model import grooves
-
         static, fatigue = GROOVE_LIMITS
         nominal_g = float(next(lim.value for lim in ev.limits if lim.name == static))
         q = notch_sensitivity(grooves.ROOT_RADIUS, ev.design.material_params(spec).notch_length)

@@ -372,9 +372,8 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
                                   f"{move} or set spec.cad.load_grooves: false")
         out.append(float(x))
     out.sort()
-    for a, b in zip(out, out[1:]):
-        if not b - a > grooves.WIDTH + LENGTH_EPS:   # (0.5 mm apart: one groove twice as wide)
-            raise DesignFileError(f"{key}: grooves at {fmt_mm(a)} mm and {fmt_mm(b)} mm overlap; they must be more "
-                                  f"than {fmt_mm(grooves.WIDTH)} mm apart")
+    if (pair := grooves.overlapping(out)) is not None:
+        raise DesignFileError(f"{key}: grooves at {fmt_mm(pair[0])} mm and {fmt_mm(pair[1])} mm overlap; they must be "
+                              f"more than {fmt_mm(grooves.WIDTH)} mm apart")
     return Grooves(positions=tuple(out), width=grooves.WIDTH, depth=g_depth)
 
