@@ -59,7 +59,7 @@ def summary_rows(record: dict) -> list[tuple[str, str]]:
         ("feature", feature_text(d["feature"], d["section"])),
         ("free length", f"{d['length'] * mm:.2f} mm"),
         ("gauge stations", ", ".join(f"{x * mm:.2f}" for x in d["stations"]) + " mm from the clamp"),
-        ("bridges", f"{d['bridge']}, {d['axes']} axis" + ("es" if d["axes"] == 2 else "")),
+        ("bridges", f"{d['bridge']}, {d['axes']} " + ("axes" if d["axes"] == 2 else "axis")),
         *error_rows(record),
         ("free-end deflection", f"{p['deflection'] * mm:.3g} mm ({p['deflection_ratio']:.2%} of the length)"),
         *stress_rows(record),

@@ -166,3 +166,15 @@ def test_a_design_that_meets_every_limit_to_rounding_shows_no_violation():
     assert report._violation({"worst_violation": met.worst_violation}) == "none"
     broken = Evaluation(None, None, (Limit("deflection", 1.97e-3 * 1.01, 1.97e-3),), 0.3986, 0.9)
     assert not broken.feasible and broken.worst_violation == pytest.approx(0.01)
+
+
+@pytest.mark.parametrize("example, said", [("prototype-b", "half, 1 axis"), ("prototype-c", "half, 2 axes")])
+def test_the_bridges_row_names_the_axes_in_english(example, said):
+    """The summary's bridges row: "1 axis", "2 axes" (a biaxial sensor's had read "2 axises")."""
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.result.record import build_record
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(ROOT / "examples" / f"{example}.yaml")
+    record = json.loads(json.dumps(build_record("feasible", spec, evaluate(fixed_design(spec), spec))))
+    assert dict(report.summary_rows(record))["bridges"] == said
