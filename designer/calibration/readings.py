@@ -165,6 +165,10 @@ def in_counts(readings: Readings, volts_per_count: float) -> Readings:
     return replace(readings, voltages=np.round(readings.voltages / volts_per_count), counts=True)
 
 
+# A number as a CSV cell may write it (ASCII digits, a point, an exponent).
+_DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
+
+
 def _cell(cell: str, source: str, line_no: int, name: str) -> float:
     text = cell.strip()
     if not text:
@@ -175,6 +179,9 @@ def _cell(cell: str, source: str, line_no: int, name: str) -> float:
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a number") from exc
     if not math.isfinite(value):
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a finite number")
+    if not _DECIMAL.fullmatch(text):   # Python's float also reads "50_9" as 509 and other scripts' digits
+        raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is not a number; write it with the "
+                       "digits 0-9, a decimal point and an exponent (1.5e-3) only")
     largest = LARGEST[name] if name in LARGEST else LARGEST[name[0]]
     if abs(value) > largest:
         raise CsvError(f"{source}: line {line_no}, column {name}: {text!r} is beyond what a reading can be; "

@@ -114,6 +114,11 @@ BAD_CALIBRATION_CSVS = {
     "non-numeric cell": (_csv(B_HEADER, GOOD_ROWS[0], "3000,150,1.3,abc,0.5", *GOOD_ROWS[2:]),
                          ["line 3", "column V2", "'abc' is not a number"]),
     "NaN": (_csv(B_HEADER, *GOOD_ROWS[:3], "3000,450,4.3,nan,3.5"), ["line 5", "column V2", "not a finite"]),
+    # Python's float reads "30_00" as 3000 and Arabic-Indic digits as numbers: a cell holds ASCII decimals
+    "digit separator": (_csv(B_HEADER, GOOD_ROWS[0], "30_00,150,1.3,0.9,0.5", *GOOD_ROWS[2:]),
+                        ["line 3", "column mass_g", "'30_00' is not a number"]),
+    "other script's digits": (_csv(B_HEADER, GOOD_ROWS[0], "3000,\u0661\u0665\u0660,1.3,0.9,0.5", *GOOD_ROWS[2:]),
+                              ["line 3", "column position_mm", "is not a number"]),
     "empty cell": (_csv(B_HEADER, *GOOD_ROWS[:2], "20,,0.03,0.025,0.027", GOOD_ROWS[3]),
                    ["line 4", "column position_mm", "empty"]),
     "ragged row": (_csv(B_HEADER, GOOD_ROWS[0], "3000,150,1.3,0.9", *GOOD_ROWS[2:]), ["line 3", "4 cells"]),
