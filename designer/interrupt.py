@@ -9,6 +9,7 @@ exception (a weakref callback or ``__del__`` that it interrupted), the signal is
 from __future__ import annotations
 
 import atexit
+import contextlib
 import os
 import signal
 import sys
@@ -36,13 +37,35 @@ _in_hook = False
 _held = False
 
 
+# Inside ``held()`` a signal is only noted, and raised when the block ends.
+_holding = False
+
+
 def _handler(signum, frame):
     global _received, _held
     _received = signum
     if _in_hook:
         _held = True
         return
+    if _holding:
+        return
     _raise(signum)
+
+
+@contextlib.contextmanager
+def held():
+    """A step that must not be cut in half once begun (moving a run's outputs into place and
+    removing the previous run's, or removing a scratch folder): a signal received in the block
+    is raised when it ends."""
+    global _holding
+    before = _holding
+    _holding = True
+    try:
+        yield
+    finally:
+        _holding = before
+    if not before:
+        check()
 
 
 def received() -> int | None:

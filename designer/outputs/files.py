@@ -28,8 +28,7 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
             raise OSError(exc.errno, exc.strerror, str(path)) from exc
         return path
     _not_a_folder(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with naming(path):
+    with naming(path), _folders_for(path):
         fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), dir=path.parent)
         try:
             with os.fdopen(fd, "wb") as fh:
@@ -41,6 +40,22 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
                 os.unlink(tmp)
             raise
     return path
+
+
+@contextlib.contextmanager
+def _folders_for(path: Path):
+    """The folders ``path`` needs (``make_folders``), removed again if the block fails: a write
+    that fails (a name too long, a full disk, a signal) leaves no new empty folder behind."""
+    from designer import interrupt
+
+    with interrupt.held():
+        made = make_folders(path.parent)
+    try:
+        yield
+    except BaseException:
+        with interrupt.held():
+            remove_folders(made)
+        raise
 
 
 def _not_a_folder(path: Path) -> None:
@@ -96,8 +111,7 @@ def temporary_sibling(path: Path):
     (move it into place with ``os.replace``); removed again unless it was moved. An OSError in the
     block names ``path``."""
     _not_a_folder(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with naming(path):
+    with naming(path), _folders_for(path):
         fd, tmp = tempfile.mkstemp(prefix=temp_prefix(path), suffix=".tmp", dir=path.parent)
         os.close(fd)
         os.chmod(tmp, file_mode())
@@ -227,34 +241,49 @@ def staged_directory(target: str | os.PathLike, stale=(), inputs=()):
     """
     from designer.errors import InputError
 
+    from designer import interrupt
+
     target = Path(target)
-    made = make_folders(target.parent)
+    with interrupt.held():     # a signal here would leave the folders or the scratch folder behind
+        made = make_folders(target.parent)
+        with naming(target):
+            try:
+                scratch = Path(tempfile.mkdtemp(prefix=temp_prefix(target), dir=target.parent))
+            except BaseException:
+                remove_folders(made)
+                raise
     done = False
     try:
-        with naming(target):
-            scratch = Path(tempfile.mkdtemp(prefix=temp_prefix(target), dir=target.parent))
         try:
-            try:
-                yield scratch
-            except OSError as exc:
-                _name_in(exc, scratch, target)
-                raise
-            names = sorted(item.relative_to(scratch) for item in scratch.rglob("*") if item.is_file())
-            for name in names:
-                for what, path in inputs:
-                    if same_file(target / name, path):
-                        raise InputError(f"{target / name} is the {what} this command reads; write the "
-                                         "outputs to another folder")
+            yield scratch
+        except OSError as exc:
+            _name_in(exc, scratch, target)
+            raise
+        names = sorted(item.relative_to(scratch) for item in scratch.rglob("*") if item.is_file())
+        for name in names:
+            for what, path in inputs:
+                if same_file(target / name, path):
+                    raise InputError(f"{target / name} is the {what} this command reads; write the "
+                                     "outputs to another folder")
+        # once begun, the outputs are moved in and the previous run's removed, whatever signal
+        # comes meanwhile (it is raised after): the folder holds one whole run, old or new
+        with interrupt.held():
             made += make_folders(target)
             commit([(scratch / name, target / name) for name in names],
                    aside=Path(tempfile.mkdtemp(prefix=".old.", dir=scratch)))
             done = True
-        finally:
+            _remove_stale(target, stale, {name.as_posix() for name in names}, inputs)
             shutil.rmtree(scratch, ignore_errors=True)
     finally:
         if not done:
-            remove_folders(made)
-    written = {name.as_posix() for name in names}
+            with interrupt.held():
+                shutil.rmtree(scratch, ignore_errors=True)
+                remove_folders(made)
+
+
+def _remove_stale(target: Path, stale, written: set, inputs) -> None:
+    """Remove the files of ``stale`` (a previous run's, relative to ``target``) that this run did
+    not write again, except the run's inputs and names outside the folder itself."""
     for name in set(stale) - written:
         old = target / name
         if any(same_file(old, path) for _, path in inputs):

@@ -180,3 +180,42 @@ def test_a_file_whose_name_is_near_the_limit_is_written_through_its_temporary(tm
         tmp.write_text("mesh")
     assert path.read_text() == "model"
     assert [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
+def test_a_signal_after_the_outputs_are_moved_in_still_leaves_one_whole_run(tmp_path, monkeypatch):
+    """Ctrl-C just after a run's files are moved into the folder, while its scratch folder is being
+    removed: the previous run's files that this run did not write are removed all the same, no
+    scratch folder is left, and the signal then stops the run (it had left the new design beside
+    the old run's STEP and drawing, and the scratch folder)."""
+    import signal
+
+    from designer import interrupt
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "old.step").write_text("the previous run's")
+    real = files.shutil.rmtree
+
+    def signalled(path, *args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        real(path, *args, **kwargs)
+
+    restore = interrupt.install()
+    try:
+        monkeypatch.setattr(files.shutil, "rmtree", signalled)
+        with pytest.raises(KeyboardInterrupt):
+            with files.staged_directory(out, stale={"old.step"}) as scratch:
+                (scratch / "design.json").write_text("{}")
+    finally:
+        restore()
+    assert snapshot(out) == {"design.json": b"{}"}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_a_file_that_cannot_be_written_leaves_no_folder_made_for_it(tmp_path):
+    """A name too long for the file system: the error names it, and the folder made for it is
+    removed again (an empty folder had been left behind with exit 2)."""
+    target = tmp_path / "new" / "deeper" / ("a" * 300 + ".json")
+    with pytest.raises(OSError):
+        files.atomic_write_text(target, "{}")
+    assert list(tmp_path.iterdir()) == []
