@@ -254,5 +254,8 @@ def rebuild(record: dict):
     section = Section(kind=d["section"]["kind"], **{k: d["section"][k] for k in SECTION_KEYS[d["section"]["kind"]]})
     f = d["feature"]
     feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})
+    if d["length"] < spec.load.position_max:   # as a spec's design block (spec.reader)
+        raise DesignFileError(f"design.length: {d['length']!r} m ({d['length'] * 1e3:g} mm) is shorter than the "
+                              f"largest load position spec.load.position[1] = {spec.load.position_max * 1e3:g} mm")
     geometry = geometry_for(spec, section, feature, d["stations"], d["length"], axes=d.get("axes", 1))
     return spec, Design(material, geometry, _adjustment(d))

@@ -122,6 +122,8 @@ def _edited(record_file, folder, path, value, command) -> list[str]:
      "design.material_properties.fatigue: 'abc' must be a number from 1 to 1e+13"),
     (("design", "material_properties", "poisson"), -5, "design.material_properties.poisson: -5 must be a number"),
     (("design", "section", "width"), 1e300, "design.section.width: 1e+300 must be at most 100"),
+    # a beam shorter than the load region (verify had stopped with "the mesh has no face at the cut")
+    (("design", "length"), 0.05, "design.length: 0.05 m (50 mm) is shorter than the largest load position"),
 ])
 @pytest.mark.parametrize("command", [["verify", "-o", "v.out"], ["export", "--step", "x.step"], ["plan"], ["simulate"]])
 def test_impossible_design_json_fields_are_bad_input(probe_record, tmp_path, capsys, path, value, message, command):
