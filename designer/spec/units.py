@@ -116,6 +116,11 @@ def _parse_text(text: str, dimension: str, si_unit: str, example: str, key: str)
         quantity = ureg.Quantity(number, unit.strip())
     except Exception as exc:  # pint raises several types for unreadable text
         raise SpecError(f"{key}: {shown!r} cannot be read as a quantity; expected {example}") from exc
+    logarithmic = [str(name) for name in quantity._units if ureg._units[name].is_logarithmic]
+    if logarithmic:
+        # pint takes dB as a power ratio: '40 dB' of voltage gain would be 10 000, not 100
+        raise SpecError(f"{key}: {text!r} has a logarithmic unit ({logarithmic[0]}), which fpdesign does not "
+                        f"convert (a voltage's and a power's dB differ); give the ratio as a number, expected {example}")
     if str(quantity.units) == "dimensionless" and not dimension:
         return float(quantity.magnitude)
     base = dict(quantity.to_base_units().unit_items())

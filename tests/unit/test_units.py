@@ -136,6 +136,19 @@ def test_angles_revolutions_and_counts_are_refused_not_read_as_numbers(text, kin
                               f"fpdesign does not convert; expected {units.KINDS[kind][2]}")
 
 
+@pytest.mark.parametrize("text, kind", [("40 dB", "ratio"), ("20 decibel", "ratio"), ("3 Np", "ratio"),
+                                        ("1 octave", "ratio"), ("10 dBm", "voltage")])
+def test_logarithmic_units_are_refused_not_read_as_power_ratios(text, kind):
+    """pint reads dB as a power ratio, 10^(dB/10): '40 dB' of gain became 10 000 where an amplifier's
+    40 dB is a voltage gain of 100 (20 log10 100); which ratio a user means is not in the text, so
+    it is refused, naming the key and the unit."""
+    with pytest.raises(SpecError) as err:
+        units.parse(text, kind, "electronics.gain")
+    message = str(err.value)
+    assert message.startswith(f"electronics.gain: {text!r} has a logarithmic unit (")
+    assert message.endswith(units.KINDS[kind][2])
+
+
 @pytest.mark.parametrize("text, kind, si", [("128 dimensionless", "ratio", 128.0), ("3 mm/m", "ratio", 0.003),
                                             ("5 ppm", "ratio", 5e-6), ("100 Hz", "frequency", 100.0)])
 def test_plain_ratios_and_frequencies_still_read(text, kind, si):
