@@ -14,6 +14,8 @@ from designer.errors import DesignFileError, SpecError
 
 
 def register(sub) -> None:
+    from designer.names import SCHEMES
+
     p = sub.add_parser("optimize", help="search materials, sections, pockets and stations for the best design")
     p.add_argument("spec", help="spec.yaml")
     p.add_argument("-o", "--output", default="out", help="output folder [out]")
@@ -53,7 +55,8 @@ def register(sub) -> None:
     s.add_argument("--seed", type=seed, default=0, help="seed of the noise draws, 0 or more [0]")
     s.add_argument("--angle", type=float, default=30.0, help="biaxial designs: load angle in degrees [30]")
     s.add_argument("--readings", metavar="CSV", help="also write noisy bridge readings at the paper's loads")
-    s.add_argument("--scheme", default=None, help="with --readings: their loads: paper, 4, 9 or grid [paper]")
+    s.add_argument("--scheme", default=None, choices=SCHEMES,
+                   help="with --readings: their loads: paper, 4, 9 or grid [paper]")
     s.set_defaults(func=run_simulate)
 
     m = sub.add_parser("materials", help="list the material, gauge and stock catalogue")
@@ -394,17 +397,14 @@ def run_simulate(args) -> int:
             raise SpecError(f"--grid: {name} = {n} is not allowed; use 2 to {MAX_GRID}")
     if not (math.isfinite(args.angle) and -360 <= args.angle <= 360):
         raise SpecError(f"--angle: {args.angle!r} is not allowed; give degrees from -360 to 360")
-    if args.scheme is not None and not args.readings:
+    not_empty(args.readings, "--readings", "a file name for the readings CSV")
+    if args.scheme is not None and args.readings is None:
         raise SpecError(f"--scheme: {args.scheme} given without --readings; it chooses the loads of the readings "
                         "--readings CSV writes")
     args.scheme = args.scheme or "paper"
-    if args.readings:
-        from designer.calibration.schemes import SCHEMES
+    if args.readings is not None:
         from designer.cli.paths import guard_inputs
-        from designer.errors import describe_allowed
 
-        if args.scheme not in SCHEMES:
-            raise SpecError(f"--scheme: {args.scheme!r} is not allowed; must be {describe_allowed(SCHEMES)}")
         guard_inputs({"--readings": args.readings}, {"design": args.design})
     record = _design_record(args.design)
     d, p, s = record["design"], record["predicted"], record["spec"]
@@ -414,6 +414,11 @@ def run_simulate(args) -> int:
     t0 = time.perf_counter()
     res = simulate(p["sensitivity"], d["stations"], p["noise_voltage"], forces, positions, args.draws, args.seed, angle)
     seconds = time.perf_counter() - t0
+    if args.readings is not None:   # the file first: a table printed is a run done
+        readings = _optional("designer.calibration.readings")
+        if readings is None:
+            raise SpecError("--readings: this build has no readings module")
+        readings.write_simulated_readings(record, Path(args.readings), scheme=args.scheme, seed=args.seed)
 
     table = Table(title=f"{s['name']}: Monte Carlo ({args.draws} draws per point) against the analytic 1σ")
     for col in ("F (N)", "x (mm)", "σF MC (N)", "σF model", "ratio", "σx MC (mm)", "σx model", "ratio",
@@ -441,11 +446,7 @@ def run_simulate(args) -> int:
         console.print(f"the model's 1σ is the noise propagated linearly, which holds while every signal is well "
                       f"above the noise; this design's smallest signal is {snr:.3g} noise levels, where the "
                       f"estimator's ratios of noisy outputs have wide tails: the Monte Carlo's figures are its own")
-    if args.readings:
-        readings = _optional("designer.calibration.readings")
-        if readings is None:
-            raise SpecError("--readings: this build has no readings module")
-        readings.write_simulated_readings(record, Path(args.readings), scheme=args.scheme, seed=args.seed)
+    if args.readings is not None:
         print(f"wrote {args.readings}")
     return 0
 

@@ -52,3 +52,33 @@ def test_simulate_says_why_the_monte_carlo_leaves_linear_propagation_at_a_weak_s
     assert "the model's 1σ is the noise propagated linearly" in out
     assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "5000", "--grid", "2", "2"]) == 0
     assert "propagated linearly" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["--readings", ""], "fpdesign: error: --readings: '' is empty; give a file name for the readings CSV"),
+    (["--readings", "{tmp}/r.csv", "--scheme", "5"], "argument --scheme: invalid choice: '5'"),
+])
+def test_simulate_refuses_an_empty_readings_name_and_an_unknown_scheme(examples, tmp_path, capsys, argv, said):
+    """An empty --readings had been passed over (exit 0, no file), and --scheme 5 was refused in
+    another form than every other option's fixed choices (the argument parser's usage line)."""
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "100", *argv]) == 2
+    assert said in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_simulate_writes_its_readings_before_it_prints_the_table(examples, tmp_path, capsys, monkeypatch):
+    """A readings file that cannot be written (here: a full disk) stops the run before the table is
+    printed (the table, printed first, had said the run was done before exit 2)."""
+    import errno
+
+    from designer.calibration import readings
+
+    def full(record, path, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device", str(path))
+
+    monkeypatch.setattr(readings, "write_simulated_readings", full)
+    assert main(["simulate", str(examples / "prototype-b.yaml"), "--draws", "100", "--readings",
+                 str(tmp_path / "r.csv")]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and "No space left on device" in captured.err
