@@ -436,7 +436,7 @@ FLAG_CASES = [
     (("simulate", "{design}", "--seed", "-1"), ("--seed", "-1"), True),
     (("simulate", "{design}", "--seed", "x"), ("--seed", "x"), True),
     (("simulate", "{design}", "--draws", "100", "--grid", "2", "2", "--scheme", "magic", "--readings", "{out}.csv"),
-     ("scheme", "magic"), False),
+     ("scheme", "magic"), True),
     (("simulate", "{design}", "--draws", "100", "--grid", "2", "2", "--readings", "{design}"),
      ("--readings", "design.json"), False),
     (("simulate", "{missing}.json"), ("no such file",), False),
