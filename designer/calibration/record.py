@@ -150,7 +150,7 @@ def _calibration_from_dict(record) -> Calibration:
     if not isinstance(record, dict) or not isinstance(record.get("bridges"), list) or not record["bridges"]:
         raise CalibrationFileError("bridges: missing; a calibration.json lists its bridges "
                                    "(written by `fpdesign calibrate`)")
-    if record.get("version") != CALIBRATION_VERSION:
+    if isinstance(record.get("version"), bool) or record.get("version") != CALIBRATION_VERSION:   # (True == 1)
         raise CalibrationFileError(f"version: {record.get('version')!r} is not allowed; must be "
                                    f"{CALIBRATION_VERSION}")
     bridges = []
@@ -189,6 +189,10 @@ def _calibration_from_dict(record) -> Calibration:
     if tuple(b.bridge for b in bridges) != expected:
         raise CalibrationFileError(f"bridges: {[b.name for b in bridges]} must be "
                                    f"{[b.name for b in expected]} (every station, in order)")
+    axes = record.get("axes", expected[-1].axis and 2 or 1)
+    if isinstance(axes, bool) or axes != (2 if expected[-1].axis else 1):
+        raise CalibrationFileError(f"axes: {axes!r} does not match the bridges {[b.name for b in bridges]}, which "
+                                   f"are those of {'2 axes' if expected[-1].axis else '1 axis'}")
     if expected[-1].station < 2:
         raise CalibrationFileError(f"bridges: {[b.name for b in bridges]}: a calibration needs at least 2 stations "
                                    "(V1, V2) to tell force from position")

@@ -210,21 +210,33 @@ def run_measure(args) -> int:
         table = Table(title=f"Measurements from {escape(args.readings)}")
         for col in ("row", "force (N)", "position (mm)") + (("angle (°)",) if biaxial else ()):
             table.add_column(col, justify="right")
+        def cell(value, sigma, digits=".4g"):   # without a noise figure, no 1-sigma ("± nan")
+            return f"{value:{digits}}" + (f" ± {sigma:.2g}" if math.isfinite(sigma) else "")
+
         for i in range(len(m)):
-            row = [str(i + 1), f"{m.force[i]:.4g} ± {m.sigma_force[i]:.2g}",
-                   f"{m.position[i] * MM:.4g} ± {m.sigma_position[i] * MM:.2g}"]
+            row = [str(i + 1), cell(m.force[i], m.sigma_force[i]),
+                   cell(m.position[i] * MM, m.sigma_position[i] * MM)]
             if biaxial:
-                row.append(f"{math.degrees(m.angle[i]):.3g} ± {math.degrees(m.sigma_angle[i]):.2g}")
+                row.append(cell(math.degrees(m.angle[i]), math.degrees(m.sigma_angle[i]), ".3g"))
             table.add_row(*row)
         console.print(table)
+    if (data.force is None) != (data.position is None):
+        console.print("the file's loads are not compared with the estimates: that needs a force (force_N or "
+                      "mass_g) and a position_mm column, and it has " + ("only the force" if data.position is None
+                                                                          else "only position_mm"))
     loaded = None if data.force is None or data.position is None else np.abs(data.force) > 0
     if loaded is not None and loaded.any():
-        # relative errors as the paper's Table 4 gives them, over the rows that carry a load
+        # relative errors as the paper's Table 4 gives them, over the rows that carry a load (the
+        # position's over those away from the clamp: a load at 0 mm has no relative position error)
         ef = np.abs(m.force - data.force)[loaded] / np.abs(data.force[loaded])
-        ex = np.abs(m.position - data.position)[loaded] / data.position[loaded]
+        away = loaded & (data.position > 0)
+        ex = np.abs(m.position - data.position)[away] / data.position[away]
         # three significant digits: a good sensor's errors are hundredths of a per cent ("0.00%" said nothing)
+        position = (f"{np.mean(ex) * 100:.3g} %" + ("" if away.sum() == loaded.sum() else
+                                                    f" (over the {int(away.sum())} of them away from the clamp)")
+                    if away.any() else "none (every loaded row is at the clamp, 0 mm)")
         text = (f"against the file's loads ({int(loaded.sum())} loaded rows): mean absolute error force "
-                f"{np.mean(ef) * 100:.3g} %, position {np.mean(ex) * 100:.3g} %")
+                f"{np.mean(ef) * 100:.3g} %, position {position}")
         if biaxial and data.angle is not None:
             ea = np.abs(np.degrees(np.angle(np.exp(1j * (m.angle - data.angle)))))[loaded]
             text += f", angle {np.mean(ea):.3g}°"

@@ -207,6 +207,9 @@ def test_measure_with_bridges_that_do_not_match_the_calibration_exits_2(tmp_path
     (lambda d: d["bridges"][1].update(k="x"), "bridges[1].k: 'x' must be a finite number"),
     (lambda d: d["bridges"].pop(1), "bridges: ['V1', 'V3'] must be ['V1', 'V2', 'V3']"),
     (lambda d: d.update(version=7), "version: 7"),
+    (lambda d: d.update(version=True), "version: True is not allowed"),   # (True == 1 in Python)
+    (lambda d: d.update(axes=3), "axes: 3 does not match the bridges ['V1', 'V2', 'V3'], which are those of 1 axis"),
+    (lambda d: d.update(axes=2), "axes: 2 does not match"),
     (lambda d: d.update(points="nine"), "points: 'nine' must be a whole number"),
     (lambda d: d.update(noise=[1]), "noise: [1] must be an object"),
     (lambda d: d["span"].update(force=[1, "x"]), "span.force[1]: 'x' must be a finite number"),
@@ -269,3 +272,42 @@ def test_a_station_in_the_load_region_is_refused_by_every_calibration_command(tm
     assert main(["plot", str(path), "-o", str(tmp_path / "plots")]) == 2
     assert message in capsys.readouterr().err
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["design.json", "readings.csv"])
+
+
+def _exact_rows(calibration, loads):
+    """Noise-free readings of ``calibration``'s sensor (``V_i = k_i F (x - d_i) + c_i``) at
+    ``loads`` ((N, mm) pairs), as CSV rows."""
+    from designer.model.estimator import bridge_voltages
+
+    k, d, c = ([getattr(b, name) for b in calibration.bridges] for name in "kdc")
+    return [",".join([f"{f:g}", f"{x:g}"] + [repr(float(v)) for v in bridge_voltages(k, d, c, f, x / 1e3)])
+            for f, x in loads]
+
+
+def test_measure_compares_what_it_can_and_prints_no_undefined_figure(tmp_path, capsys):
+    """docs/spec.md §7 allows a load at the clamp (0 mm): its relative position error is undefined
+    (it had printed "position inf %" and numpy's warning), so the mean is over the rows away from
+    the clamp; a file with a force and no position is said not to be compared (it had been passed
+    over in silence); a calibration without a noise figure prints no "± nan"."""
+    _, dc, r = _clean_b()
+    fitted = cal.calibrate(r, dc)
+    cal_json = rd.write_calibration(tmp_path / "c.json", fitted)
+    rows = _exact_rows(fitted, [(10.0, 300.0), (10.0, 0.0)])
+    src = tmp_path / "r.csv"
+    src.write_text(_csv("force_N,position_mm,V1,V2,V3", *rows))
+    assert main(["measure", str(cal_json), str(src)]) == 0
+    captured = capsys.readouterr()
+    assert "inf" not in captured.out and captured.err == ""
+    said = " ".join(captured.out.split())
+    assert "position " in said and "(over the 1 of them away from the clamp)" in said
+    src.write_text(_csv("force_N,V1,V2,V3", *(",".join(row.split(",")[:1] + row.split(",")[2:]) for row in rows)))
+    assert main(["measure", str(cal_json), str(src)]) == 0
+    assert "not compared with the estimates" in " ".join(capsys.readouterr().out.split())
+    record = json.loads(Path(cal_json).read_text())
+    record["noise"] = {}
+    record["bridges"] = [dict(b, residuals=[]) for b in record["bridges"]]
+    quiet = tmp_path / "quiet.json"
+    quiet.write_text(json.dumps(record))
+    assert main(["measure", str(quiet), str(src)]) == 0
+    out = capsys.readouterr().out
+    assert "nan" not in out and "±" not in out and "no noise estimate" in out
