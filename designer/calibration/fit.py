@@ -335,8 +335,9 @@ def _outlier_message(readings, o: Outlier, name: str, tests: int) -> str:
 
 
 def _k_warnings(bridges, design) -> list[str]:
-    """Bridges whose k differ from one another more than the design predicts."""
-    k = np.array([b.k for b in bridges])
+    """Bridges whose k differ from one another more than the design predicts, in size: a reversed
+    bridge (k < 0, wired the other way round) has its own warning and measures all the same."""
+    k = np.abs([b.k for b in bridges])
     se = np.array([b.se_k if b.se_k is not None else 0.0 for b in bridges])
     expected = (np.array([b.design_k for b in bridges]) if design is not None else np.ones_like(k))
     ratio = k / expected

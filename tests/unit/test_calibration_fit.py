@@ -64,6 +64,20 @@ def test_warning_for_bridges_whose_k_differ_more_than_the_design_predicts():
     assert any(w.startswith("V2: k =") and "nominally equal" in w for w in c.warnings)
 
 
+@pytest.mark.parametrize("reversed_columns", [[1], [0, 1, 2]])
+def test_a_reversed_bridge_is_said_to_be_reversed_and_nothing_else(reversed_columns):
+    """A bridge wired the other way round reads -k (docs/model.md §10: measurements still work):
+    the warning says so, and its size is compared with the design's as any other's (its sign had
+    made it "differ by -11277980 %" and the common scale "-100 %" or "-200 %")."""
+    _, dc, r = _clean_b()
+    v = r.voltages.copy()
+    v[:, reversed_columns] *= -1
+    c = cal.calibrate(_with_voltages(r, v), dc)
+    for j in reversed_columns:
+        assert any(w.startswith(f"V{j + 1}: k =") and "not positive" in w for w in c.warnings), c.warnings
+    assert not any("differs by" in w or "on average" in w for w in c.warnings), c.warnings
+
+
 NONLINEARITY = 0.30
 
 
