@@ -98,13 +98,15 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
               rating=spec.gauge.max_strain),
         Limit("min_signal_snr", a.min_signal_snr, lim.min_snr * (1 + allowance), upper=False, rating=lim.min_snr),
         Limit("clamp_clearance", d[0] - l_f / 2, lim.clamp_clearance, upper=False, scale=mm, unit="m"),
-        Limit("load_clearance", d[-1] + l_f / 2 + lim.load_clearance, load.position_min, scale=mm, unit="m"),
+        # the room kept between the last feature's end and the load region (or the first groove's edge)
+        Limit("load_clearance", load.position_min - d[-1] - l_f / 2, lim.load_clearance, upper=False, scale=mm,
+              unit="m"),
     ]
     if spec.cad.load_grooves and (first := min(groove_positions(spec))) - GROOVE_WIDTH / 2 < load.position_min:
         # the first groove's edge before the load region: the load clearance is kept from it as from
         # the load (the groove is a notch of its own, and the CAD cuts it beyond the last feature)
-        out.append(Limit("groove_clearance", d[-1] + l_f / 2 + lim.load_clearance + GROOVE_WIDTH / 2, first,
-                         scale=mm, unit="m"))
+        out.append(Limit("groove_clearance", first - GROOVE_WIDTH / 2 - d[-1] - l_f / 2, lim.load_clearance,
+                         upper=False, scale=mm, unit="m"))
     front_end = spec.front_end_noise
     if front_end is not None:
         # the bridge's output at F_max, x_max (station 1, the largest) inside the front-end's input range

@@ -112,14 +112,18 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
     # room by the gauge gaps alone, whatever the section, but not by this design's own rules (the
     # webs between pockets, the fits' least pocket length): how far its stations reach, past what
     clearances = (("load_clearance", "their features and limits.load_clearance", "load.position[0] =",
-                   "a load region"),
+                   "a load region", lambda: spec.load.position_min),
                   ("groove_clearance", "their features, limits.load_clearance and half a groove's width",
-                   "the load groove at", "cad.groove_positions"))
-    for name, reach, past, move in clearances:
+                   "the load groove at", "cad.groove_positions", lambda: min(grooves.positions(spec))))
+    for name, reach, past, move, edge in clearances:
         if name in violated and not no_room(spec):
             v = violated[name]
-            out.append(f"{name}: the closest design's stations, {reach} reach {float(v.value) * mm:.4g} mm, past "
-                       f"{past} {float(v.limit) * mm:.4g} mm; {move} from {float(v.value) * mm:.4g} mm out, fewer "
+            # the limit is the room left before the edge, at least the clearance: the stations reach
+            # the edge less that room, plus the clearance (and half a groove)
+            where = edge()
+            reached = where - float(v.value) + float(v.limit)
+            out.append(f"{name}: the closest design's stations, {reach} reach {reached * mm:.4g} mm, past "
+                       f"{past} {where * mm:.4g} mm; {move} from {reached * mm:.4g} mm out, fewer "
                        "stations, a smaller gauge or smaller margins would leave them room")
     if "deflection" in violated:
         v = violated["deflection"]

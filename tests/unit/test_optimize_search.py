@@ -863,3 +863,26 @@ def test_a_load_region_at_the_gauge_gaps_least_room_names_what_the_closest_desig
     assert said == [f"load_clearance: the closest design's stations, their features and limits.load_clearance reach "
                     f"{reach * 1e3:.4g} mm, past load.position[0] = 29.8 mm; a load region from {reach * 1e3:.4g} mm "
                     "out, fewer stations, a smaller gauge or smaller margins would leave them room"]
+
+
+def test_the_clearance_limits_show_the_room_they_keep(examples):
+    """The summary's load_clearance row read "40 mm <= 40 mm" (the stations' reach against x_min)
+    beside clamp_clearance's "5 mm >= 5 mm": both now show the room kept, against the clearance.
+    Prototype B (docs/spec.md §6's fixed design): room = x_min - (d_N + l_f/2), and before a
+    groove at 140 mm, 140 mm - 0.25 mm - (d_N + l_f/2)."""
+    from dataclasses import replace
+
+    from designer.result.evaluation import evaluate, fixed_design
+    from designer.spec.reader import load_spec
+
+    spec = load_spec(examples / "prototype-b.yaml")
+    spec = replace(spec, cad=replace(spec.cad, load_grooves=True, groove_positions=(0.140,)))
+    ev = evaluate(fixed_design(spec), spec)
+    g = ev.design.geometry
+    end = g.stations[-1] + g.feature_length / 2
+    rows = {c["name"]: c for c in ev.constraint_records()}
+    assert rows["load_clearance"]["value"] == pytest.approx(spec.load.position_min - end, rel=1e-12)
+    assert rows["groove_clearance"]["value"] == pytest.approx(0.140 - 0.25e-3 - end, rel=1e-12)
+    for name in ("load_clearance", "groove_clearance", "clamp_clearance"):
+        assert rows[name]["sense"] == ">=" and rows[name]["unit"] == "m"
+    assert rows["load_clearance"]["limit"] == rows["groove_clearance"]["limit"] == spec.limits.load_clearance
