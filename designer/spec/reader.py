@@ -196,7 +196,8 @@ class Spec:
             env = self.environment
             out["environment"] = {"temperature": list(env.temperature), "calibrated_at": env.calibrated_at,
                                   "hold": env.hold, "tare": env.tare}
-        out["calibration"] = asdict(self.calibration)
+            # (a spec without an environment has no calibration block: design.json's spec reads as a spec)
+            out["calibration"] = asdict(self.calibration)
         out["tolerances"] = self.tolerances.as_dict()
         if self.catalogue:
             # the content itself, so that design.json is read again without the files
@@ -233,7 +234,6 @@ def parse_spec_text(text: str, source: str = "spec", default_name: str = "sensor
         raise SpecError(f"{source}: a spec must be a mapping of keys such as 'load' and 'electronics', "
                         f"not {type(raw).__name__}")
     if raw.get("calibration") is not None and raw.get("environment") is None:
-        # (a spec file's rule: design.json's normalised spec holds the calibration's defaults always)
         raise SpecError("calibration: its weights and placement are terms of the error budget, which only a spec "
                         "with environment has (docs/spec.md 2.10); give environment.temperature or leave "
                         "calibration out")

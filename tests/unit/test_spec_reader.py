@@ -141,3 +141,21 @@ def test_the_corner_radius_default_is_recorded_in_the_normalised_spec():
     again.pop("design")
     again["electronics"] = {k: v for k, v in again["electronics"].items() if v is not None and k != "noise_output"}
     assert parse_spec(again).cad == spec.cad
+
+
+@pytest.mark.parametrize("example", ["gripper-finger", "prototype-b", "prototype-c"])
+def test_design_json_s_spec_reads_back_as_a_spec_file(examples, example):
+    """docs/spec.md §4: design.json's ``spec`` is the normalised spec; written out as YAML, without
+    electronics' derived ``noise_output`` and its null keys, it is a spec again, the same one (it had
+    held the calibration block's defaults without an environment, which a spec file may not)."""
+    import yaml
+
+    from designer.spec.reader import load_spec, parse_spec_text
+
+    spec = load_spec(examples / f"{example}.yaml")
+    normalised = spec.to_dict()
+    # electronics' derived output noise and its unused keys are the record's, not the spec's
+    written = dict(normalised, electronics={k: v for k, v in normalised["electronics"].items()
+                                            if k != "noise_output" and v is not None})
+    again = parse_spec_text(yaml.safe_dump(written), source="design.json's spec")
+    assert again.to_dict() == normalised
