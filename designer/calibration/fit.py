@@ -50,6 +50,9 @@ K_SCALE_TOLERANCE = 0.25
 #: A fitted station d further than this from the design's (hand placement of a gauge), m.
 D_TOLERANCE = 2e-3
 
+#: Calibration loads whose moments F·x span less than this share of the largest are blamed rather
+#: than the bridge when a bridge's k cannot be told from zero (the schemes span 0.9 and more)
+MOMENT_SPREAD = 0.1
 #: A bridge column whose readings span less than this over the calibration loads does not respond
 #: to them (V): the smallest voltage fpdesign handles (spec.units.RANGES), far below the step of
 #: any converter (a 32-bit converter over +-1 mV: 0.5 pV).
@@ -181,17 +184,26 @@ def _refuse_unresponsive(readings: Readings, fits: dict, sigma: float | None) ->
     to 33 % and no measurement could use it.
     """
     n = len(readings)
+    moment = np.abs(np.asarray(readings.force) * np.asarray(readings.position))
+    spread = float(np.ptp(moment) / np.max(moment)) if np.max(moment) > 0 else 0.0
     for cols, fit in fits.values():
         own = np.sqrt(fit.rss / fit.dof) if fit.dof > 0 else np.zeros(len(cols))
         se_k = np.maximum(own, sigma or 0.0) * math.sqrt(fit.unscaled_covariance[1, 1])
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             d = fit.d
         for j, col in enumerate(cols):
-            k = float(fit.k[j])
-            if abs(k) > SIGNIFICANT_SIGMAS * se_k[j] and abs(d[j]) <= LARGEST_STATION:
+            k, se = float(fit.k[j]), float(se_k[j])
+            if abs(k) > SIGNIFICANT_SIGMAS * se and abs(d[j]) <= LARGEST_STATION:
                 continue
+            if spread < MOMENT_SPREAD:
+                # a moment F·x that barely changes from row to row leaves k unknown whatever the
+                # bridge: the loads are at fault, not the wiring
+                raise CsvError(f"{readings.source}: {readings.row(0)} to {readings.row(n - 1)}, column "
+                               f"{readings.column(col)}: its k cannot be told from zero, and the loads' moments "
+                               f"F·x span {spread:.2g} of the largest: the loads cannot determine k and d; load at "
+                               "moments further apart (fpdesign plan gives the 4- and 9-point schemes)")
             why = (f"its fitted k = {k:.3g} V/(N·m) is within {SIGNIFICANT_SIGMAS:g} standard errors "
-                   f"({se_k[j]:.2g} V/(N·m)) of zero" if abs(k) <= SIGNIFICANT_SIGMAS * se_k[j] else
+                   f"({se:.2g} V/(N·m)) of zero" if abs(k) <= SIGNIFICANT_SIGMAS * se else
                    f"its fitted k = {k:.3g} V/(N·m) places its station d = -b2/k at {d[j]:.3g} m, beyond the "
                    f"{LARGEST_STATION:g} m a beam can be")
             bad = [o for o in outlier_rows(fit, OUTLIER_ALPHA / (n * len(fits))) if o.bridge == j]

@@ -166,6 +166,22 @@ def test_a_bridge_that_reads_noise_or_the_force_alone_is_refused():
                 cal.calibrate(_with_voltages(r, v), dc, noise)
 
 
+def test_loads_of_one_moment_are_blamed_not_the_bridges():
+    """Six loads whose moments F·x are all 0.1 N·m but one (0.100001 N·m): the design matrix is not
+    singular enough for the rank test, but k cannot be told from zero, and the message had sent the
+    user to V1's wiring. Two healthy bridges (V = k F (x - d) + c, k 0.2 and 0.4 V/(N·m))."""
+    rows = [(1, 100), (2, 50), (4, 25), (5, 20), (0.5, 200), (1, 100.001)]
+    k, d, c = np.array([0.2, 0.4]), np.array([0.01, 0.05]), np.array([0.0, 0.0])
+    lines = ["force_N,position_mm,V1,V2"] + [
+        ",".join([f"{f:g}", f"{x:g}"] + [repr(float(v)) for v in estimator.bridge_voltages(k, d, c, f, x / 1e3)])
+        for f, x in rows]
+    r = rd.parse_readings("\n".join(lines) + "\n", "cal.csv", need_loads=True)
+    with pytest.raises(CsvError, match=r"its k cannot be told from zero, and the loads' moments F·x span "
+                                       r"1e-05 of the largest: the loads cannot determine k and d") as err:
+        cal.calibrate(r)
+    assert "wiring" not in str(err.value)
+
+
 def test_bridges_that_fit_one_station_are_refused():
     """One bridge read three times (every column the same) fits one d for all: force and position
     could not be told apart, so calibration refuses it rather than write what measure refuses."""
