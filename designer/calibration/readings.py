@@ -364,6 +364,11 @@ def write_simulated_readings(design: dict, path, scheme: str = "paper", seed: in
     volts, or with ``counts`` in the front-end's counts (a design with electronics.adc)."""
     readings = simulated_scheme_readings(design, scheme, seed, repeats)
     constants = design_constants(design)
+    largest = float(np.max(np.abs(readings.voltages)))
+    if largest > LARGEST["V"]:   # the file would be refused by calibrate and measure
+        raise InputError(f"predicted.noise_voltage: {constants.noise!r} V makes the simulated readings reach "
+                         f"{largest:.4g} V, beyond the {LARGEST['V']:g} V a readings file holds; the design's "
+                         "noise and sensitivity give no readable sensor")
     comments = (f"simulated readings of {constants.name}: scheme {scheme}, seed {seed}, repeats {repeats}, "
                 f"sigma_V {constants.noise * 1e3:.3g} mV per channel",)
     if counts:

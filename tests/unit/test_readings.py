@@ -57,3 +57,22 @@ def test_calibration_json_round_trip(tmp_path):
     assert back.to_dict() == c.to_dict()
     v = rd.simulated_scheme_readings(rec, "paper", seed=2).voltages
     assert cal.measure(back, v).force == pytest.approx(cal.measure(c, v).force, rel=1e-15)
+
+
+def test_simulated_readings_that_no_readings_file_could_hold_are_refused(tmp_path):
+    """docs/spec.md §4 allows predicted.noise_voltage up to 1000 V, the largest reading a readings
+    file holds (§7); with 900 V of noise the draws pass it (a 1-sigma of 900 V: about a third of the
+    draws of one row beyond 1000 V), and calibrate then refused the file simulate-readings had
+    written. Refused before writing, naming the key."""
+    import json
+
+    from designer.errors import InputError
+
+    edited = record("b")
+    edited["predicted"]["noise_voltage"] = 900.0
+    with pytest.raises(InputError, match=r"^predicted.noise_voltage: 900.0 V makes the simulated readings reach "):
+        rd.write_simulated_readings(json.loads(json.dumps(edited)), tmp_path / "r.csv", scheme="9")
+    assert list(tmp_path.iterdir()) == []
+    edited["predicted"]["noise_voltage"] = 1e-3
+    rd.write_simulated_readings(edited, tmp_path / "r.csv", scheme="9")
+    assert rd.read_readings(tmp_path / "r.csv").voltages.shape == (9, 3)
