@@ -227,7 +227,8 @@ def _choose_noise(choice: str, residual_noise, dof: int, design_noise, n: int, s
     if choice == "design":
         if design_noise is None:
             where = f"{design_option} design.json" if design_option else "a design.json"
-            raise InputError(f"noise: 'design' needs a design ({where})")
+            key = "--noise" if design_option else "noise"   # (the command line's flag, or the call's argument)
+            raise InputError(f"{key}: 'design' needs a design ({where})")
         return design_noise, "design", []
     if residual_noise is not None and dof >= MIN_NOISE_DOF:
         return residual_noise, "residual", []

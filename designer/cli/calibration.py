@@ -148,12 +148,20 @@ def run_calibrate(args) -> int:
     from designer.calibration import readings
     from designer.calibration.design import design_constants
     from designer.calibration.fit import calibrate
+    from designer.errors import DesignFileError
 
     guard_inputs({"-o": args.output}, {"readings": args.readings, "design.json": args.design})
     data = readings.read_readings(args.readings, need_loads=True)
-    design = design_constants(readings.read_design(args.design)) if args.design else None
+    design = None
+    if args.design:
+        try:
+            design = design_constants(readings.read_design(args.design))
+        except DesignFileError as exc:   # (two JSON files may be given: say which one)
+            raise DesignFileError(str(exc) if str(exc).startswith(str(args.design)) else
+                                  f"--design {args.design}: {exc}") from exc
     per_count = None if design is None else design.volts_per_count
-    data = readings.in_volts(data, per_count, "give --design, a design.json with electronics.adc")
+    data = readings.in_volts(data, per_count, "give --design, a design.json with electronics.adc" if design is None
+                             else f"--design {args.design} has no front-end of the catalogue (electronics.adc)")
     result = replace(calibrate(data, design, args.noise, design_option="--design"), volts_per_count=per_count)
     readings.write_calibration(args.output, result)
 

@@ -311,3 +311,26 @@ def test_measure_compares_what_it_can_and_prints_no_undefined_figure(tmp_path, c
     assert main(["measure", str(quiet), str(src)]) == 0
     out = capsys.readouterr().out
     assert "nan" not in out and "±" not in out and "no noise estimate" in out
+
+
+def test_calibrate_says_which_file_and_which_flag(tmp_path, capsys):
+    """calibrate reads a readings CSV and, with --design, a design.json: a bad --design file is
+    named ("spec: missing" had not said which JSON file), --noise design without --design names the
+    flag, and counts with a --design that has no front-end say so (the hint had asked for --design
+    when it was given)."""
+    design = DATA / "cal_prototype_b.json"
+    readings_csv = tmp_path / "r.csv"
+    assert main(["simulate-readings", str(design), "-o", str(readings_csv), "--scheme", "9"]) == 0
+    capsys.readouterr()
+    wrong = tmp_path / "calibration.json"
+    wrong.write_text(json.dumps({"version": 1}))
+    out = tmp_path / "c.json"
+    assert main(["calibrate", str(readings_csv), "-o", str(out), "--design", str(wrong)]) == 2
+    assert capsys.readouterr().err.startswith(f"fpdesign: error: --design {wrong}: ")
+    assert main(["calibrate", str(readings_csv), "-o", str(out), "--noise", "design"]) == 2
+    assert capsys.readouterr().err.startswith("fpdesign: error: --noise: 'design' needs a design (--design ")
+    counts = tmp_path / "counts.csv"
+    counts.write_text(readings_csv.read_text().replace("V1,V2,V3", "C1,C2,C3"))
+    assert main(["calibrate", str(counts), "-o", str(out), "--design", str(design)]) == 2
+    assert f"--design {design} has no front-end of the catalogue" in capsys.readouterr().err
+    assert not out.exists()
