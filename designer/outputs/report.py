@@ -303,6 +303,14 @@ def stress_rows(record: dict) -> list[tuple]:
                                  f"K_t {p.get('stress_concentration', 1):.3g}) / fatigue allowable",
               "stress_groove": "groove stress, static (nominal) / yield allowable",
               "fatigue_groove": "groove stress, fatigue (K_f × nominal) / fatigue allowable"}
+    c = p.get("direction_factor", 1.0)
+    if c != 1.0 and p.get("stress_notch"):   # a biaxial sensor's features (docs/model.md §9)
+        k_f, notch = p.get("fatigue_factor", 1), p["stress_notch"]
+        plain = k_f * notch < p["stress_fatigue"] * (1 - 1e-6)
+        labels["fatigue_feature"] = (
+            f"feature stress, fatigue ({'the plain nominal, above ' if plain else ''}K_f {k_f:.3g} × the "
+            f"notch's nominal {notch * 1e-6:.4g} MPa; K_t {p.get('stress_concentration', 1):.3g} × {c:g} for the "
+            "worst load direction) / fatigue allowable")
     if "fatigue_groove" in by_name and "stress_groove" in by_name and by_name["stress_groove"]["value"] > 0:
         # both on the groove's nominal stress: their ratio is its K_f (docs/model.md §4)
         k_f = by_name["fatigue_groove"]["value"] / by_name["stress_groove"]["value"]

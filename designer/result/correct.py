@@ -53,7 +53,7 @@ class Round:
         stress at the feature over the model's ``K_t`` times its nominal stress there."""
         v, a = self.verification, self.evaluation.analysis
         return Adjustment(v.ratios, v.deflection_fea / v.deflection_model,
-                          v.stress_feature_fea / float(a.stress_peak))
+                          v.stress_feature_fea / float(a.stress_peak_axis))   # (the 3-D check loads along an axis)
 
     def worst(self) -> tuple[str, float] | None:
         """The limit the 3-D figures come closest to breaking (or break most) and its ratio

@@ -138,6 +138,7 @@ class Evaluation:
             "stress_allowable": float(self.limits[0].limit),
             "stress_feature_allowable": self.feature_allowable,
             "stress_concentration": float(a.stress_concentration), "fatigue_factor": float(a.fatigue_factor),
+            "stress_notch": float(a.stress_notch), "direction_factor": float(a.direction_factor),
             "stress_peak": float(a.stress_peak), "stress_fatigue": float(a.stress_fatigue),
             "gauge_strain": [float(s) for s in a.gauge_strain],
             "min_signal_snr": float(a.min_signal_snr),
@@ -155,7 +156,9 @@ class Evaluation:
         by_name = {lim.name: lim for lim in self.limits}
         allowed = [float(by_name["stress_feature"].limit)]
         if "fatigue_feature" in by_name:
-            allowed.append(float(by_name["fatigue_feature"].limit) / float(self.analysis.fatigue_factor))
+            # (the fatigue stress over the nominal: K_f, and on a biaxial sensor its notch's fibre)
+            a = self.analysis
+            allowed.append(float(by_name["fatigue_feature"].limit) * float(a.stress_feature) / float(a.stress_fatigue))
         return min(allowed)
 
     def constraint_records(self) -> list[dict]:

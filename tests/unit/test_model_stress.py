@@ -164,3 +164,39 @@ def test_the_optimiser_sees_the_fatigue_limit_with_exact_derivatives(table):
         assert float(jac(x0, p0)[i]) == pytest.approx(fd, rel=1e-5)
     # and the same number as the numeric model
     assert float(f(x0, p0)) == pytest.approx(float(_analysis(table=table)[3].stress_fatigue), rel=1e-12)
+
+
+# The 3-D study of benchmarks/biaxial_peak.md (a helper's angle sweep, superposed solves of F along
+# -Z and -Y on one mesh, fine mesh where marked there): the features' peak at the worst load
+# direction, MPa, of the study's designs (tests/data/biaxial_*.json with sizes changed).
+BIAXIAL_WORST_3D = {"R1": 90.22, "R2": 11.71, "R3": 115.39, "R4": 33.00, "T1": 87.72,
+                    "Q1": 55.29, "Q2": 47.00, "Q3": 66.98, "Q4": 61.40}
+
+
+@pytest.mark.parametrize("name", list(BIAXIAL_WORST_3D))
+def test_a_biaxial_feature_s_peak_is_that_of_its_worst_load_direction_in_3d(name):
+    """docs/model.md §9: a biaxial design's features peak at c K_t times the notch's own nominal
+    stress (a flat's floor, a square's face: the fibre the single-axis K_t fits take), c = 1.08 on
+    round bars and tubes, 1.05 on squares. Against the 3-D sweep of the load's direction it reads
+    at most 20 % high (the squares' single-axis fit is 7-12 % high of its own) and never low; the
+    model had taken K_t times the plain extreme fibre's nominal and read 3-40 % high (the squares
+    0.60-0.68 of it)."""
+    import importlib.util
+    from pathlib import Path
+
+    from designer.checks.fea.compare import _problem
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "biaxial_peak.py"
+    spec = importlib.util.spec_from_file_location("biaxial_peak", path)
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    _, _, ev, _, _ = _problem(study.design(name), "normal")
+    a = ev.analysis
+    ratio = BIAXIAL_WORST_3D[name] * 1e6 / float(a.stress_peak)
+    assert 0.80 <= ratio <= 1.0
+    if name[0] in "RT":
+        assert ratio >= 0.90      # round bars and tubes: within 10 %
+    # the notch's nominal on its single-axis fibre: R - p, or h/2 against the corner's h/sqrt(2)
+    g = ev.design.geometry
+    fibre = g.diameter / 2 - g.depth if g.section != "rectangle" else g.height / 2
+    assert float(a.stress_notch) == pytest.approx(float(a.stress_feature) * fibre / float(a.props.y_e), rel=1e-12)

@@ -294,3 +294,27 @@ def test_a_miniature_round_bar_s_flat_whose_wire_channel_takes_a_fifth_of_its_sh
     assert float(model.shoulder_ratio(g)) < 0.85
     v = _holds_in_3d(result, spec)
     assert 1 - STRESS <= v.stress_feature_fea / v.stress_feature_model <= 1 + STRESS
+
+
+@pytest.mark.slow
+def test_a_biaxial_round_bar_s_flats_are_checked_at_their_worst_load_direction():
+    """A biaxial 7075-T6 Ø9.18 mm bar with four 0.95 mm flats (tests/data/biaxial_round_flats.json):
+    verify solves the mesh for F along Y too and sweeps the load's direction (docs/model.md §9). The
+    features peak off the axes (the 3-D study of benchmarks/biaxial_peak.md: 22.5-25 degrees, 5-6 %
+    above the axis load), at most 10 % under the model's c K_t x the notch's nominal and not above
+    it; the axis load's peak is within 10 % of K_t x that nominal (the model had put it at K_t
+    times the plain fibre's, 0.77 of which the 3-D check read), and fatigue_feature is judged with
+    the worst direction's K_t."""
+    import json
+
+    from designer.checks.fea import verify_design
+
+    record = json.loads((ROOT / "tests" / "data" / "biaxial_round_flats.json").read_text(encoding="utf-8"))
+    v = verify_design(record, mesh="coarse")
+    assert 10 <= v.worst_angle <= 40 or 50 <= v.worst_angle <= 80   # (either axis: 4-fold symmetric)
+    assert 1.0 < v.stress_feature_worst / v.stress_feature_fea < 1.10
+    assert 0.90 <= v.stress_feature_worst / v.stress_feature_worst_model <= 1.0
+    assert 0.90 <= v.stress_feature_fea / v.stress_feature_model <= 1.0 + STRESS
+    fatigue = next(c for c in v.limits if c.name == "fatigue_feature")
+    assert "the worst" in fatigue.source and fatigue.satisfied
+    assert any(m.startswith("biaxial: the features peak at") for m in v.messages)

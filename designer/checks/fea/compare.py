@@ -20,7 +20,7 @@ import numpy as np
 from designer.checks.fea.geometry_mesh import (CONVERGENCE_COARSENING, MESH_LEVELS, Problem, build_problem,
                                                mesh_quarter, write_step_apart)
 from designer.checks.fea.readout import (StressPeak, free_end_deflection, gauge_strains, stress_near, stress_peaks,
-                                         surface_profile)
+                                         surface_profile, worst_direction)
 from designer.checks.fea.report import GaugeCheck, LimitCheck, MeshRun, VerifyResult, with_messages, write_outputs
 from designer.checks.fea.solve import solution, solve
 from designer.errors import InputError, describe_allowed
@@ -45,6 +45,7 @@ class Figures:
     run: MeshRun
     mesh_adapt: bool        # faces with a flat surface mesh were meshed by MeshAdapt
     station_places: tuple = ()  # each station's (floor radius, outer face) peak (readout.stress_peaks)
+    worst: tuple = ()       # a biaxial design's features' peak at the worst load direction, and its angle
 
 
 def _run(step_path: Path, pb: Problem, level: str, refinement: float, mesh_adapt: bool = False):
@@ -97,6 +98,12 @@ def _both_meshes(step_path: Path, pb: Problem, mesh: str, refinement: float) -> 
     job = Background(_partner_run, step_path, pb, level, coarse)
     try:
         main, sol = _run(step_path, pb, mesh, refinement)
+        if pb.biaxial:   # F along the other axis on the same mesh: every load direction (docs/model.md §9)
+            start = time.perf_counter()
+            lateral = solve(sol.mesh.p, sol.mesh.t, replace(pb, lateral=True))
+            main = replace(main, worst=worst_direction(sol, lateral, pb, refinement),
+                           run=replace(main.run, seconds=main.run.seconds + time.perf_counter() - start))
+            del lateral
         del sol
         partner, (points, tets, u, iterations) = job.result()
     finally:
@@ -155,16 +162,24 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         deflection_coarse=partner.deflection, stress_peak=main.peak, stress_peak_coarse=partner.at_peak,
         stress_feature_fea=main.feature_peak, stress_stations_fea=main.station_peaks,
         stress_stations_places=main.station_places,
-        stress_model=float(max(a.stress_root, a.stress_peak)),
+        stress_model=float(max(a.stress_root, a.stress_peak_axis)),   # (the check's load is along an axis)
         stress_concentration_model=float(a.stress_concentration),
-        stress_feature_nominal=float(a.stress_feature),
+        stress_feature_nominal=float(a.stress_notch),
         stress_root_model=float(a.stress_root), stress_allowable=allowable, limits=limits,
         runs=(main.run, partner.run), profile_x=tuple(float(v) for v in x),
         profile_fea=tuple(float(v) for v in eps),
         profile_model=tuple(float(v) for v in model_profile(x, z, pb, segments)),
         gauge_grid=(pb.grid_length, pb.grid_width), feature_length=pb.feature_length, messages=(),
-        seconds=0.0, floor_radius=beam.floor_radius)
+        seconds=0.0, floor_radius=beam.floor_radius,
+        stress_feature_worst=main.worst[0] if main.worst else 0.0, worst_angle=main.worst[1] if main.worst else 0.0,
+        stress_feature_worst_model=float(a.stress_peak))
     result = with_messages(result, spec.limits.fatigue, pb.feature, time.perf_counter() - start, mesh_option)
+    if main.worst:
+        result = replace(result, messages=result.messages + (
+            f"biaxial: the features peak at {main.worst[0] / 1e6:.1f} MPa under a load {main.worst[1]:g} degrees from "
+            f"the Z axis toward Y, the worst direction (the same mesh solved for F along Y too), against the model's "
+            f"{float(a.stress_peak) / 1e6:.1f} MPa there (K_t x {float(a.direction_factor):g}, docs/model.md §9): "
+            f"3-D / model {main.worst[0] / float(a.stress_peak):.2f}; fatigue_feature is judged there",),)
     if groove is not None:   # the beam's mesh is refined at the features; the groove has a submodel
         _, kt_model = grooves.groove_stress(model_design.geometry, spec)
         said = ", ".join(f"{c.name} {c.fea_value / 1e6:.1f} MPa against {c.limit / 1e6:.1f} MPa"
@@ -212,12 +227,18 @@ def _recheck(ev, spec, gauges, main: Figures, a, groove=None) -> tuple:
         u_f, u_x, _ = region_budget(k, d, strains, spec, ev.design.material_params(spec), rigidity=rigidity)
         force_error, position_error = float(u_f), float(u_x)
         what = "error budget with 3-D sensitivities"
-    nominal = float(a.stress_feature)
-    kt_fea = main.feature_peak / nominal
+    nominal, notch = float(a.stress_feature), float(a.stress_notch)
+    kt_fea = main.feature_peak / notch
+    fatigue = fatigue_factor(float(a.notch_sensitivity), kt_fea) * notch
+    said = f"K_f from the 3-D K_t = {kt_fea:.2f} (peak at the features / nominal)"
+    if main.worst:   # a biaxial sensor: at the worst load direction (§9)
+        kt_fea = main.worst[0] / notch
+        fatigue = max(fatigue_factor(float(a.notch_sensitivity), kt_fea) * notch, nominal)
+        said = (f"K_f from the 3-D K_t = {kt_fea:.2f} (peak at the features under a load {main.worst[1]:g} degrees "
+                "from the Z axis, the worst, / the notch's nominal), or the plain nominal where larger")
     fea = {
         "stress_feature": (nominal, "beam model: static yield is checked on the nominal stress"),
-        "fatigue_feature": (fatigue_factor(float(a.notch_sensitivity), kt_fea) * nominal,
-                            f"K_f from the 3-D K_t = {kt_fea:.2f} (peak at the features / nominal)"),
+        "fatigue_feature": (fatigue, said),
         "gauge_strain": (gauges[0].fea_strain, "3-D gauge strain, station 1"),
         "min_signal_snr": (float(a.min_signal_snr) * gauges[-1].ratio, "model x 3-D strain ratio of the last gauge"),
         "deflection": (main.deflection, "3-D free-end deflection"),

@@ -142,6 +142,8 @@ class Problem:
     plate: bool             # a thin wide plate: elements flatter than the depth across its width
     shear_stiffness: float = float("inf")   # kappa G A of the plain section beyond the cut (Cowper)
     grooves: tuple = ()     # the load grooves' spans (x0, x1), which a submodel checks (``groove``)
+    biaxial: bool = False   # features on all four faces: the side (+Y) ones' floor radii refined too
+    lateral: bool = False   # F along -Y instead of -Z (a biaxial design's other axis, ``solve``)
 
 
 def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Problem:
@@ -190,7 +192,8 @@ def build_problem(record: dict, beam, analysis, spec, material, geometry) -> Pro
                    floor_radius=beam.floor_radius if beam.feature == "pocket" else 0.0, plate=plate,
                    shear_stiffness=float(shear_stiffness(geometry, sp, material.E, material.poisson)),
                    grooves=() if beam.grooves is None else tuple(
-                       (x - beam.grooves.width / 2, x + beam.grooves.width / 2) for x in beam.grooves.positions))
+                       (x - beam.grooves.width / 2, x + beam.grooves.width / 2) for x in beam.grooves.positions),
+                   biaxial=beam.axes == 2 and beam.feature == "pocket")
 
 
 def write_step_apart(record: dict, path: Path) -> None:
@@ -263,6 +266,8 @@ def _floor_radius_boxes(pb: Problem) -> list:
         x0, y0, z0, x1, y1, z1 = gmsh.model.getBoundingBox(dim, tag)
         at_end = any(a - tol <= x0 <= a + r + tol and x1 <= b + tol for a, b in pb.spans)
         rises = abs(z0 - pb.gauge_z) < tol and tol < z1 - pb.gauge_z <= r + rise
+        if pb.biaxial:   # a side feature's radius rises from its floor along +Y
+            rises = rises or (abs(y0 - pb.gauge_z) < tol and tol < y1 - pb.gauge_z <= r + rise)
         if at_end and rises:
             out.append((np.array([x0, y0, z0]), np.array([x1, y1, z1])))
     return out

@@ -43,6 +43,8 @@ PROFILE_START = 0.25
 FLOOR_RADIUS_REACH = 1.5
 # Upward surface facets: outward normal's Z component at least this.
 UP_FACING = 0.2
+# A biaxial design's load directions are swept in this step (degrees).
+DIRECTION_STEP = 2.5
 # Candidate facets searched for each surface point.
 FACET_CANDIDATES = 64
 
@@ -211,6 +213,17 @@ def free_end_deflection(sol: Solution, pb: Problem) -> float:
 
 def vertex_von_mises(sol: Solution, pb: Problem) -> np.ndarray:
     """Von Mises stress at the mesh vertices, the stress tensor averaged over the elements at each."""
+    return von_mises(vertex_stress(sol, pb))
+
+
+def von_mises(s: np.ndarray) -> np.ndarray:
+    """Von Mises stress of stress tensors ``s`` (3, 3, n)."""
+    return np.sqrt(0.5 * ((s[0, 0] - s[1, 1]) ** 2 + (s[1, 1] - s[2, 2]) ** 2 + (s[2, 2] - s[0, 0]) ** 2)
+                   + 3 * (s[0, 1] ** 2 + s[1, 2] ** 2 + s[0, 2] ** 2))
+
+
+def vertex_stress(sol: Solution, pb: Problem) -> np.ndarray:
+    """The stress tensor (3, 3, n) at the mesh vertices, averaged over the elements at each."""
     from skfem import Basis
 
     corners = np.array([[0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
@@ -230,9 +243,27 @@ def vertex_von_mises(sol: Solution, pb: Problem) -> np.ndarray:
     for q in range(4):
         np.add.at(total.transpose(2, 0, 1), sol.mesh.t[q], stress[:, :, :, q].transpose(2, 0, 1))
         np.add.at(count, sol.mesh.t[q], 1.0)
-    s = total / count
-    return np.sqrt(0.5 * ((s[0, 0] - s[1, 1]) ** 2 + (s[1, 1] - s[2, 2]) ** 2 + (s[2, 2] - s[0, 0]) ** 2)
-                   + 3 * (s[0, 1] ** 2 + s[1, 2] ** 2 + s[0, 2] ** 2))
+    return total / count
+
+
+def worst_direction(along_z: Solution, along_y: Solution, pb: Problem, refinement: float) -> tuple[float, float]:
+    """A biaxial design's features' peak at the worst load direction, and that direction (degrees
+    off the Z axis): the two solutions of one mesh, under F along -Z and along -Y, superposed as
+    ``cos(a) S_Z + sin(a) S_Y`` at every vertex of the feature zones, ``a`` from 0 to 90 degrees in
+    DIRECTION_STEP; ``cos(a) S_Z - sin(a) S_Y`` is the stress at the vertex's mirror image in Y = 0
+    (and in Z = 0), so that every direction of the whole section is seen."""
+    x = along_z.mesh.p[0]
+    zone = _kept(along_z, pb, refinement) & _stress_zone(x, pb)
+    if not zone.any():
+        zone = _kept(along_z, pb, refinement)
+    s_z, s_y = vertex_stress(along_z, pb)[:, :, zone], vertex_stress(along_y, pb)[:, :, zone]
+    best = (0.0, 0.0)
+    for degrees in np.arange(0.0, 90.0 + DIRECTION_STEP / 2, DIRECTION_STEP):
+        c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+        peak = max(float(von_mises(c * s_z + s * s_y).max()), float(von_mises(c * s_z - s * s_y).max()))
+        if peak > best[0]:
+            best = (peak, float(degrees))
+    return best
 
 
 def _stress_zone(x: np.ndarray, pb: Problem) -> np.ndarray:

@@ -136,6 +136,9 @@ class VerifyResult:
     stress_feature_nominal: float = 0.0    # the beam model's nominal stress at the feature's clamp-side edge
     stress_stations_fea: tuple = ()  # FEA peak within each station's feature zone
     stress_stations_places: tuple = ()  # ... and its (floor radius, outer face) peaks (readout.stress_peaks)
+    stress_feature_worst: float = 0.0   # a biaxial design's features' peak at the worst load direction (0: none)
+    worst_angle: float = 0.0            # ... that direction, degrees from the Z axis toward Y
+    stress_feature_worst_model: float = 0.0   # the model's peak there (c K_t x the notch's nominal)
 
     @property
     def stress_feature_model(self) -> float:
@@ -213,7 +216,10 @@ class VerifyResult:
                        "model_root": self.stress_root_model,
                        "model_feature": self.stress_feature_model, "model_kt": self.stress_concentration_model,
                        "nominal_feature": self.stress_feature_nominal,
-                       "allowable": self.stress_allowable},
+                       "allowable": self.stress_allowable,
+                       **({"worst_direction": {"degrees": self.worst_angle, "fea_feature": self.stress_feature_worst,
+                                               "model_feature": self.stress_feature_worst_model}}
+                          if self.stress_feature_worst else {})},
             "limits": [{"name": c.name, "model": c.model_value, "fea": c.fea_value, "limit": c.limit,
                         "sense": "<=" if c.upper else ">=", "satisfied": c.satisfied,
                         "model_satisfied": c.model_satisfied, "source": c.source, "unit": c.unit}

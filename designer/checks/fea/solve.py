@@ -181,11 +181,15 @@ def _prolongation(mesh, n_nodes: int):
 
 
 def _constrained(xyz: np.ndarray, pb: Problem) -> np.ndarray:
-    """(3, n) mask of fixed components at points ``xyz``: clamp, symmetry and antisymmetry."""
+    """(3, n) mask of fixed components at points ``xyz``: clamp, symmetry and antisymmetry (a load
+    along -Z bends the quarter symmetrically about Y = 0 and antisymmetrically about Z = 0; one
+    along -Y, ``pb.lateral``, the other way round)."""
     tol = PLANE_TOLERANCE * pb.size
     clamp = np.abs(xyz[0]) < tol
     y0 = np.abs(xyz[1]) < tol
     z0 = np.abs(xyz[2]) < tol
+    if pb.lateral:
+        return np.array([clamp | y0, clamp, clamp | y0 | z0])
     return np.array([clamp | z0, clamp | y0 | z0, clamp])
 
 
@@ -198,13 +202,14 @@ def _load(mesh, pb: Problem, n_nodes: int) -> np.ndarray:
     if len(cut_facets) == 0:
         raise SolverError("the mesh has no face at the cut; please report this design")
     fb = FacetBasis(mesh, ElementTetP2(), facets=cut_facets)
+    across = 1 if pb.lateral else 2                     # the load's axis: Y or Z
     area_q = asm(Functional(lambda w: 1.0 + 0.0 * w.x[0]), fb)
-    inertia_q = asm(Functional(lambda w: w.x[2] ** 2), fb)
+    inertia_q = asm(Functional(lambda w: w.x[across] ** 2), fb)
     area, inertia = 4 * area_q, 4 * inertia_q           # the whole section
     moment = pb.force * (pb.position - pb.cut)
     f = np.zeros(3 * n_nodes)
-    f[0::3] = asm(LinearForm(lambda v, w: moment * w.x[2] / inertia * v), fb)
-    f[2::3] = asm(LinearForm(lambda v, w: -pb.force / area * v), fb)
+    f[0::3] = asm(LinearForm(lambda v, w: moment * w.x[across] / inertia * v), fb)
+    f[across::3] = asm(LinearForm(lambda v, w: -pb.force / area * v), fb)
     return f
 
 
