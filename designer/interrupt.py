@@ -39,6 +39,8 @@ _held = False
 
 # Inside ``held()`` a signal is only noted, and raised when the block ends.
 _holding = False
+# What was put in place whole while a signal waited (``wrote``): the run's one line says so.
+_written: list = []
 
 
 def _handler(signum, frame):
@@ -50,6 +52,17 @@ def _handler(signum, frame):
     if _holding:
         return
     _raise(signum)
+
+
+def wrote(path) -> None:
+    """Note that ``path`` was put in place whole in a ``held`` block while a signal waited."""
+    if _received is not None:
+        _written.append(str(path))
+
+
+def written() -> list:
+    """The outputs put in place whole while the signal that stops the run waited."""
+    return list(_written)
 
 
 @contextlib.contextmanager
@@ -109,6 +122,7 @@ def install():
     Outside the main thread nothing is installed."""
     global _received
     _received = None
+    _written.clear()
     try:
         previous = {s: signal.signal(s, _handler) for s in (signal.SIGINT, signal.SIGTERM)}
     except ValueError:  # not the main thread

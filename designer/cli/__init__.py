@@ -182,7 +182,11 @@ def _stdout_is_null() -> bool:
 
 def _stopped(signum: int) -> int:
     """The one line and the exit code (128 + the signal) of a run stopped by Ctrl-C or SIGTERM."""
-    print("fpdesign: interrupted" if signum == signal.SIGINT else "fpdesign: terminated", file=sys.stderr)
+    from designer import interrupt
+
+    done = interrupt.written()
+    print(("fpdesign: interrupted" if signum == signal.SIGINT else "fpdesign: terminated")
+          + (f" after its outputs were put in place whole ({', '.join(done)})" if done else ""), file=sys.stderr)
     return 128 + int(signum)
 
 

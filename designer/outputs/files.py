@@ -19,6 +19,8 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file in the same folder. A path that exists
     and is not a regular file (``/dev/null``, a FIFO, a terminal) is written directly: replacing it
     would put a regular file in the place of a device."""
+    from designer import interrupt
+
     path = Path(path)
     if is_special(path):
         try:
@@ -34,7 +36,9 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
             with os.fdopen(fd, "wb") as fh:
                 fh.write(data)
             os.chmod(tmp, file_mode())  # mkstemp makes 0600; outputs follow the umask
-            os.replace(tmp, path)
+            with interrupt.held():
+                os.replace(tmp, path)
+                interrupt.wrote(path)
         except BaseException:
             with contextlib.suppress(FileNotFoundError):
                 os.unlink(tmp)
@@ -274,6 +278,7 @@ def staged_directory(target: str | os.PathLike, stale=(), inputs=()):
             done = True
             _remove_stale(target, stale, {name.as_posix() for name in names}, inputs)
             shutil.rmtree(scratch, ignore_errors=True)
+            interrupt.wrote(target)
     finally:
         if not done:
             with interrupt.held():

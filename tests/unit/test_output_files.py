@@ -182,7 +182,7 @@ def test_a_file_whose_name_is_near_the_limit_is_written_through_its_temporary(tm
     assert [p.name for p in tmp_path.iterdir()] == [path.name]
 
 
-def test_a_signal_after_the_outputs_are_moved_in_still_leaves_one_whole_run(tmp_path, monkeypatch):
+def test_a_signal_after_the_outputs_are_moved_in_still_leaves_one_whole_run(tmp_path, monkeypatch, capsys):
     """Ctrl-C just after a run's files are moved into the folder, while its scratch folder is being
     removed: the previous run's files that this run did not write are removed all the same, no
     scratch folder is left, and the signal then stops the run (it had left the new design beside
@@ -206,10 +206,15 @@ def test_a_signal_after_the_outputs_are_moved_in_still_leaves_one_whole_run(tmp_
         with pytest.raises(KeyboardInterrupt):
             with files.staged_directory(out, stale={"old.step"}) as scratch:
                 (scratch / "design.json").write_text("{}")
+        # and the run's one line says the outputs are whole (exit 130 had read as nothing written)
+        from designer.cli import _stopped
+
+        assert _stopped(signal.SIGINT) == 130
     finally:
         restore()
     assert snapshot(out) == {"design.json": b"{}"}
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    assert capsys.readouterr().err == f"fpdesign: interrupted after its outputs were put in place whole ({out})\n"
 
 
 def test_a_file_that_cannot_be_written_leaves_no_folder_made_for_it(tmp_path):
