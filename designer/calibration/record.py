@@ -189,10 +189,11 @@ def _calibration_from_dict(record) -> Calibration:
     if tuple(b.bridge for b in bridges) != expected:
         raise CalibrationFileError(f"bridges: {[b.name for b in bridges]} must be "
                                    f"{[b.name for b in expected]} (every station, in order)")
-    axes = record.get("axes", expected[-1].axis and 2 or 1)
-    if isinstance(axes, bool) or axes != (2 if expected[-1].axis else 1):
+    derived = 2 if expected[-1].axis else 1
+    axes = record.get("axes", derived)
+    if isinstance(axes, bool) or axes != derived:
         raise CalibrationFileError(f"axes: {axes!r} does not match the bridges {[b.name for b in bridges]}, which "
-                                   f"are those of {'2 axes' if expected[-1].axis else '1 axis'}")
+                                   f"are those of {'2 axes' if derived == 2 else '1 axis'}")
     if expected[-1].station < 2:
         raise CalibrationFileError(f"bridges: {[b.name for b in bridges]}: a calibration needs at least 2 stations "
                                    "(V1, V2) to tell force from position")
