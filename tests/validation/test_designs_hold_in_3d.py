@@ -317,4 +317,13 @@ def test_a_biaxial_round_bar_s_flats_are_checked_at_their_worst_load_direction()
     assert 0.90 <= v.stress_feature_fea / v.stress_feature_model <= 1.0 + STRESS
     fatigue = next(c for c in v.limits if c.name == "fatigue_feature")
     assert "the worst" in fatigue.source and fatigue.satisfied
-    assert any(m.startswith("biaxial: the features peak at") for m in v.messages)
+    said = [m for m in v.messages if m.startswith("biaxial: the features peak at")]
+    assert len(said) == 1 and said[0].endswith("fatigue_feature is judged there")
+    # without the fatigue limit (a square's slots this time) the sweep is still made, and no message
+    # says a fatigue limit is judged that the design does not have
+    square = json.loads((ROOT / "tests" / "data" / "biaxial_square_slots.json").read_text(encoding="utf-8"))
+    square["spec"]["limits"]["fatigue"] = False
+    v = verify_design(square, mesh="coarse")
+    said = [m for m in v.messages if m.startswith("biaxial: the features peak at")]
+    assert len(said) == 1 and "fatigue_feature" not in said[0] and v.stress_feature_worst > v.stress_feature_fea
+    assert all(c.name != "fatigue_feature" for c in v.limits)

@@ -175,11 +175,14 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         stress_feature_worst_model=float(a.stress_peak))
     result = with_messages(result, spec.limits.fatigue, pb.feature, time.perf_counter() - start, mesh_option)
     if main.worst:
+        peak, angle = main.worst
+        judged = "; fatigue_feature is judged there" if any(c.name == "fatigue_feature" for c in limits) else ""
         result = replace(result, messages=result.messages + (
-            f"biaxial: the features peak at {main.worst[0] / 1e6:.1f} MPa under a load {main.worst[1]:g} degrees from "
-            f"the Z axis toward Y, the worst direction (the same mesh solved for F along Y too), against the model's "
-            f"{float(a.stress_peak) / 1e6:.1f} MPa there (K_t x {float(a.direction_factor):g}, docs/model.md §9): "
-            f"3-D / model {main.worst[0] / float(a.stress_peak):.2f}; fatigue_feature is judged there",),)
+            f"biaxial: the features peak at {peak / 1e6:.1f} MPa under a load {min(angle, 90 - angle):g} degrees off "
+            f"the nearest bending axis ({angle:g} degrees from the CAD's Z axis toward Y), the worst direction (the "
+            f"same mesh solved for F along Y too), against the model's {float(a.stress_peak) / 1e6:.1f} MPa there "
+            f"(K_t x {float(a.direction_factor):g}, docs/model.md §9): 3-D / model {peak / float(a.stress_peak):.2f}"
+            + judged,),)
     if groove is not None:   # the beam's mesh is refined at the features; the groove has a submodel
         _, kt_model = grooves.groove_stress(model_design.geometry, spec)
         said = ", ".join(f"{c.name} {c.fea_value / 1e6:.1f} MPa against {c.limit / 1e6:.1f} MPa"
@@ -235,7 +238,7 @@ def _recheck(ev, spec, gauges, main: Figures, a, groove=None) -> tuple:
         kt_fea = main.worst[0] / notch
         fatigue = max(fatigue_factor(float(a.notch_sensitivity), kt_fea) * notch, nominal)
         said = (f"K_f from the 3-D K_t = {kt_fea:.2f} (peak at the features under a load {main.worst[1]:g} degrees "
-                "from the Z axis, the worst, / the notch's nominal), or the plain nominal where larger")
+                "from the CAD's Z axis toward Y, the worst, / the notch's nominal), or the plain nominal where larger")
     fea = {
         "stress_feature": (nominal, "beam model: static yield is checked on the nominal stress"),
         "fatigue_feature": (fatigue, said),

@@ -137,7 +137,7 @@ class VerifyResult:
     stress_stations_fea: tuple = ()  # FEA peak within each station's feature zone
     stress_stations_places: tuple = ()  # ... and its (floor radius, outer face) peaks (readout.stress_peaks)
     stress_feature_worst: float = 0.0   # a biaxial design's features' peak at the worst load direction (0: none)
-    worst_angle: float = 0.0            # ... that direction, degrees from the Z axis toward Y
+    worst_angle: float = 0.0            # ... that direction, degrees from the CAD's Z axis toward Y
     stress_feature_worst_model: float = 0.0   # the model's peak there (c K_t x the notch's nominal)
 
     @property
@@ -271,8 +271,10 @@ def with_messages(r: VerifyResult, fatigue: bool, feature: str, seconds: float,
                  f"{r.stress_concentration_model:.2f} ({r.stress_feature_model / MPA:.1f} MPa, 3-D / model "
                  f"{r.stress_feature_fea / r.stress_feature_model:.2f})")
     msgs.append(line)
-    for name, what in (("stress_feature", "static: the nominal stress at the features"),
-                       ("fatigue_feature", "fatigue: K_f x the nominal stress at the features")):
+    fatigue = ("fatigue: K_f x the nominal stress at the features" if not r.stress_feature_worst else
+               "fatigue: K_f of the worst load direction's 3-D K_t x the notch's nominal, or the plain nominal "
+               "where larger")
+    for name, what in (("stress_feature", "static: the nominal stress at the features"), ("fatigue_feature", fatigue)):
         c = by_name.get(name)
         if c is not None:
             msgs.append(f"{what}: {c.fea_value / MPA:.1f} MPa against {c.limit / MPA:.1f} MPa: "
