@@ -8,9 +8,10 @@ in ``designer.outputs.part``, shared with the drawing. cadquery is imported only
 functions that need it.
 """
 
-from designer.outputs.cad.kernel import defer_vtk
+from designer.outputs.cad.kernel import defer_extras, defer_vtk
 
-defer_vtk()   # before anything imports cadquery (kernel.py: a third of its start is VTK, never used)
+defer_vtk()      # before anything imports cadquery (kernel.py: libraries it loads and fpdesign never uses)
+defer_extras()
 
 from designer.outputs.cad.beam import bolt_clearance, resolve  # noqa: E402
 from designer.outputs.cad.mesh import clipped, model_meshes, tessellate
