@@ -30,7 +30,9 @@ SWEPT_LIMIT = {"max_deflection": "deflection", "min_frequency": "natural_frequen
 
 
 def _levels(centre: float) -> np.ndarray:
-    return np.geomspace(centre / SPAN ** 0.5, centre * SPAN ** 0.5, LEVELS)
+    levels = np.geomspace(centre / SPAN ** 0.5, centre * SPAN ** 0.5, LEVELS)
+    levels[LEVELS // 2] = centre   # exactly (a spec's own limit, whose designs the search has)
+    return levels
 
 
 def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
@@ -40,7 +42,9 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     Each sweep builds one graph per family with its limit as a parameter (``FamilyProblem``'s
     ``swept``) and solves the levels from the chosen design's outwards, every material x family
     starting from its own checked design at the neighbouring level (at the first level, from the
-    search's answer): a continuation, before the usual starts.
+    search's answer): a continuation, before the usual starts. At the spec's own limit (a
+    sweep's middle level, when the spec gives that limit) the search's designs are taken as they
+    are, so the chosen design is the front's point there.
     """
     leading = list(dict.fromkeys(c.material for c in outcome.candidates))[:materials]
     chosen = outcome.best.analysis
@@ -65,6 +69,12 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             # designs the swept limit binds at neither this level nor the search's own (or the
             # neighbour's) are taken as they are, the search's first
             same = {}
+            if i == centre and level == given and spec.objective == "error":
+                # the spec's own limit: the search's designs are this level's (its outranked
+                # candidates, which have none, are solved)
+                same = {(c.material, c.family): c for c in outcome.candidates
+                        if c.evaluation is not None and c.evaluation.feasible and c.material in leading
+                        and c.family in graphs}
             for source, other in [(outcome.candidates, given)] + ([(near, float(levels[j]))] if j in found else []):
                 tight = level if other is None else (min if key == "max_deflection" else max)(level, other)
                 at = {fam: g.at(replace(base, limits=replace(base.limits, **{key: tight})), tight)
