@@ -29,10 +29,10 @@ model alike.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from functools import lru_cache
 
+from designer.model.biaxial import biaxial_strain_factor, biaxial_strain_room
 from designer.model.ops import PEAK_SMOOTHING, ops_for, rounded_max
 from designer.model.sections import Geometry, Widened, shoulder_ratio  # noqa: F401 - Widened: ours to give
 
@@ -504,12 +504,13 @@ def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
     """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at
     the station's distance from the clamp over the width, times the family's own ``near_clamp``
     fit: a ``DecayFit`` or ``EdgeFit`` at its distance in sizes, or a slot's ``ClampShareFit`` of
-    the plain bar's loss to the clamp there; empty when the table corrects none of them."""
+    the plain bar's loss to the clamp there, and on a biaxial sensor the side features'
+    ``biaxial_strain_factor``; empty when the table corrects none of them."""
     strain, clamp, near = table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")
     if strain is None and clamp is None and near is None:
         return ()
     values = parameters(g)
-    base = strain(values) if strain is not None else 1.0
+    base = (strain(values) if strain is not None else 1.0) * biaxial_strain_factor(g, ops)
     factors = [base for _ in g.stations]
     plate = [clamp(values["width_ratio"], u, ops) if clamp is not None else 1.0 for u in station_width_ratios(g)]
     factors = [f * c for f, c in zip(factors, plate)]
@@ -523,10 +524,10 @@ def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
 def strain_allowance(g: Geometry, table: Corrections) -> float:
     """How far above the corrected model the 3-D gauge strain may lie: the largest left-out error
     of the fits that set it (the feature's ``strain`` fit, the clamp's and the family's
-    ``near_clamp``). The gauge-strain limit keeps this much room, so that a design at that limit
-    meets it in 3-D too."""
+    ``near_clamp``), plus on a biaxial sensor with features ``biaxial_strain_room``. The
+    gauge-strain limit keeps this much room, so that a design at that limit meets it in 3-D too."""
     fits = [table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")]
-    return max((f.loo_max for f in fits if f is not None), default=0.0)
+    return max((f.loo_max for f in fits if f is not None), default=0.0) + biaxial_strain_room(g)
 
 
 # A fit meets its rule when it predicts each study point left out of it within these (the gauge-
