@@ -11,6 +11,7 @@ from designer.model import corrections
 from designer.model.adjust import Adjustment
 from designer.model.budget import effective_rigidity, region_budget
 from designer.model.beam import channel_deflection, natural_frequency, tip_deflection
+from designer.model.biaxial import side_features
 from designer.model.corrections import Corrections
 from designer.model.electronics import volts_per_strain
 from designer.model.estimator import sigmas
@@ -197,7 +198,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
         kt = kt * adjust.stress_concentration
     q = notch_sensitivity(notch_radius(g), m.notch_length)
     notch, direction = 1.0, 1.0
-    if g.axes == 2 and g.feature == "pocket":
+    if side_features(g):
         # the K_t fits are single-axis designs', on the fibre a single-axis nominal takes: a flat's
         # floor R - p (y_g), a square's face h/2; stress_feature is at the plain extreme fibre (§9)
         notch = (g.height / 2 if g.section == "rectangle" else sp.y_g) / sp.y_e

@@ -17,10 +17,15 @@ from designer.model.sections import Geometry, section_properties
 BIAXIAL_STRAIN = {"round": (1.76, 5.13, 0.0057), "tube": (1.76, 5.13, 0.0057), "rectangle": (1.77, 2.36, 0.0065)}
 
 
+def side_features(g: Geometry) -> bool:
+    """Whether ``g`` has features on its side faces too: a biaxial sensor with pockets or flats."""
+    return g.axes == 2 and g.feature == "pocket"
+
+
 def biaxial_strain_factor(g: Geometry, ops=None):
     """The gauge-strain factor of a biaxial sensor's side features (BIAXIAL_STRAIN); 1 for a
     single-axis sensor or one without pockets or flats."""
-    if g.axes != 2 or g.feature != "pocket":
+    if not side_features(g):
         return 1.0
     a, k, _ = BIAXIAL_STRAIN[g.section]
     if g.section == "rectangle":
@@ -35,4 +40,4 @@ def biaxial_strain_factor(g: Geometry, ops=None):
 def biaxial_strain_room(g: Geometry) -> float:
     """How far the 3-D gauge strain may lie off ``biaxial_strain_factor``: its largest left-out
     error; 0 where it is 1."""
-    return BIAXIAL_STRAIN[g.section][2] if g.axes == 2 and g.feature == "pocket" else 0.0
+    return BIAXIAL_STRAIN[g.section][2] if side_features(g) else 0.0

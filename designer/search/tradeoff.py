@@ -68,14 +68,15 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             near = found.get(j, outcome.candidates)
             # designs the swept limit binds at neither this level nor the search's own (or the
             # neighbour's) are taken as they are, the search's first
-            same = {}
+            same, sources = {}, [(outcome.candidates, given)] + ([(near, float(levels[j]))] if j in found else [])
             if i == centre and level == given and spec.objective == "error":
                 # the spec's own limit: the search's designs are this level's (its outranked
-                # candidates, which have none, are solved)
+                # candidates, which have none, are solved), and nothing else is taken as it is
                 same = {(c.material, c.family): c for c in outcome.candidates
                         if c.evaluation is not None and c.evaluation.feasible and c.material in leading
                         and c.family in graphs}
-            for source, other in [(outcome.candidates, given)] + ([(near, float(levels[j]))] if j in found else []):
+                sources = []
+            for source, other in sources:
                 tight = level if other is None else (min if key == "max_deflection" else max)(level, other)
                 at = {fam: g.at(replace(base, limits=replace(base.limits, **{key: tight})), tight)
                       for fam, g in graphs.items()}
