@@ -6,6 +6,8 @@ from designer import model
 from designer.model import corrections, domain, grooves
 from designer.result.evaluation import Evaluation
 
+GRID = 1e-5 + 1e-9   # the sizes' 0.01 mm grid: a size within it of its largest is at it
+
 
 def no_room(spec) -> str:
     """Why the stations cannot fit before the load region and the load grooves (the geometry rules
@@ -86,9 +88,11 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         if name in violated:
             v = violated[name]
             ratio = float(v.value) / float(v.limit)
+            where, larger = _section_room(spec, best.design.geometry)
             out.append(f"{name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
-                       f"even at the largest section allowed; lower load.force[1] to {spec.load.force_max / ratio:.4g} N, "
-                       "enlarge limits.width/limits.height, choose a stronger material or a lower safety factor")
+                       f"{where}; lower load.force[1] to {spec.load.force_max / ratio:.4g} N, "
+                       + (f"enlarge {larger}, " if larger else "")
+                       + "choose a stronger material or a lower safety factor")
             break
     if "gauge_strain" in violated:
         v = violated["gauge_strain"]
@@ -127,8 +131,9 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                        "stations, a smaller gauge or smaller margins would leave them room")
     if "deflection" in violated:
         v = violated["deflection"]
-        out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = {float(v.limit) * mm:.4g} mm; "
-                   f"allow at least {float(v.value) * mm:.4g} mm, or enlarge limits.width/limits.height")
+        where, larger = _section_room(spec, best.design.geometry)
+        out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
+                   f"{float(v.limit) * mm:.4g} mm {where}; allow at least {float(v.value) * mm:.4g} mm" + (f", or enlarge {larger}" if larger else ""))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
     hull = [name for name in violated if name.startswith(f"domain_{domain.NOTCH_HULL}_")]
@@ -139,6 +144,28 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
                    f"lower it to {float(v.value):.4g} Hz or shorten the beam")
     return out
+
+
+def _section_room(spec, g) -> tuple[str, str]:
+    """Where the closest design's section stands against the largest limits.width and limits.height
+    allow, in words, and the keys to enlarge: those whose largest it reaches (within the 0.01 mm
+    grid); none when the section is below every largest."""
+    mm, lim = 1e3, spec.limits
+    if g.section == "rectangle" and g.axes == 1:
+        sizes = {"limits.width": (float(g.width), lim.width[1]), "limits.height": (float(g.height), lim.height[1])}
+        shape = f"{float(g.width) * mm:.4g} × {float(g.height) * mm:.4g} mm"
+    else:   # one size within both ranges: a square's side, a diameter
+        top = min(lim.width[1], lim.height[1])
+        size = float(g.width if g.section == "rectangle" else g.diameter)
+        sizes = {key: (size, top) for key, most in (("limits.width", lim.width[1]), ("limits.height", lim.height[1]))
+                 if most <= top}
+        shape = f"{size * mm:.4g} mm square" if g.section == "rectangle" else f"Ø{size * mm:.4g} mm"
+    at = [key for key, (size, most) in sizes.items() if size >= most - GRID]
+    if len(at) == len(sizes):
+        return "even at the largest section allowed", " and ".join(at)
+    below = ", ".join(f"{key} allows up to {most * mm:.4g} mm" for key, (size, most) in sizes.items() if key not in at)
+    return (f"at the closest design's {shape} section ({below})",
+            " and ".join(at))
 
 
 def _apart(a: float, b: float) -> tuple[str, str]:

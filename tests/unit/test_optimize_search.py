@@ -903,3 +903,28 @@ def test_the_clearance_limits_show_the_room_they_keep(examples):
     for name in ("load_clearance", "groove_clearance", "clamp_clearance"):
         assert rows[name]["sense"] == ">=" and rows[name]["unit"] == "m"
     assert rows["load_clearance"]["limit"] == rows["groove_clearance"]["limit"] == spec.limits.load_clearance
+
+
+@pytest.mark.parametrize("heights, larger", [("[2 mm, 10 mm]", "limits.width"),
+                                             ("[2 mm, 3.18 mm]", "limits.width and limits.height")])
+def test_the_diagnosis_of_an_overstressed_design_asks_for_the_sizes_it_is_at_the_largest_of(heights, larger):
+    # Prototype A (a 50 x 3.18 mm 6061-T6 bar, plain, static: yield 276 MPa, safety factor 1) under
+    # 6 kgf at up to 650 mm: at the clamp sigma = 6 F x / (b h^2) = 378 MPa (beam theory), so
+    # F = 276 MPa b h^2 / (6 x) = 42.9 N meets it. Its width is limits.width's largest (50 mm); its
+    # height is that of limits.height only when the range ends at 3.18 mm: a taller bar is then
+    # allowed, and "the largest section allowed" would not be true
+    text = (EXAMPLES / "prototype-a.yaml").read_text().replace("[250 gf, 2000 gf]", "[250 gf, 6 kgf]")
+    text = text.replace("  safety_factor: 1.0", f"  safety_factor: 1.0\n  width: [10 mm, 50 mm]\n  height: {heights}\n"
+                        "  max_deflection: 10 mm")
+    spec = parse_spec_text(text + "tolerances: {class: none}\n")   # the figures at the nominal sizes
+    ev = evaluate(fixed_design(spec), spec)
+    [said] = [m for m in diagnose(spec, ev, []) if m.startswith("stress_root")]
+    b, h, x = 50e-3, 3.18e-3, 0.65
+    assert f"{6 * 6 * 9.80665 * x / (b * h * h) / 1e6:.4g} MPa exceeds the allowable 276 MPa" in said
+    assert f"lower load.force[1] to {276e6 * b * h * h / (6 * x):.4g} N, enlarge {larger}, choose" in said
+    assert ("even at the largest section allowed" in said) == (larger != "limits.width")
+    assert ("50 × 3.18 mm section (limits.height allows up to 10 mm)" in said) == (larger == "limits.width")
+    # and the deflection (hundreds of mm: the 10 mm limit is broken) the same way
+    [said] = [m for m in diagnose(spec, ev, []) if m.startswith("deflection")]
+    assert said.endswith(f", or enlarge {larger}")
+    assert ("even at the largest section allowed" in said) == (larger != "limits.width")
