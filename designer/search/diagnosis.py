@@ -133,7 +133,8 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         v = violated["deflection"]
         where, larger = _section_room(spec, best.design.geometry)
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
-                   f"{float(v.limit) * mm:.4g} mm {where}; allow at least {float(v.value) * mm:.4g} mm" + (f", or enlarge {larger}" if larger else ""))
+                   f"{float(v.limit) * mm:.4g} mm {where}; allow at least {float(v.value) * mm:.4g} mm"
+                   + (f", or enlarge {larger}" if larger else ""))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
     hull = [name for name in violated if name.startswith(f"domain_{domain.NOTCH_HULL}_")]
