@@ -27,6 +27,9 @@ HOLE_GAP = 0.5
 # Neighbouring slots and round flats at least this many section sizes apart, end to end: a pair
 # 0.05 sizes apart reads 2-3 % below the isolated pair's gauge strain in 3-D, 0.5 apart within
 # 0.8 % (benchmarks/feature_gap_study.py; the corrections' fits are of features 4 sizes apart).
+# A middle one of three, with a neighbour on each side 0.5 sizes apart, reads at most 0.5 % (flats)
+# and 1.2 % (slots 0.28 h deep) below its isolated self, 3-D/model at least 0.993: inside the rooms
+# u_eps of the fits (1.3 %, 3.4 %; benchmarks/neighbour_study.py).
 # Flats on tubes, made at least a diameter long, read within 0.2 % at any gap: no limit.
 POCKET_GAP = 0.5
 # ... and slots at least this many bar widths apart too: past a slot the load flows back from its
