@@ -96,8 +96,10 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
             break
     if "gauge_strain" in violated:
         v = violated["gauge_strain"]
-        out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε; "
-                   f"lower load.force[1] to {spec.load.force_max * float(v.limit) / float(v.value):.4g} N or enlarge the section")
+        where, larger = _section_room(spec, best.design.geometry)
+        out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε "
+                   f"{where}; lower load.force[1] to {spec.load.force_max * float(v.limit) / float(v.value):.4g} N"
+                   + (f", enlarge {larger}" if larger else "") + " or choose a stiffer material")
     if "min_signal_snr" in violated:
         v = violated["min_signal_snr"]
         if not float(v.value) > 0:  # a station at or past the nearest load: no moment there for that load

@@ -924,7 +924,11 @@ def test_the_diagnosis_of_an_overstressed_design_asks_for_the_sizes_it_is_at_the
     assert f"lower load.force[1] to {276e6 * b * h * h / (6 * x):.4g} N, enlarge {larger}, choose" in said
     assert ("even at the largest section allowed" in said) == (larger != "limits.width")
     assert ("50 × 3.18 mm section (limits.height allows up to 10 mm)" in said) == (larger == "limits.width")
-    # and the deflection (hundreds of mm: the 10 mm limit is broken) the same way
+    # and the deflection (hundreds of mm: the 10 mm limit is broken) and the gauge strain (about
+    # 6000 µε at the first gauge, over the gauge's 2500 less its room) the same way
     [said] = [m for m in diagnose(spec, ev, []) if m.startswith("deflection")]
     assert said.endswith(f", or enlarge {larger}")
+    assert ("even at the largest section allowed" in said) == (larger != "limits.width")
+    [said] = [m for m in diagnose(spec, ev, []) if m.startswith("gauge_strain")]
+    assert said.endswith(f" N, enlarge {larger} or choose a stiffer material")
     assert ("even at the largest section allowed" in said) == (larger != "limits.width")
