@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from designer import model
 from designer.model import corrections, domain, grooves
-from designer.result.evaluation import Evaluation
-
-GRID = 1e-5 + 1e-9   # the sizes' 0.01 mm grid: a size within it of its largest is at it
+from designer.result.evaluation import ROUNDING, Evaluation
 
 
 def no_room(spec) -> str:
@@ -61,6 +59,7 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                        "of your own, leave the design more room (the figures below are at those corners)")
     a = best.analysis
     sv = spec.sigma_v
+    where, larger = _section_room(spec, best.design.geometry)   # for the stress, strain and deflection advice
     if "force_error" in violated or "position_error" in violated:
         e = best.error_ratio
         targets = {lim.name: lim for lim in best.limits if lim.name in ("force_error", "position_error")}
@@ -88,7 +87,6 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         if name in violated:
             v = violated[name]
             ratio = float(v.value) / float(v.limit)
-            where, larger = _section_room(spec, best.design.geometry)
             out.append(f"{name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
                        f"{where}; lower load.force[1] to {spec.load.force_max / ratio:.4g} N, "
                        + (f"enlarge {larger}, " if larger else "")
@@ -96,7 +94,6 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
             break
     if "gauge_strain" in violated:
         v = violated["gauge_strain"]
-        where, larger = _section_room(spec, best.design.geometry)
         out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε "
                    f"{where}; lower load.force[1] to {spec.load.force_max * float(v.limit) / float(v.value):.4g} N"
                    + (f", enlarge {larger}" if larger else "") + " or choose a stiffer material")
@@ -133,7 +130,6 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                        "stations, a smaller gauge or smaller margins would leave them room")
     if "deflection" in violated:
         v = violated["deflection"]
-        where, larger = _section_room(spec, best.design.geometry)
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
                    f"{float(v.limit) * mm:.4g} mm {where}; allow at least {float(v.value) * mm:.4g} mm"
                    + (f", or enlarge {larger}" if larger else ""))
@@ -163,12 +159,11 @@ def _section_room(spec, g) -> tuple[str, str]:
         sizes = {key: (size, top) for key, most in (("limits.width", lim.width[1]), ("limits.height", lim.height[1]))
                  if most <= top}
         shape = f"{size * mm:.4g} mm square" if g.section == "rectangle" else f"Ø{size * mm:.4g} mm"
-    at = [key for key, (size, most) in sizes.items() if size >= most - GRID]
+    at = [key for key, (size, most) in sizes.items() if size >= most - ROUNDING - 1e-9]
     if len(at) == len(sizes):
         return "even at the largest section allowed", " and ".join(at)
     below = ", ".join(f"{key} allows up to {most * mm:.4g} mm" for key, (size, most) in sizes.items() if key not in at)
-    return (f"at the closest design's {shape} section ({below})",
-            " and ".join(at))
+    return f"at the closest design's {shape} section ({below})", " and ".join(at)
 
 
 def _apart(a: float, b: float) -> tuple[str, str]:
