@@ -20,6 +20,10 @@ from designer.model.sections import LEAST_CUT, Geometry, feature_length
 # Constraints whose normalised slack is below this bind (0.5 % of the limit).
 ACTIVE_TOLERANCE = 5e-3
 TARGET_LIMITS = ("force_error", "position_error")
+# The limits of the sensor's duty (the load, the material, the electronics and the targets); the
+# others are the geometry's own rules, which some design of the section meets whatever the duty.
+DUTY_LIMITS = ("stress_root", "stress_feature", "fatigue_feature", "gauge_strain", "min_signal_snr", "adc_range",
+               "deflection", "natural_frequency", *TARGET_LIMITS)
 # Neighbouring holes at least this many section heights apart, edge to edge: two Ø0.43 h holes in
 # a 0.3:1 bar 0.15 h apart read +6 % and -3 % of the isolated holes' gauge strain in 3-D, 0.4 h
 # apart within 0.6 % (tests/validation/test_corrections_study.py).

@@ -450,9 +450,11 @@ def candidate_order(record: dict) -> str:
     """How the candidates are ranked and the reported one picked (designer.search.run)."""
     objective = record.get("spec", {}).get("objective", "error")
     if record.get("status") == "infeasible":
-        return ("No candidate meets every limit. Ranked by the worst violation, the largest "
-                "value/limit − 1 over the limits (designs that are not a beam last, failed solves at "
-                "the end); the first, the least infeasible, is the reported design.")
+        return ("No candidate meets every limit. Each shows its closest design (where its sizes are free, "
+                "solved again for the least violation with every rule of the geometry met); they are ranked: "
+                "a beam first, then one keeping those rules, then by the worst violation, value/limit − 1, of "
+                "the duty's limits (stress, strain, signal, deflection, frequency), then of the accuracy "
+                "targets (failed solves at the end); the first, the least infeasible, is the reported design.")
     text = (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "
             "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
             "the first is the reported design.")

@@ -2,9 +2,16 @@
 
 from __future__ import annotations
 
+import math
+
 from designer import model
 from designer.model import corrections, domain, grooves
 from designer.result.evaluation import ROUNDING, Evaluation
+
+# The stress limits (docs/model.md §4), and the limits whose value grows in proportion to the
+# largest force, load.force[1] (stress, strain, the bridge's full-scale output, the deflection).
+STRENGTH_LIMITS = ("stress_root", "stress_feature", "fatigue_feature")
+LOAD_LIMITS = (*STRENGTH_LIMITS, "gauge_strain", "adc_range", "deflection")
 
 
 def no_room(spec) -> str:
@@ -32,8 +39,10 @@ def no_room(spec) -> str:
             f"{(need + spec.limits.load_clearance) * 1e3:.4g} mm; move the load region out, or {fix}")
 
 
-def diagnose(spec, best: Evaluation, candidates) -> list[str]:
-    """Name the limits in conflict and what would resolve them, in the spec's own terms."""
+def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
+    """Name the limits in conflict and what would resolve them, in the spec's own terms.
+    ``farther``: a load region's start and the design that meets every limit from there
+    (``closest.farther_load``), when the room before the load region holds ``best``."""
     mm = 1e3
     out = []
     if crowded := no_room(spec):
@@ -59,7 +68,7 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                        "of your own, leave the design more room (the figures below are at those corners)")
     a = best.analysis
     sv = spec.sigma_v
-    where, larger = _section_room(spec, best.design.geometry)   # for the stress, strain and deflection advice
+    where, larger, shape = _section_room(spec, best.design.geometry)   # for the stress, strain and deflection advice
     if "force_error" in violated or "position_error" in violated:
         e = best.error_ratio
         targets = {lim.name: lim for lim in best.limits if lim.name in ("force_error", "position_error")}
@@ -83,19 +92,18 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         if spec.limits.max_deflection is not None and "deflection" in binding:
             out.append(f"the deflection limit binds: limits.max_deflection = {spec.limits.max_deflection * mm:.4g} mm; "
                        "a larger allowed deflection gives a more sensitive beam")
-    for name in ("stress_root", "stress_feature"):
-        if name in violated:
-            v = violated[name]
-            ratio = float(v.value) / float(v.limit)
-            out.append(f"{name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
-                       f"{where}; lower load.force[1] to {spec.load.force_max / ratio:.4g} N, "
-                       + (f"enlarge {larger}, " if larger else "")
-                       + "choose a stronger material or a lower safety factor")
-            break
+    strength = [v for v in best.violations if v.name in STRENGTH_LIMITS]
+    if strength:   # the worst of them (each at its worst, nominal or at a corner)
+        v = max(strength, key=lambda v: float(v.value) / float(v.limit))
+        ratio = float(v.value) / float(v.limit)
+        out.append(f"{v.name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
+                   f"{where}; lower load.force[1] to {_down(spec.load.force_max / ratio)} N, "
+                   + (f"enlarge {larger}, " if larger else "")
+                   + "choose a stronger material or a lower safety factor")
     if "gauge_strain" in violated:
         v = violated["gauge_strain"]
         out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε "
-                   f"{where}; lower load.force[1] to {spec.load.force_max * float(v.limit) / float(v.value):.4g} N"
+                   f"{where}; lower load.force[1] to {_down(spec.load.force_max * float(v.limit) / float(v.value))} N"
                    + (f", enlarge {larger}" if larger else "") + " or choose a stiffer material")
     if "min_signal_snr" in violated:
         v = violated["min_signal_snr"]
@@ -118,16 +126,28 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                    "a load region", lambda: spec.load.position_min),
                   ("groove_clearance", "their features, limits.load_clearance and half a groove's width",
                    "the load groove at", "cad.groove_positions", lambda: min(grooves.positions(spec))))
+    bearing = any(name in model.DUTY_LIMITS for name in violated)
     for name, reach, past, move, edge in clearances:
         if name in violated and not no_room(spec):
             v = violated[name]
             # the limit is the room left before the edge, at least the clearance: the stations reach
             # the edge less that room, plus the clearance (and half a groove)
-            where = edge()
-            reached = where - float(v.value) + float(v.limit)
+            at = edge()
+            reached = at - float(v.value) + float(v.limit)
             out.append(f"{name}: the closest design's stations, {reach} reach {reached * mm:.4g} mm, past "
-                       f"{past} {where * mm:.4g} mm; {move} from {reached * mm:.4g} mm out, fewer "
+                       f"{past} {at * mm:.4g} mm; {move} from {reached * mm:.4g} mm out, fewer "
                        "stations, a smaller gauge or smaller margins would leave them room")
+        elif bearing and where.startswith("at the closest") and _binds(best, name):
+            # the closest design meets the geometry's rules (``search.closest``), its section below
+            # the largest allowed: the room before the load region, which the gaps between its
+            # features (a size apart, in proportion) fill, holds it
+            found = (f" (from load.position[0] = {farther[0] * mm:.4g} mm, a {farther[1].design.label()} "
+                     f"{_shape(farther[1].design.geometry)} meets every limit)"
+                     if farther is not None and name == "load_clearance" else "")
+            out.append(f"{name} binds: the closest design's stations, {reach} reach {past} {edge() * mm:.4g} mm, "
+                       f"and the gaps between its features grow with the section: that holds it at {shape}; "
+                       f"{move} farther out{found}, fewer stations, a smaller gauge or smaller margins would allow "
+                       "a larger one")
     if "deflection" in violated:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
@@ -135,6 +155,11 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
                    + (f", or enlarge {larger}" if larger else ""))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
+    elif bearing and _binds(best, "domain_lp_grid_max"):
+        # the closest design meets the geometry's rules (``search.closest``): the pocket study's
+        # longest pockets may be what holds its section (and so its stress and strain) back
+        held = next(lim for lim in best.limits if lim.name == "domain_lp_grid_max")
+        out.append(_long_pockets(spec, held, best.design.geometry, binding=True))
     hull = [name for name in violated if name.startswith(f"domain_{domain.NOTCH_HULL}_")]
     if hull:
         out.append(_sharp_pockets(best.design.geometry, hull))
@@ -142,28 +167,56 @@ def diagnose(spec, best: Evaluation, candidates) -> list[str]:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
                    f"lower it to {float(v.value):.4g} Hz or shorten the beam")
+    if violated and all(name in LOAD_LIMITS for name in violated) and len(violated) > 1:
+        # each grows as the largest force: at F_max / (1 + the worst violation) this design meets them all
+        ratio = max(float(v.value) / float(v.limit) for v in best.violations)
+        out.append(f"every limit it breaks grows with the largest force: at load.force[1] = "
+                   f"{_down(spec.load.force_max / ratio)} N (now {spec.load.force_max:.4g} N) this design meets "
+                   "every limit")
     return out
 
 
-def _section_room(spec, g) -> tuple[str, str]:
+def _binds(best: Evaluation, name: str) -> bool:
+    """Whether the limit ``name`` binds ``best`` at its nominal sizes (within ACTIVE_TOLERANCE)."""
+    return any(lim.name == name and lim.record()["active"] for lim in best.limits)
+
+
+def _down(value: float) -> str:
+    """``value`` to 4 significant digits, rounded down (a force the advice names must not exceed
+    the one it was worked out for)."""
+    text = f"{value:.4g}"
+    if float(text) <= value:
+        return text
+    step = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
+    return f"{math.floor(value / step) * step:.4g}"
+
+
+def _section_room(spec, g) -> tuple[str, str, str]:
     """Where the closest design's section stands against the largest limits.width and limits.height
-    allow, in words, and the keys to enlarge: those whose largest it reaches (within the 0.01 mm
-    grid); none when the section is below every largest."""
-    mm, lim = 1e3, spec.limits
+    allow, in words, the keys to enlarge (those whose largest it reaches, within the 0.01 mm
+    grid; none when the section is below every largest), and the section's sizes (``_shape``)."""
+    mm, lim, shape = 1e3, spec.limits, _shape(g)
     if g.section == "rectangle" and g.axes == 1:
         sizes = {"limits.width": (float(g.width), lim.width[1]), "limits.height": (float(g.height), lim.height[1])}
-        shape = f"{float(g.width) * mm:.4g} × {float(g.height) * mm:.4g} mm"
     else:   # one size within both ranges: a square's side, a diameter
         top = min(lim.width[1], lim.height[1])
         size = float(g.width if g.section == "rectangle" else g.diameter)
         sizes = {key: (size, top) for key, most in (("limits.width", lim.width[1]), ("limits.height", lim.height[1]))
                  if most <= top}
-        shape = f"{size * mm:.4g} mm square" if g.section == "rectangle" else f"Ø{size * mm:.4g} mm"
     at = [key for key, (size, most) in sizes.items() if size >= most - ROUNDING - 1e-9]
     if len(at) == len(sizes):
-        return "even at the largest section allowed", " and ".join(at)
+        return "even at the largest section allowed", " and ".join(at), shape
     below = ", ".join(f"{key} allows up to {most * mm:.4g} mm" for key, (size, most) in sizes.items() if key not in at)
-    return f"at the closest design's {shape} section ({below})", " and ".join(at)
+    return f"at the closest design's {shape} section ({below})", " and ".join(at), shape
+
+
+def _shape(g) -> str:
+    """A section's sizes in words: ``b × h mm``, ``a mm square`` (a biaxial square), ``ØD mm``."""
+    mm = 1e3
+    if g.section == "rectangle":
+        return f"{float(g.width) * mm:.4g} × {float(g.height) * mm:.4g} mm" if g.axes == 1 else \
+            f"{float(g.width) * mm:.4g} mm square"
+    return f"Ø{float(g.diameter) * mm:.4g} mm"
 
 
 def _apart(a: float, b: float) -> tuple[str, str]:
@@ -206,15 +259,23 @@ def _not_a_beam(spec, key: str, reason: str) -> str:
     return out
 
 
-def _long_pockets(spec, limit, g) -> str:
+def _long_pockets(spec, limit, g, binding: bool = False) -> str:
     """Why the pockets are more gauge grids long than the pocket study's, and what would shorten
     them: the gauge's backing and margins (the spec's rule), or the length the corrections need on
-    a large section (their domain's least ``length_ratio`` times its size)."""
+    a large section (their domain's least ``length_ratio`` times its size). ``binding``: they are
+    as long as the study's longest, and so hold the section at its size."""
     from designer.model import corrections
     from designer.model.domain import domain_box, lp_grid_top
 
     mm, most = 1e3, lp_grid_top(corrections.family(g))
     rule, grid = spec.pocket_size()[0], g.grid_length
+    if binding:
+        least = domain_box(corrections.family(g), corrections.load()).get("length_ratio", (0.0,))[0]
+        return (f"domain_lp_grid_max binds: its pockets are {float(limit.value):.3g} gauge grids long "
+                f"({g.pocket_length * mm:.4g} mm over the gauge's {grid * mm:.3g} mm grid), the longest the 3-D "
+                f"corrections were studied at (docs/model.md §7), and on this section they need a pocket at least "
+                f"{least:.2g} times its size long (docs/model.md §1): that holds the section at its size; a gauge "
+                "with a longer grid would allow a larger one")
     head = (f"domain_lp_grid_max: its pockets would be {float(limit.value):.3g} gauge grids long "
             f"({g.pocket_length * mm:.4g} mm over the gauge's {grid * mm:.3g} mm grid), where the 3-D corrections "
             f"were studied up to {most:g} (docs/model.md §7)")

@@ -316,11 +316,15 @@ class FamilyProblem:
         xs, drawn = ca.SX.sym("xs", variables.size), ca.SX.sym("l_p")
         built = replace(variables.geometry([xs[i] * MM for i in range(n)]), pocket_length=drawn)
         a = model.analyse(built, mat, spec, ops, adjust=adjustment)
-        lims = [lim for lim in model.limits(built, a, mat, spec, include_targets=not epigraph, ops=ops)
-                if lim.name not in BOUND_LIMITS]
+        every = [lim for lim in model.limits(built, a, mat, spec, ops=ops) if lim.name not in BOUND_LIMITS]
+        # under the error objective the targets are met through the epigraph variable, not as
+        # rows; their own rows serve the least-violation NLP (``least_violation``) only
+        lims = [lim for lim in every if not (epigraph and lim.name in model.TARGET_LIMITS)]
+        targets = [lim for lim in every if epigraph and lim.name in model.TARGET_LIMITS]
+        terms = list(model.error_terms(a, spec.targets)) if epigraph else []
         length = variables.geometry([x[i] * MM for i in range(n)]).pocket_length
-        outputs = [lim.normalised for lim in lims] + [a.deflection, a.mass] + \
-            (list(model.error_terms(a, spec.targets)) if epigraph else [])
+        outputs = [lim.normalised for lim in lims] + [a.deflection, a.mass] + terms + \
+            [lim.normalised for lim in targets]
         model_at = ca.Function("model", [xs, par, drawn], [ca.vertcat(*outputs)])
         nominal = model_at(x, par, length)
         g = [nominal[i] for i in range(len(lims))]
@@ -348,9 +352,14 @@ class FamilyProblem:
         n_limits = len(lims)   # the nominal outputs after the limit rows: deflection, mass, the error terms
         in_units = {"deflection": in_nlp_units(nominal[n_limits], "deflection"),
                     "mass": in_nlp_units(nominal[n_limits + 1], "mass")}
+        # every limit's row, nominal and at the corners, and the targets' (the least-violation NLP's)
+        self._rows = ca.vertcat(*g, *[nominal[n_limits + 2 + len(terms) + k] for k in range(len(targets))])
+        self.row_names = self.limit_names + [lim.name for lim in targets]
+        self._terms = []   # the epigraph's rows (error term - e)
         if epigraph:  # minimise e subject to each error term <= e
             e = x[n]
-            g += [nominal[i] - e for i in range(n_limits + 2, nominal.numel())]
+            self._terms = [nominal[n_limits + 2 + k] - e for k in range(len(terms))]
+            g += self._terms
             f = e
         else:
             f = in_units[spec.objective]
@@ -365,6 +374,7 @@ class FamilyProblem:
         self.nlp_secondary = {"x": x, "p": full, "f": secondary, "g": gv}
         self._functions = ca.Function("fg", [x, full], [f, ca.gradient(f, x), gv, ca.jacobian(gv, x)])
         self._ipopt = {}
+        self._rows_function = None
 
     def functions(self, x, params):
         """``(f, grad f, g, jac g)`` at ``x`` (NLP units) for ``params`` (``params``), the tolerance
@@ -427,6 +437,10 @@ class FamilyProblem:
             if stage == "warm":
                 opts.update(WARM_OPTIONS)
             nlp = self.nlp_secondary if stage == "secondary" else self.nlp
+            if stage == "least":   # the worst of the rows weighed 1 minimised, the others held, the error terms kept
+                worst, weight = ca.SX.sym("worst"), ca.SX.sym("weight", self._rows.numel())
+                nlp = {"x": ca.vertcat(nlp["x"], worst), "p": ca.vertcat(nlp["p"], weight), "f": worst,
+                       "g": ca.vertcat(self._rows - weight * worst, *self._terms)}
             if stage == "relaxed":
                 par = nlp["p"]
                 nlp = dict(nlp, x=ca.vertcat(nlp["x"], par[:CAP]), p=par[CAP:])
@@ -486,6 +500,37 @@ class FamilyProblem:
                            p=self.with_deviations(params, x0), lbx=lo, ubx=hi, lbg=-np.inf, ubg=-margin)
             runs += s.evaluations
         return replace(s, evaluations=runs)
+
+    def least_violation(self, params, x0, soft, free=()) -> tuple[Solve, float]:
+        """IPOPT from ``x0`` on the NLP of the least violation: the design whose worst normalised row
+        among the limits named in ``soft`` (nominal and at the tolerance corners) is least, every
+        other row met, but for those named in ``free``, which are let go; within the variables'
+        bounds. The closest design of a family none of whose designs meets every limit
+        (``search.closest``). Returns the Solve (its ``x``, the design's variables) and that worst
+        row at its answer, as the NLP has it."""
+        lo, hi = self.bounds()
+        weight = np.array([1.0 if name in soft else 0.0 for name in self.row_names])
+        upper = np.array([np.inf if name in free else 0.0 for name in self.row_names]
+                         + [0.0] * len(self._terms))
+        x, runs = np.clip(np.array(x0, dtype=float), lo, hi), 0
+        for _ in range(DEVIATION_ROUNDS):   # the corners' deviations at the answer's sizes, as ``_solve``
+            p = self.with_deviations(params, x)
+            start = float(np.max(self._rows_at(x, p)[weight > 0], initial=0.0))
+            s = _run_ipopt(self.ipopt("least"), x0=np.append(x, start), p=np.append(p, weight),
+                           lbx=np.append(lo, -np.inf), ubx=np.append(hi, np.inf), lbg=-np.inf, ubg=upper)
+            runs += s.evaluations
+            moved = self.deviations(s.x[:-1]) != self.deviations(x)
+            x = s.x[:-1]
+            if not s.success or not moved:
+                break
+        return replace(s, x=x, evaluations=runs, multipliers=None), float(s.x[-1])
+
+    def _rows_at(self, x, p) -> np.ndarray:
+        import casadi as ca
+
+        if self._rows_function is None:
+            self._rows_function = ca.Function("rows", [self.nlp["x"], self.nlp["p"]], [self._rows])
+        return np.asarray(self._rows_function(x, p)).ravel()
 
     def infeasible_for_every(self, materials, starts=None) -> tuple[bool, list]:
         """Whether no design of this family meets every limit in any of ``materials``, and the

@@ -56,9 +56,13 @@ def round_and_check(design: Design, spec, reach: int = 0, lowest: bool = False) 
 class GridBox:
     """The grid points around a design (``round_and_check``), judged at once with the numeric model."""
 
-    def __init__(self, design: Design, spec, trial, named: dict, st, viol, objective, deflection, mass, valid):
+    def __init__(self, design: Design, spec, trial, named: dict, st, viol, objective, deflection, mass, valid,
+                 keys: tuple):
         self.design, self.spec, self.trial, self.named, self.st = design, spec, trial, named, st
         self.viol, self.objective, self.deflection, self.mass, self.valid = viol, objective, deflection, mass, valid
+        # each point's worst of the geometry's own rules (nominal), of the duty's other limits
+        # (nominal and at the corners), and of the accuracy targets
+        self.rules, self.bearing, self.targets = keys
 
     @classmethod
     def around(cls, design: Design, spec, reach: int = 0) -> "GridBox | None":
@@ -97,16 +101,26 @@ class GridBox:
             lims = model.limits(trial, a, params, spec)
             viol = np.maximum(model.worst_normalised(lims, len(combos)),
                               tolerance.worst(trial, params, spec, design.adjustment))
+            # the closest design's keys (``closest.closeness``): the geometry's rules, the duty's limits
+            # but the targets (the corners' with them), the targets
+            rules = model.worst_normalised([lim for lim in lims if lim.name not in model.DUTY_LIMITS], len(combos))
+            bearing = np.maximum(model.worst_normalised([lim for lim in lims if lim.name in model.DUTY_LIMITS
+                                                         and lim.name not in model.TARGET_LIMITS], len(combos)),
+                                 tolerance.worst(trial, params, spec, design.adjustment))
+            targets = model.worst_normalised([lim for lim in lims if lim.name in model.TARGET_LIMITS], len(combos))
             objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
             deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
             mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))
         valid = np.isfinite(viol) & np.isfinite(objective) & np.all(np.diff(st, axis=1) > 0, axis=1)
         if not valid.any():
             return None
-        return cls(design, spec, trial, named, st, viol, objective, deflection, mass, valid)
+        return cls(design, spec, trial, named, st, viol, objective, deflection, mass, valid, (rules, bearing, targets))
 
-    def choose(self, lowest: bool = False) -> Evaluation | None:
-        """The box's best point, evaluated on its own (``round_and_check``'s choice)."""
+    def choose(self, lowest: bool = False, closest: bool = False) -> Evaluation | None:
+        """The box's best point, evaluated on its own (``round_and_check``'s choice). With
+        ``closest``, when no point meets every limit, the closest by ``closest.closeness``'s order:
+        one meeting the geometry's own rules, then the least violation of the duty's other
+        limits, then of the targets."""
         objective, valid = self.objective, self.valid
         feasible = valid & (self.viol <= model.FEASIBILITY_TOLERANCE)
         if feasible.any():
@@ -114,6 +128,10 @@ class GridBox:
             band = feasible & (objective == lead if lowest else model.ties(objective, lead))
             idx = np.flatnonzero(band)
             best = idx[np.lexsort((objective[idx], self.mass[idx], self.deflection[idx]))[0]]
+        elif closest:
+            idx = np.flatnonzero(valid)
+            keys = [np.maximum(worst[idx], model.FEASIBILITY_TOLERANCE) for worst in (self.targets, self.bearing)]
+            best = idx[np.lexsort((*keys, self.rules[idx] > model.FEASIBILITY_TOLERANCE))[0]]
         else:
             best = int(np.argmin(np.where(valid, self.viol, np.inf)))
         design = self.design
@@ -165,3 +183,24 @@ def outranked_before_rounding(problem, material, s, cap: float | None, within: f
     met = all(float(v.normalised) <= within or (problem.epigraph and v.name in model.TARGET_LIMITS)
               for v in ev.violations)
     return ev if met and ev.objective > cap else None
+
+
+def what_broke(problem, material, s, rounded: Evaluation) -> str:
+    """Why a run that reported success gave no design that meets every limit: its answer itself
+    breaks a limit (the check's verdict, not the solver's), or the answer meets every limit and
+    none of its neighbours on the manufacturing grid (0.01 mm, a depth's step) does, ``rounded``
+    being the one ``round_and_check`` chose."""
+    def broken(ev: Evaluation) -> str:   # each limit and how far it is missed: a share of its bound
+        misses = [(v.name, v.record()) for v in ev.violations]
+        return ", ".join(f"{name} (by {-100 * r['margin']:.2g} % of its bound)" if r["limit"] else
+                         f"{name} (by {-r['margin']:.3g} {r['unit']})" for name, r in misses)
+
+    try:
+        answer = evaluate(problem.design(s.x, material), problem.spec)
+    except InputError:   # the model gives no number at the answer itself (as outranked_before_rounding)
+        return (f"reported success, at an answer the model cannot judge; rounding it to the manufacturing grid "
+                f"breaks {broken(rounded)} at the best neighbouring grid point")
+    if not answer.feasible:
+        return f"reported success but its answer violates {broken(answer)}"
+    return (f"its answer meets every limit, but rounding it to the manufacturing grid breaks {broken(rounded)} "
+            "at the best neighbouring grid point")

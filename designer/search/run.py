@@ -9,15 +9,16 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from designer import model
-from designer.errors import InputError, SolverError, SpecError, describe_allowed
-from designer.result.evaluation import Evaluation, evaluate
+from designer.errors import SolverError, SpecError, describe_allowed
+from designer.result.evaluation import Evaluation
+from designer.search.closest import closeness, closest_designs, farther_load
 from designer.search.diagnosis import diagnose, no_room
 from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid, onto_the_grid
 from designer.search.problem import (IPOPT_INFEASIBLE, MM, METHODS, TOLERANCED, Family, FamilyProblem, Solve,
                                      families, in_nlp_units, start_from, unsearchable)
-from designer.search.rounding import (buildable, only_targets_missed, outranked_before_rounding, pick,
-                                      round_and_check)
+from designer.search.rounding import (only_targets_missed, outranked_before_rounding, pick, round_and_check,
+                                      what_broke)
 from designer.search.stock import same_section, search_stock, stock_system
 from designer.search.stocked import candidates_on_stock, continuous_optimum
 from designer.spec import catalogue
@@ -156,7 +157,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
             elif not s.success:
                 fallbacks.append(f"{m} start {i + 1}: {s.message}")
             elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
-                fallbacks.append(f"{m} start {i + 1}: {_what_broke(problem, material, s, ev)}")
+                fallbacks.append(f"{m} start {i + 1}: {what_broke(problem, material, s, ev)}")
                 bound = outranked_before_rounding(problem, material, s, cap) if m == "ipopt" and i == 0 else None
                 if bound is not None:
                     fallbacks.append(f"outranked: its answer before rounding, {bound.objective:.4g}, is more than "
@@ -206,27 +207,6 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                      winner=winner, solution=answers.get(id(evaluation)))
 
 
-def _what_broke(problem: FamilyProblem, material, s: Solve, rounded: Evaluation) -> str:
-    """Why a run that reported success gave no design that meets every limit: its answer itself
-    breaks a limit (the check's verdict, not the solver's), or the answer meets every limit and
-    none of its neighbours on the manufacturing grid (0.01 mm, a depth's step) does, ``rounded``
-    being the one ``round_and_check`` chose."""
-    def broken(ev: Evaluation) -> str:   # each limit and how far it is missed: a share of its bound
-        misses = [(v.name, v.record()) for v in ev.violations]
-        return ", ".join(f"{name} (by {-100 * r['margin']:.2g} % of its bound)" if r["limit"] else
-                         f"{name} (by {-r['margin']:.3g} {r['unit']})" for name, r in misses)
-
-    try:
-        answer = evaluate(problem.design(s.x, material), problem.spec)
-    except InputError:   # the model gives no number at the answer itself (as outranked_before_rounding)
-        return (f"reported success, at an answer the model cannot judge; rounding it to the manufacturing grid "
-                f"breaks {broken(rounded)} at the best neighbouring grid point")
-    if not answer.feasible:
-        return f"reported success but its answer violates {broken(answer)}"
-    return (f"its answer meets every limit, but rounding it to the manufacturing grid breaks {broken(rounded)} "
-            "at the best neighbouring grid point")
-
-
 def _unmachinable(spec, fam: Family) -> str:
     """Why no design of ``fam`` can be machined under ``spec`` ('' when one can): a slot needs an
     end mill that cuts it with the spec's corner radius and leaves the gauge a flat floor, and
@@ -245,7 +225,7 @@ def _unmachinable(spec, fam: Family) -> str:
 
 def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_break: bool = True,
              problems: dict | None = None, warm: dict | None = None, skip=(), outrank: bool = True,
-             known: dict | None = None) -> SearchResult:
+             known: dict | None = None, closest: bool = True) -> SearchResult:
     """Search every allowed material and section family; return the verified best design.
 
     ``progress``, if given, is called as ``progress(done, total)`` after each candidate.
@@ -260,7 +240,10 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     limit does not bind, from the neighbouring level).
     ``outrank``: a candidate whose first answer, before rounding, is CONTENDER_BAND above the best
     design found before it is not repaired (``solve_candidate``'s ``cap``); a trade-off front, which
-    draws every candidate of its materials, asks for each.
+    draws every candidate of its materials, asks for each. ``closest``: when no candidate has a
+    feasible design, each is solved again for its closest one (``closest.closest_designs``), which
+    the diagnosis reasons from; a trade-off front's levels, whose infeasible points are not
+    reported, do without.
     """
     if method not in METHODS:
         raise SpecError(f"method: {method!r} is not allowed; must be {describe_allowed(METHODS)}")
@@ -318,6 +301,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     candidates = candidates_on_stock(spec, problems, candidates, skip)
     if method == "ipopt" and tie_break:  # the other methods are compared as they are (``bench``)
         candidates = break_ties(candidates, problems)
+    if closest and not any(c.evaluation is not None and c.evaluation.feasible for c in candidates):
+        candidates = closest_designs(spec, problems, candidates)
     candidates += [Candidate(m.name, fam, None, (), (f"not searched: {why}",))
                    for fam, why in unsearchable(spec).items() for m in mats]
     seconds = time.perf_counter() - t0
@@ -339,7 +324,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
             return (2, 1, 0, 0)
         if c.evaluation.feasible:
             return (0, order[id(c.evaluation)], 1, 0)
-        return (1, not buildable(c.evaluation), c.evaluation.worst_violation, c.evaluation.objective)
+        return (1, *closeness(c.evaluation), c.evaluation.objective)
 
     candidates.sort(key=cand_key)
     solver = {"method": method, "seconds": seconds, "evaluations": evaluations,
@@ -363,7 +348,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         status, messages = "optimal", []
         message = f"{best.design.label()} meets every limit"
     else:
-        status, messages = "infeasible", diagnose(spec, best, candidates)
+        farther = _farther(spec, problems, candidates[0], method) if closest else None
+        status, messages = "infeasible", diagnose(spec, best, candidates, farther)
         message = messages[0]
     if best.design.stock is not None:
         message = f"{best.design.label()} ({best.design.stock.label}) " + ("meets every limit" if best.feasible
@@ -371,6 +357,24 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
                         candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations,
                         continuous=continuous_optimum(spec, problems, candidates))
+
+
+# How far (m) past the least start of a load region (``closest.farther_load``, to 0.1 mm) its
+# material and family are searched, in turn, for a design that meets every limit on the grid.
+FARTHER = (0.0, 5e-4, 2e-3)
+
+
+def _farther(spec, problems: dict, cand: Candidate, method: str) -> tuple[float, Evaluation] | None:
+    """A start of the load region, to 0.1 mm, from which ``cand``'s material and family have a design
+    that meets every limit, found by the search, and that design; None when there is none."""
+    least = farther_load(spec, problems, cand)
+    for past in FARTHER if least is not None else ():
+        start = round(math.ceil(least / 1e-4 - 1e-9) * 1e-4 + past, 7)
+        moved = replace(spec, load=replace(spec.load, position_min=start))
+        found = solve_candidate(FamilyProblem(moved, cand.family), catalogue.material(cand.material), method).evaluation
+        if found is not None and found.feasible:
+            return start, found
+    return None
 
 
 # Materials whose Young's moduli are within this of each other are relaxed together when a

@@ -99,7 +99,8 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
                 found[i] = [same.get((m, fam), Candidate(m, fam, None)) for m in leading for fam in graphs]
             else:
                 result = optimize(variant, materials=leading, tie_break=False, skip=skip, warm=warm, known=same,
-                                  outrank=False, problems={fam: g.at(variant, level) for fam, g in graphs.items()})
+                                  outrank=False, closest=False,
+                                  problems={fam: g.at(variant, level) for fam, g in graphs.items()})
                 found[i] = result.candidates
             done += 1
             if progress is not None:

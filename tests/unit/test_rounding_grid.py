@@ -368,7 +368,7 @@ def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_it
     from designer.search import material_params
     from designer.search.methods import solve
     from designer.search.problem import Family, FamilyProblem
-    from designer.search.run import _what_broke
+    from designer.search.rounding import what_broke
     from designer.spec import catalogue
     from designer.spec.reader import load_spec
 
@@ -381,21 +381,21 @@ def test_a_run_that_reported_success_is_said_to_be_broken_by_its_answer_or_by_it
     wide[problem.names.index("diameter")] = 16.8
     too_wide = evaluate(problem.design(wide, material), spec)
 
-    broken_answer = _what_broke(problem, material, replace(answer, x=wide), too_wide)
+    broken_answer = what_broke(problem, material, replace(answer, x=wide), too_wide)
     assert broken_answer.startswith("reported success but its answer violates ")
     assert "diameter_max (by 5 % of its bound)" in broken_answer
 
-    broken_rounding = _what_broke(problem, material, answer, too_wide)
+    broken_rounding = what_broke(problem, material, answer, too_wide)
     assert broken_rounding.startswith("its answer meets every limit, but rounding it to the manufacturing grid ")
     assert "diameter_max (by 5 % of its bound)" in broken_rounding
 
     # an answer the model gives no number at is said so, not raised out of the search
     from designer.errors import InputError
-    from designer.search import run
+    from designer.search import rounding
 
     def unjudged(*_):
         raise InputError("the design cannot be evaluated")
 
-    monkeypatch.setattr(run, "evaluate", unjudged)
-    not_judged = _what_broke(problem, material, answer, too_wide)
+    monkeypatch.setattr(rounding, "evaluate", unjudged)
+    not_judged = what_broke(problem, material, answer, too_wide)
     assert "an answer the model cannot judge" in not_judged and "diameter_max (by 5 % of its bound)" in not_judged

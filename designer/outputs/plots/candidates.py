@@ -157,8 +157,9 @@ def rank_candidates(rows: Sequence[Mapping]) -> list:
     """Order candidates as MODEL.md section 5 ranks designs: the ones that meet every limit by
     objective, where objectives within 0.1 % tie and the lower deflection, then the lower mass,
     goes first, and each outranked one at its bound (before the first design above it, after the
-    first design), as the search lists them; then the infeasible ones, least violating first (and
-    the outranked ones when no design meets every limit); then those without a design."""
+    first design), as the search lists them; then the infeasible ones in the search's order, the
+    closest first (docs/model.md §5; and the outranked ones when no design meets every limit); then
+    those without a design."""
     def number(row, key):
         value = row.get(key)
         return math.inf if value is None else float(value)
@@ -177,7 +178,6 @@ def rank_candidates(rows: Sequence[Mapping]) -> list:
             ranked.append(bounded.pop(0))   # (never before the first: the chosen design)
         ranked.append(pick)
         rest.remove(pick)
-    bad = sorted(bad, key=lambda r: (number(r, "worst_violation"), r["objective"]))
     ranked += bounded + bad if good else bad + bounded
     return ranked + none
 

@@ -1,0 +1,125 @@
+"""The closest design of a spec that no design meets: the one its diagnosis reasons from.
+
+A candidate's answer when none of its designs meets every limit is where its solver gave up:
+IPOPT's restoration phase, which lowers the sum of the violations of every row at once and so
+often buys a lower stress with a pocket shallower than the least allowed, or stations closer
+than their gap. Its figures then answer no question a user asks (how much less load, how much
+more room). Here each such candidate is solved again in two stages from its own design, with the
+geometry's own rules held (every limit but the duty's, ``model.DUTY_LIMITS``): first for the
+least worst violation of the duty's limits but the accuracy targets (stress, strain, signal,
+deflection, frequency, nominal and at the tolerance corners); when those can all be met, then
+for the least worst violation of the targets with every other limit met. Rounded to the grid,
+the design is kept when it comes closer by ``closeness``. Each duty limit that scales with the
+largest force is then met by that one design at ``load.force[1] / (1 + its violation)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from designer import model
+from designer.errors import InputError
+from designer.result.evaluation import Evaluation, evaluate
+from designer.search.problem import start_from
+from designer.search.rounding import ANSWER_TOLERANCE, GridBox, buildable, only_targets_missed
+from designer.search.stock import stock_system
+from designer.spec import catalogue
+
+# the duty's limits but the accuracy targets
+BEARING = tuple(name for name in model.DUTY_LIMITS if name not in model.TARGET_LIMITS)
+# Grid steps beyond the neighbouring grid points that the rounding of a closest design reaches,
+# one more at a time, for a point meeting the geometry's rules: its answer is held by several of
+# them at once (the stations between both clearances, their gap, a size and the pocket's depth),
+# and a size a step smaller gives the stations room (the gripper finger under 300 N: one step).
+REACH = 2
+
+
+def meets_rules(ev: Evaluation) -> bool:
+    """Whether ``ev`` meets every limit but its duty's: the geometry's own rules, at its nominal
+    sizes and its tolerance corners."""
+    return _worst(ev, lambda name: name not in model.DUTY_LIMITS) <= model.FEASIBILITY_TOLERANCE
+
+
+def closeness(ev: Evaluation) -> tuple:
+    """How far an infeasible design is from one that meets every limit, least first: a beam at
+    all, then one meeting the geometry's own rules (``meets_rules``), then the worst violation of
+    the duty's limits but the targets (a lower load, a stronger or stiffer material would meet
+    them), then the worst of the targets' (less noise, a larger least force), each met counting
+    as met, however much room it keeps."""
+    bearing = _worst(ev, lambda name: name in BEARING)
+    targets = _worst(ev, lambda name: name in model.TARGET_LIMITS)
+    return (not buildable(ev), not meets_rules(ev), max(bearing, model.FEASIBILITY_TOLERANCE),
+            max(targets, model.FEASIBILITY_TOLERANCE))
+
+
+def _worst(ev: Evaluation, which) -> float:
+    return max((float(lim.normalised) for lim in ev.judged if which(lim.name)), default=-math.inf)
+
+
+def closest_designs(spec, problems: dict, candidates: list) -> list:
+    """``candidates`` (none with a feasible design) with each one whose family is searched over
+    continuous sizes solved again for its least violation from its own design, and given that
+    design when it comes closer (``closeness``); the IPOPT solves join the candidate's."""
+    out = []
+    for c in candidates:
+        problem = problems.get(c.family)
+        ev = c.evaluation
+        if (problem is None or ev is None or c.outranked or stock_system(spec, c.family) != "none"
+                or only_targets_missed(ev, problem.epigraph)):
+            out.append(c)   # (the least error of a family that only misses the targets is its own answer)
+            continue
+        material = catalogue.material(c.material)
+        params = problem.params(material)
+        s, worst = problem.least_violation(params, start_from(problem, ev), soft=BEARING, free=model.TARGET_LIMITS)
+        solves = [s]
+        if worst <= model.FEASIBILITY_TOLERANCE:   # every limit but the targets met: the targets' least violation
+            solves.append(problem.least_violation(params, s.x, soft=model.TARGET_LIMITS)[0])
+        found = [near for t in solves if (near := _rounded(problem.design(t.x, material), spec)) is not None]
+        near = min(found, key=closeness, default=None)
+        if near is not None and closeness(near) < closeness(ev):
+            c = replace(c, evaluation=near, solution=None, winner=None,
+                        fallbacks=c.fallbacks + ("closest design: solved again for the least violation of the "
+                                                 "duty's limits, the geometry's rules held: worst "
+                                                 f"{near.worst_violation:.3g}",))
+        out.append(replace(c, solves=c.solves + tuple(solves)))
+    return out
+
+
+def farther_load(spec, problems: dict, cand) -> float | None:
+    """When the room before the load region binds ``cand``'s closest design: the least start of
+    the load region (m) that a design of its material and family could meet every limit from,
+    by the least violation of the load clearance alone, every other limit met (``run`` checks
+    it). None when no design would, with load grooves (they move with the region), or for sizes
+    from stock."""
+    problem, ev = problems.get(cand.family), cand.evaluation
+    if (spec.cad.load_grooves or problem is None or ev is None or stock_system(spec, cand.family) != "none"
+            or not any(lim.name == "load_clearance" and lim.record()["active"] for lim in ev.limits)):
+        return None
+    material = catalogue.material(cand.material)
+    s, _ = problem.least_violation(problem.params(material), start_from(problem, ev), soft=("load_clearance",))
+    g = problem.design(s.x, material).geometry
+    reach = float(g.stations[-1]) + float(g.feature_length) / 2 + spec.limits.load_clearance
+    try:
+        met = evaluate(problem.design(s.x, material), replace(spec, load=replace(spec.load, position_min=reach)))
+    except InputError:
+        return None
+    # its answer, unrounded, meets every limit from there (to IPOPT's tolerance): the solve is not trusted
+    if any(float(v.normalised) > ANSWER_TOLERANCE for v in met.violations) or not reach < spec.load.position_max:
+        return None
+    return max(reach, spec.load.position_min)
+
+
+def _rounded(design, spec) -> Evaluation | None:
+    """``design`` on the manufacturing grid: of its grid points (the neighbouring ones, then up to
+    REACH steps farther), one meeting the geometry's own rules first, then the least worst violation."""
+    try:
+        for reach in range(REACH + 1):
+            box = GridBox.around(design, spec, reach)
+            if box is None:
+                return None
+            if (box.valid & (box.rules <= model.FEASIBILITY_TOLERANCE)).any():
+                break
+        return box.choose(closest=True)
+    except InputError:
+        return None
