@@ -29,10 +29,15 @@ from designer.spec import catalogue
 # the duty's limits but the accuracy targets
 BEARING = tuple(name for name in model.DUTY_LIMITS if name not in model.TARGET_LIMITS)
 # Grid steps beyond the neighbouring grid points that the rounding of a closest design reaches,
-# one more at a time, for a point meeting the geometry's rules: its answer is held by several of
-# them at once (the stations between both clearances, their gap, a size and the pocket's depth),
-# and a size a step smaller gives the stations room (the gripper finger under 300 N: one step).
+# one more at a time, for a point meeting the geometry's rules (and the duty's limits but the
+# targets, when its answer meets them): its answer is held by several of them at once (the
+# stations between both clearances, their gap, a size and the pocket's depth), and a size a step
+# smaller gives the stations room (the gripper finger under 300 N: one step).
 REACH = 2
+# How far inside their limits (normalised) the second stage holds the other limits, in turn, when
+# the grid's points around its answer break one: a 0.01 mm step moves a stress or a strain by up
+# to 3 s/D (0.35 % on a Ø8.6 mm bar), a 0.05 mm step of a pocket's depth by more.
+MARGINS = (0.0, 3e-3, 1e-2, 3e-2)
 
 
 def meets_rules(ev: Evaluation) -> bool:
@@ -73,9 +78,16 @@ def closest_designs(spec, problems: dict, candidates: list) -> list:
         params = problem.params(material)
         s, worst = problem.least_violation(params, start_from(problem, ev), soft=BEARING, free=model.TARGET_LIMITS)
         solves = [s]
-        if worst <= model.FEASIBILITY_TOLERANCE:   # every limit but the targets met: the targets' least violation
-            solves.append(problem.least_violation(params, s.x, soft=model.TARGET_LIMITS)[0])
-        found = [near for t in solves if (near := _rounded(problem.design(t.x, material), spec)) is not None]
+        found = [near for near in [_rounded(problem.design(s.x, material), spec)] if near is not None]
+        # every limit but the targets met: the targets' least violation, the others held, a little
+        # inside them when the grid's points around the answer held at them break one
+        for margin in MARGINS if worst <= model.FEASIBILITY_TOLERANCE else ():
+            solves.append(problem.least_violation(params, s.x, soft=model.TARGET_LIMITS, margin=margin)[0])
+            near = _rounded(problem.design(solves[-1].x, material), spec)
+            if near is not None:
+                found.append(near)
+                if closeness(near)[:3] == (False, False, model.FEASIBILITY_TOLERANCE):
+                    break
         near = min(found, key=closeness, default=None)
         if near is not None and closeness(near) < closeness(ev):
             c = replace(c, evaluation=near, solution=None, winner=None,
@@ -111,14 +123,24 @@ def farther_load(spec, problems: dict, cand) -> float | None:
 
 
 def _rounded(design, spec) -> Evaluation | None:
-    """``design`` on the manufacturing grid: of its grid points (the neighbouring ones, then up to
-    REACH steps farther), one meeting the geometry's own rules first, then the least worst violation."""
+    """``design`` on the manufacturing grid, the closest of its grid points by ``closeness``'s
+    order: the neighbouring ones, then up to REACH steps farther while none of them meets what
+    ``design`` itself meets of the geometry's rules and the duty's limits but the targets (a
+    design held at its limits by the solve loses them to the grid one way or another)."""
+    try:
+        unrounded = evaluate(design, spec)
+    except InputError:
+        return None
+    tol = model.FEASIBILITY_TOLERANCE
+    rules = meets_rules(unrounded)
+    bearing = rules and _worst(unrounded, lambda name: name in BEARING) <= tol
     try:
         for reach in range(REACH + 1):
             box = GridBox.around(design, spec, reach)
             if box is None:
                 return None
-            if (box.valid & (box.rules <= model.FEASIBILITY_TOLERANCE)).any():
+            kept = box.valid & (box.rules <= tol if rules else True) & (box.bearing <= tol if bearing else True)
+            if kept.any():
                 break
         return box.choose(closest=True)
     except InputError:

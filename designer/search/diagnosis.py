@@ -82,10 +82,10 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
                    + (f"; met at {1 / room:.3g}, which keeps room for the model's gauge-strain uncertainty"
                       if room > 1 + 1e-12 else "") + ")"
                    + (f" with {', '.join(binding)} binding" if binding else "")
-                   + f"; they would be met with electronics noise of at most {sv / need * 1e3:.3g} mV at the output "
-                   f"(now {sv * 1e3:.3g} mV), "
-                   + (f"or load.force[0] of at least {spec.load.force_min * need:.4g} N (now {spec.load.force_min:.4g} "
-                      f"N), " if spec.load.force_min * need <= spec.load.force_max else "")
+                   + f"; they would be met with electronics noise of at most {_down(sv / need * 1e3, 3)} mV at the "
+                   f"output (now {sv * 1e3:.3g} mV), "
+                   + (f"or load.force[0] of at least {_up(spec.load.force_min * need)} N (now "
+                      f"{spec.load.force_min:.4g} N), " if spec.load.force_min * need <= spec.load.force_max else "")
                    + f"or targets of force_error >= {float(a.force_error) * room * 100:.3g} % and position_error >= "
                    f"{float(a.position_error) * room * mm:.3g} mm"
                    + _largest_term(spec, a))
@@ -181,14 +181,23 @@ def _binds(best: Evaluation, name: str) -> bool:
     return any(lim.name == name and lim.record()["active"] for lim in best.limits)
 
 
-def _down(value: float) -> str:
-    """``value`` to 4 significant digits, rounded down (a force the advice names must not exceed
-    the one it was worked out for)."""
-    text = f"{value:.4g}"
-    if float(text) <= value:
+def _down(value: float, digits: int = 4) -> str:
+    """``value`` to ``digits`` significant digits, rounded down: a largest force or noise the advice
+    names must not exceed the one it was worked out for."""
+    return _rounded(value, digits, math.floor)
+
+
+def _up(value: float, digits: int = 4) -> str:
+    """``value`` to ``digits`` significant digits, rounded up (a least force the advice names)."""
+    return _rounded(value, digits, math.ceil)
+
+
+def _rounded(value: float, digits: int, way) -> str:
+    text = f"{value:.{digits}g}"
+    if (float(text) <= value) if way is math.floor else (float(text) >= value):
         return text
-    step = 10.0 ** (math.floor(math.log10(abs(value))) - 3)
-    return f"{math.floor(value / step) * step:.4g}"
+    step = 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1)
+    return f"{way(value / step) * step:.{digits}g}"
 
 
 def _section_room(spec, g) -> tuple[str, str, str]:

@@ -55,6 +55,7 @@ IPOPT_INFEASIBLE = ("Infeasible_Problem_Detected",)
 WARM_OPTIONS = {"ipopt.warm_start_init_point": "yes", "ipopt.mu_init": 1e-6, "ipopt.warm_start_bound_push": 1e-9,
                 "ipopt.warm_start_mult_bound_push": 1e-9, "ipopt.warm_start_slack_bound_push": 1e-9}
 EPIGRAPH_UPPER = 1e6
+LEAST_LIFT = 1e-6   # mm: the least-violation NLP's lower bounds over the variables' own (``least_violation``)
 NO_CAP = 1e12  # the primary-objective cap of a first-stage solve: never reached
 # Limits that are plain variable bounds in the NLP; they are still checked on every answer.
 BOUND_LIMITS = {"width_min", "width_max", "height_min", "height_max", "diameter_min", "diameter_max",
@@ -501,16 +502,19 @@ class FamilyProblem:
             runs += s.evaluations
         return replace(s, evaluations=runs)
 
-    def least_violation(self, params, x0, soft, free=()) -> tuple[Solve, float]:
+    def least_violation(self, params, x0, soft, free=(), margin: float = 0.0) -> tuple[Solve, float]:
         """IPOPT from ``x0`` on the NLP of the least violation: the design whose worst normalised row
         among the limits named in ``soft`` (nominal and at the tolerance corners) is least, every
-        other row met, but for those named in ``free``, which are let go; within the variables'
-        bounds. The closest design of a family none of whose designs meets every limit
-        (``search.closest``). Returns the Solve (its ``x``, the design's variables) and that worst
-        row at its answer, as the NLP has it."""
+        other row met (``margin`` inside its limit), but for those named in ``free``, which are let
+        go; within the variables' bounds. The closest design of a family none of whose designs
+        meets every limit (``search.closest``). Returns the Solve (its ``x``, the design's
+        variables) and that worst row at its answer, as the NLP has it."""
         lo, hi = self.bounds()
+        # IPOPT relaxes a bound by 1e-8 of itself, and at a pocket's least depth, or under it, the
+        # fatigue limit's derivative is no number (IPOPT's Invalid_Number_Detected): kept 1 nm over
+        lo = lo + LEAST_LIFT
         weight = np.array([1.0 if name in soft else 0.0 for name in self.row_names])
-        upper = np.array([np.inf if name in free else 0.0 for name in self.row_names]
+        upper = np.array([np.inf if name in free else 0.0 if name in soft else -margin for name in self.row_names]
                          + [0.0] * len(self._terms))
         x, runs = np.clip(np.array(x0, dtype=float), lo, hi), 0
         for _ in range(DEVIATION_ROUNDS):   # the corners' deviations at the answer's sizes, as ``_solve``
