@@ -510,7 +510,8 @@ class FamilyProblem:
         meets every limit (``search.closest``). Returns the Solve (its ``x``, the design's
         variables) and that worst row at its answer, as the NLP has it."""
         lo, hi = self.bounds()
-        # IPOPT relaxes a bound by 1e-8 of itself, and at a pocket's least depth, or under it, the
+        # IPOPT relaxes a bound by 1e-8 of itself; at a pocket's least depth, when the tolerance's
+        # deviation is as deep (ISO 2768-v: 0.5 mm), a corner's pocket is cut to no depth, where the
         # fatigue limit's derivative is no number (IPOPT's Invalid_Number_Detected): kept 1 nm over
         lo = lo + LEAST_LIFT
         weight = np.array([1.0 if name in soft else 0.0 for name in self.row_names])
