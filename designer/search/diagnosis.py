@@ -11,6 +11,8 @@ from designer.result.evaluation import ROUNDING, Evaluation
 # The stress limits (docs/model.md §4), and the limits whose value grows in proportion to the
 # largest force, load.force[1] (stress, strain, the bridge's full-scale output, the deflection).
 STRENGTH_LIMITS = ("stress_root", "stress_feature", "fatigue_feature")
+# The error budget's terms in proportion to the noise (model.budget.contributions)
+NOISE_TERMS = ("noise", "calibration fit")
 LOAD_LIMITS = (*STRENGTH_LIMITS, "gauge_strain", "adc_range", "deflection")
 
 
@@ -78,16 +80,22 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
         room = float(targets["force_error"].part_limit) / float(targets["force_error"].limit)
         binding = [lim.name for lim in best.limits if lim.record()["active"]
                    and lim.name not in ("force_error", "position_error")]
+        quiet = _quieter(spec, a, targets, need)
+        ways = ([f"electronics noise of at most {_down(quiet * 1e3, 3)} mV at the output (now {sv * 1e3:.3g} mV)"]
+                if quiet is not None else [])
+        if spec.load.force_min * need <= spec.load.force_max and not a.budget:
+            # (with an error budget the other terms do not fall as 1/F_min: no least force is named)
+            ways.append(f"load.force[0] of at least {_up(spec.load.force_min * need)} N (now "
+                        f"{spec.load.force_min:.4g} N)")
+        ways.append(f"targets of force_error >= {float(a.force_error) * room * 100:.3g} % and position_error >= "
+                    f"{float(a.position_error) * room * mm:.3g} mm")
         out.append(f"the accuracy targets are out of reach: the best error ratio is {e:.3g} (1 = on target"
                    + (f"; met at {1 / room:.3g}, which keeps room for the model's gauge-strain uncertainty"
                       if room > 1 + 1e-12 else "") + ")"
                    + (f" with {', '.join(binding)} binding" if binding else "")
-                   + f"; they would be met with electronics noise of at most {_down(sv / need * 1e3, 3)} mV at the "
-                   f"output (now {sv * 1e3:.3g} mV), "
-                   + (f"or load.force[0] of at least {_up(spec.load.force_min * need)} N (now "
-                      f"{spec.load.force_min:.4g} N), " if spec.load.force_min * need <= spec.load.force_max else "")
-                   + f"or targets of force_error >= {float(a.force_error) * room * 100:.3g} % and position_error >= "
-                   f"{float(a.position_error) * room * mm:.3g} mm"
+                   + "; they would be met with " + ", or ".join(ways)
+                   + ("; no electronics noise alone would meet them (the error budget's other terms exceed them at "
+                      "some load)" if quiet is None else "")
                    + _largest_term(spec, a))
         if spec.limits.max_deflection is not None and "deflection" in binding:
             out.append(f"the deflection limit binds: limits.max_deflection = {spec.limits.max_deflection * mm:.4g} mm; "
@@ -234,6 +242,27 @@ def _apart(a: float, b: float) -> tuple[str, str]:
         if f"{a:.{digits}g}" != f"{b:.{digits}g}":
             break
     return f"{a:.{digits}g}", f"{b:.{digits}g}"
+
+
+def _quieter(spec, a, targets: dict, need: float) -> float | None:
+    """The noise at the amplifier output (V) at which ``a``'s design meets the accuracy targets
+    (``targets``: their limits), None when no noise would. Without an error budget the errors are
+    in proportion to the noise: now's over ``need``. With one, only its noise and calibration-fit
+    terms are (docs/model.md §13): at each of the budget's loads, u² = s² N + O must stay within
+    the target's square, N the variance of those terms and O of the others, for the scale s."""
+    if not a.budget:
+        return spec.sigma_v / need
+    limits = {"force_var": float(targets["force_error"].limit), "position_var": float(targets["position_error"].limit)}
+    scale = math.inf
+    for _, _, terms in a.budget:
+        for kind, limit in limits.items():
+            noisy = sum(float(getattr(t, kind)) for t in terms if t.name in NOISE_TERMS)
+            rest = sum(float(getattr(t, kind)) for t in terms if t.name not in NOISE_TERMS)
+            if rest >= limit * limit:
+                return None
+            if noisy > 0:
+                scale = min(scale, (limit * limit - rest) / noisy)
+    return spec.sigma_v * math.sqrt(scale) if math.isfinite(scale) else None
 
 
 def _largest_term(spec, a) -> str:
