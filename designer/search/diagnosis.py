@@ -11,9 +11,9 @@ from designer.result.evaluation import ROUNDING, Evaluation
 # The stress limits (docs/model.md §4), and the limits whose value grows in proportion to the
 # largest force, load.force[1] (stress, strain, the bridge's full-scale output, the deflection).
 STRENGTH_LIMITS = ("stress_root", "stress_feature", "fatigue_feature")
+LOAD_LIMITS = (*STRENGTH_LIMITS, "gauge_strain", "adc_range", "deflection")
 # The error budget's terms in proportion to the noise (model.budget.contributions)
 NOISE_TERMS = ("noise", "calibration fit")
-LOAD_LIMITS = (*STRENGTH_LIMITS, "gauge_strain", "adc_range", "deflection")
 
 
 def no_room(spec) -> str:
@@ -134,7 +134,7 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
                    "a load region", lambda: spec.load.position_min),
                   ("groove_clearance", "their features, limits.load_clearance and half a groove's width",
                    "the load groove at", "cad.groove_positions", lambda: min(grooves.positions(spec))))
-    bearing = any(name in model.DUTY_LIMITS for name in violated)
+    duty = any(name in model.DUTY_LIMITS for name in violated)
     for name, reach, past, move, edge in clearances:
         if name in violated and not no_room(spec):
             v = violated[name]
@@ -145,7 +145,7 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
             out.append(f"{name}: the closest design's stations, {reach} reach {reached * mm:.4g} mm, past "
                        f"{past} {at * mm:.4g} mm; {move} from {reached * mm:.4g} mm out, fewer "
                        "stations, a smaller gauge or smaller margins would leave them room")
-        elif bearing and where.startswith("at the closest") and _binds(best, name):
+        elif duty and where.startswith("at the closest") and _binds(best, name):
             # the closest design meets the geometry's rules (``search.closest``), its section below
             # the largest allowed: the room before the load region, which the gaps between its
             # features (a size apart, in proportion) fill, holds it
@@ -163,7 +163,7 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
                    + (f", or enlarge {larger}" if larger else ""))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
-    elif bearing and _binds(best, "domain_lp_grid_max"):
+    elif duty and _binds(best, "domain_lp_grid_max"):
         # the closest design meets the geometry's rules (``search.closest``): the pocket study's
         # longest pockets may be what holds its section (and so its stress and strain) back
         held = next(lim for lim in best.limits if lim.name == "domain_lp_grid_max")
