@@ -110,10 +110,11 @@ def farther_load(spec, problems: dict, cand) -> float | None:
         return None
     material = catalogue.material(cand.material)
     s, _ = problem.least_violation(problem.params(material), start_from(problem, ev), soft=("load_clearance",))
-    g = problem.design(s.x, material).geometry
+    design = problem.design(s.x, material)
+    g = design.geometry
     reach = float(g.stations[-1]) + float(g.feature_length) / 2 + spec.limits.load_clearance
     try:
-        met = evaluate(problem.design(s.x, material), replace(spec, load=replace(spec.load, position_min=reach)))
+        met = evaluate(design, replace(spec, load=replace(spec.load, position_min=reach)))
     except InputError:
         return None
     # its answer, unrounded, meets every limit from there (to IPOPT's tolerance): the solve is not trusted

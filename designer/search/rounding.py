@@ -99,15 +99,14 @@ class GridBox:
         with np.errstate(all="ignore"):
             a = model.analyse(trial, params, spec, adjust=design.adjustment)
             lims = model.limits(trial, a, params, spec)
-            viol = np.maximum(model.worst_normalised(lims, len(combos)),
-                              tolerance.worst(trial, params, spec, design.adjustment))
             # the closest design's keys (``closest.closeness``): the geometry's rules, the duty's limits
-            # but the targets (the corners' with them), the targets
+            # but the targets (the corners' with them), the targets; every limit is in one of them
             rules = model.worst_normalised([lim for lim in lims if lim.name not in model.DUTY_LIMITS], len(combos))
             bearing = np.maximum(model.worst_normalised([lim for lim in lims if lim.name in model.DUTY_LIMITS
                                                          and lim.name not in model.TARGET_LIMITS], len(combos)),
                                  tolerance.worst(trial, params, spec, design.adjustment))
             targets = model.worst_normalised([lim for lim in lims if lim.name in model.TARGET_LIMITS], len(combos))
+            viol = np.maximum(np.maximum(rules, bearing), targets)
             objective = np.broadcast_to(np.asarray(model.objective(a, spec), dtype=float), (len(combos),))
             deflection = np.broadcast_to(np.asarray(a.deflection, dtype=float), (len(combos),))
             mass = np.broadcast_to(np.asarray(a.mass, dtype=float), (len(combos),))
