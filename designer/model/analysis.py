@@ -216,6 +216,9 @@ def _scaled(values: list, factor_lists: list) -> tuple:
     return tuple(values)
 
 
+WIDEST_GRID = 1 - 1e-6   # the largest grid width over the diameter grid_arc_factor takes
+
+
 def grid_arc_factor(g: Geometry, ops: Ops = NUMERIC):
     """The strain a gauge grid of width ``w`` reads on the round surface of a bar or tube (no flat
     under it) over the top fibre's: across the grid the surface falls away from ``y_g = R`` as
@@ -224,7 +227,10 @@ def grid_arc_factor(g: Geometry, ops: Ops = NUMERIC):
     gauge sits on a flat face (rectangles, pockets, flats) or the grid's width is not known."""
     if g.section == "rectangle" or g.feature != "none" or not g.grid_width:
         return None
-    a = g.grid_width / g.diameter
+    # a grid wider than the bar breaks gauge_face; there the factor is held at a's largest, short of
+    # 1, where the square root's derivative is infinite: its value and derivative stay numbers (an
+    # optimiser's start point may be such a bar)
+    a = ops.fmin(g.grid_width / g.diameter, WIDEST_GRID)
     return (a * ops.sqrt(1 - a * a) + (math.pi / 2 - ops.acos(a))) / (2 * a)
 
 

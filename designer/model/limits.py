@@ -14,7 +14,7 @@ from designer.model.grooves import LIMIT_NAMES as GROOVE_LIMITS, ROOT_RADIUS, WI
 from designer.model.grooves import DEPTH_FRACTION as GROOVE_DEPTH_FRACTION, depth as groove_depth
 from designer.model.grooves import positions as groove_positions, smaller_side as groove_smaller_side
 from designer.model.objective import FEASIBILITY_TOLERANCE
-from designer.model.ops import NUMERIC, Ops
+from designer.model.ops import NUMERIC, Ops, clipped_root
 from designer.model.sections import LEAST_CUT, Geometry, feature_length
 
 # Constraints whose normalised slack is below this bind (0.5 % of the limit).
@@ -307,7 +307,7 @@ def section_limits(g: Geometry, spec, ops: Ops = NUMERIC) -> list[Limit]:
                                  scale=mm, unit="m"))
         else:
             R = g.diameter / 2
-            half_chord = ops.sqrt(ops.fmax(R * R - (R - g.depth) ** 2, 0.0))
+            half_chord = clipped_root(R * R - (R - g.depth) ** 2, ops)
             out.append(Limit("flat_chord", 2 * half_chord, g.pocket_width, upper=False, unit="m"))
             if g.axes == 2:  # neighbouring flats must not meet
                 out.append(Limit("flat_corner", half_chord, R - g.depth, scale=mm, unit="m"))

@@ -53,3 +53,16 @@ def rounded_max(a, b, width, ops: Ops = NUMERIC):
     (smooth, never below the maximum, at most ``w / 4`` above it) and the maximum itself beyond,
     where its value and derivatives are exactly those of the larger."""
     return ops.fmax(a, b) + ops.fmax(width - ops.fabs(a - b), 0.0) ** 2 / (4 * width)
+
+
+# The least area (m^2) under a square root of a length squared, (1 nm)^2: sqrt's derivative at 0 is
+# infinite, and where a max() clips the area to 0 its derivative there is 0 x infinity, no number
+# (IPOPT's Invalid_Number_Detected), at a tiny round bar whose wire channel is wider than it, or a
+# flat cut to no depth at a tolerance corner. A nanometre changes no length the model reports.
+LEAST_AREA = 1e-18
+
+
+def clipped_root(area, ops: Ops = NUMERIC):
+    """``sqrt(max(area, 0))`` (m), with its derivative a number everywhere: the area is clipped at
+    ``LEAST_AREA`` rather than 0."""
+    return ops.sqrt(ops.fmax(area, LEAST_AREA))

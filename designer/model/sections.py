@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from designer.model.ops import NUMERIC, Ops, ops_for
+from designer.model.ops import NUMERIC, Ops, clipped_root, ops_for
 
 
 def feature_length(feature: str, pocket_length, hole, gauge_length):
@@ -178,7 +178,7 @@ def shoulder_ratio(g: Geometry):
     channel, over the flat's depth; 1 without a channel."""
     ops = ops_for(g.depth, g.diameter, g.channel_depth)
     R, p, half = g.diameter / 2, g.depth, g.channel_width / 2
-    beside = ops.sqrt(ops.fmax(R * R - half * half, 0.0)) - (R - p)
+    beside = clipped_root(R * R - half * half, ops) - (R - p)
     return ops.fmax(p - g.channel_depth, beside) / p
 
 

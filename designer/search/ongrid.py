@@ -197,7 +197,11 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
     i = problem.names.index("depth")
     found = []
     step = problem.spec.cad.depth_step
-    for depth in sorted(floor_ceil(float(s.x[i]) * MM, step=step), key=lambda d: abs(d / MM - s.x[i])):
+    lo, hi = problem.bounds()
+    # a grid value outside the depth's bounds is no pocket the spec allows (a depth of 0 under the
+    # least depth: its notch's square root has no derivative there, IPOPT's Invalid_Number_Detected)
+    depths = [d for d in floor_ceil(float(s.x[i]) * MM, step=step) if lo[i] <= d / MM <= hi[i]]
+    for depth in sorted(depths, key=lambda d: abs(d / MM - s.x[i])):
         held = {i: depth / MM}
         s2 = problem.solve_ipopt(params, s.x, fixed=held)
         solves.append(s2)

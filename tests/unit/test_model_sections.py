@@ -244,3 +244,39 @@ def test_each_feature_needs_its_own_length_of_beam(stations, length, l_f, key):
     problem = model.features_apart(stations, length, l_f, "pocket")
     assert (problem is None) == fits
     assert (problem and problem[0]) == key
+
+
+def test_where_a_square_root_meets_zero_the_model_and_its_derivatives_stay_numbers():
+    # IPOPT stops at a start point whose derivatives are no number (Invalid_Number_Detected): the
+    # bench suite's millinewton specs start round bars thinner than their gauge's grid (a = w/D > 1)
+    # and thinner than the flat's wire channel (no round surface beside it). Each value is held at
+    # its closed form's edge there, its derivative a number:
+    # - a grid at least as wide as the bar averages (a sqrt(1 - a^2) + asin a)/(2a) at a = 1: pi/4;
+    # - beside a channel wider than the bar the flat keeps no shoulder but the channel's floor:
+    #   shoulder_ratio = (p - t_c)/p.
+    casadi = pytest.importorskip("casadi")
+    from dataclasses import replace
+
+    ops = model.casadi_ops()
+    d, p = casadi.SX.sym("d"), casadi.SX.sym("p")
+    narrow = circular("round", 0.8 * MM, grid_width=1.2 * MM)
+    arc = casadi.Function("arc", [d], [model.grid_arc_factor(replace(narrow, diameter=d), ops)])
+    assert float(arc(0.8 * MM)) == pytest.approx(math.pi / 4, rel=1e-5)
+    assert math.isfinite(float(casadi.Function("da", [d], [casadi.jacobian(arc(d), d)])(0.8 * MM)))
+    assert float(model.grid_arc_factor(narrow)) == pytest.approx(math.pi / 4, rel=1e-5)
+
+    flat = circular("round", 0.5 * MM, feature="pocket", depth=0.1 * MM, channel_width=1.0 * MM,
+                    channel_depth=0.04 * MM, floor_radius=0.05 * MM)
+    sym = replace(flat, diameter=d, depth=p)
+    assert float(model.shoulder_ratio(flat)) == pytest.approx((0.1 - 0.04) / 0.1, rel=1e-6)
+    spec = make_spec()
+    rows = [lim.normalised for lim in model.limits(sym, model.analyse(sym, material(), spec, ops), material(), spec,
+                                                   ops=ops)]
+    jac = casadi.Function("j", [d, p], [casadi.jacobian(casadi.vertcat(model.shoulder_ratio(sym), *rows),
+                                                        casadi.vertcat(d, p))])
+    assert np.isfinite(np.array(jac(0.5 * MM, 0.1 * MM))).all()
+    # a flat cut to no depth (a tolerance corner's pocket, depth held at 0): its chord's derivative
+    chord = casadi.Function("c", [p], [casadi.jacobian(
+        {lim.name: lim.normalised for lim in model.limits(replace(flat, depth=p), model.analyse(flat, material(), spec),
+                                                          material(), spec, ops=ops)}["flat_chord"], p)])
+    assert math.isfinite(float(chord(0.0)))
