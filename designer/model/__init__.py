@@ -11,8 +11,8 @@ from designer.model.analysis import Analysis, MaterialParams, analyse, grid_arc_
 from designer.model.beam import (CLAMPED_FREE_ROOT, LARGE_DEFLECTION_RATIO, channel_deflection, is_large_deflection,
                                  natural_frequency, rigidity_segments, tip_deflection)
 from designer.model.electronics import BRIDGE_FACTORS, output_noise, volts_per_strain
-from designer.model.limits import (ACTIVE_TOLERANCE, DUTY_LIMITS, TARGET_LIMITS, Limit, limits, minimum_room, section_limits,
-                                   smallest_feature_length, worst_normalised)
+from designer.model.limits import (ACTIVE_TOLERANCE, DUTY_LIMITS, SIZE_LIMITS, TARGET_LIMITS, Limit, limits,
+                                   minimum_room, section_limits, smallest_feature_length, worst_normalised)
 from designer.model.objective import (FEASIBILITY_TOLERANCE, OBJECTIVES, SECONDARY, TIE_TOLERANCE, error_ratio, error_terms,
                                       objective, rank, ranks_before, secondary, ties)
 from designer.model.ops import NUMERIC, Ops, casadi_ops

@@ -24,6 +24,9 @@ TARGET_LIMITS = ("force_error", "position_error")
 # others are the geometry's own rules, which some design of the section meets whatever the duty.
 DUTY_LIMITS = ("stress_root", "stress_feature", "fatigue_feature", "gauge_strain", "min_signal_snr", "adc_range",
                "deflection", "natural_frequency", *TARGET_LIMITS)
+# Of the geometry's rules, the section's sizes the spec allows (limits.width and limits.height): the
+# room the sensor is built into, which a closest design of an infeasible spec keeps before the others.
+SIZE_LIMITS = ("width_min", "width_max", "height_min", "height_max", "diameter_min", "diameter_max")
 # Neighbouring holes at least this many section heights apart, edge to edge: two Ø0.43 h holes in
 # a 0.3:1 bar 0.15 h apart read +6 % and -3 % of the isolated holes' gauge strain in 3-D, 0.4 h
 # apart within 0.6 % (tests/validation/test_corrections_study.py).

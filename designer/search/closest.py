@@ -48,14 +48,18 @@ def meets_rules(ev: Evaluation) -> bool:
 
 def closeness(ev: Evaluation) -> tuple:
     """How far an infeasible design is from one that meets every limit, least first: a beam at
-    all, then one meeting the geometry's own rules (``meets_rules``), then the worst violation of
+    all, then one within the sizes the spec allows (``model.SIZE_LIMITS``), then the fewest of
+    the geometry's own rules broken (none: ``meets_rules``; a spec may leave no section its gauge
+    fits on, and a design breaking that rule need not break others), then the worst violation of
     the duty's limits but the targets (a lower load, a stronger or stiffer material would meet
     them), then the worst of the targets' (less noise, a larger least force), each met counting
     as met, however much room it keeps."""
+    tol = model.FEASIBILITY_TOLERANCE
+    broken = {lim.name for lim in ev.judged if lim.name not in model.DUTY_LIMITS and float(lim.normalised) > tol}
     bearing = _worst(ev, lambda name: name in BEARING)
     targets = _worst(ev, lambda name: name in model.TARGET_LIMITS)
-    return (not buildable(ev), not meets_rules(ev), max(bearing, model.FEASIBILITY_TOLERANCE),
-            max(targets, model.FEASIBILITY_TOLERANCE))
+    return (not buildable(ev), bool(broken & set(model.SIZE_LIMITS)), len(broken), max(bearing, tol),
+            max(targets, tol))
 
 
 def _worst(ev: Evaluation, which) -> float:
@@ -86,7 +90,7 @@ def closest_designs(spec, problems: dict, candidates: list) -> list:
             near = _rounded(problem.design(solves[-1].x, material), spec)
             if near is not None:
                 found.append(near)
-                if closeness(near)[:3] == (False, False, model.FEASIBILITY_TOLERANCE):
+                if closeness(near)[:4] == (False, False, 0, model.FEASIBILITY_TOLERANCE):
                     break
         near = min(found, key=closeness, default=None)
         if near is not None and closeness(near) < closeness(ev):

@@ -6,6 +6,7 @@ import math
 
 from designer import model
 from designer.model import corrections, domain, grooves
+from designer.model.limits import shallowest_pocket
 from designer.result.evaluation import ROUNDING, Evaluation
 
 # The stress limits (docs/model.md §4), and the limits whose value grows in proportion to the
@@ -71,6 +72,15 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
     a = best.analysis
     sv = spec.sigma_v
     where, larger, shape = _section_room(spec, best.design.geometry)   # for the stress, strain and deflection advice
+    for name in ("gauge_face", "gauge_face_side"):
+        if name in violated:   # the gauge overhangs its face: no reading of this design is the model's
+            v, wide = violated[name], spec.gauge.width * mm
+            out.append(f"{name}: the gauge's backing, {wide:.4g} mm wide (gauge.width), overhangs the "
+                       f"{float(v.value) * mm:.4g} mm face it is bonded to {where}; choose a narrower gauge or "
+                       + (f"enlarge {larger} to at least {wide:.4g} mm" if larger else
+                          f"a section at least {wide:.4g} mm across"))
+    if "flat_chord" in violated:   # a flat on a round bar or tube narrower than its pocket
+        out.append(_narrow_flat(spec, best.design.geometry, violated["flat_chord"], where, larger))
     if "force_error" in violated or "position_error" in violated:
         e = best.error_ratio
         targets = {lim.name: lim for lim in best.limits if lim.name in ("force_error", "position_error")}
@@ -182,6 +192,40 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
                    f"{_down(spec.load.force_max / ratio)} N (now {spec.load.force_max:.4g} N) this design meets "
                    "every limit")
     return out
+
+
+def _narrow_flat(spec, g, v, where: str, larger: str) -> str:
+    """The advice for a flat narrower than its pocket: the least bar that holds one (``_least_bar``)
+    when the section is below it; else the depth that would, and a tube's wall that does not
+    leave it (``flat_wall``)."""
+    mm, step, width, D = 1e3, spec.cad.depth_step, float(v.limit), float(g.diameter)
+    head = (f"flat_chord: the closest design's flat is {float(v.value) * mm:.4g} mm wide, narrower than its "
+            f"{width * mm:.4g} mm pocket (the gauge's backing with limits.pocket_margin, or cad.corner_radius, "
+            f"round it) {where}; ")
+    least = _least_bar(spec, width)
+    if D < least - 1e-9:
+        return (head + f"a flat that wide, on its depth's grid and within limits.max_pocket_fraction = "
+                f"{spec.limits.max_pocket_fraction:g}, takes a bar of at least {least * mm:.4g} mm; choose a narrower "
+                "gauge or smaller margins" + (f", or enlarge {larger}" if larger else ""))
+    # the chord 2 sqrt(p (D - p)) is the pocket's width at p = (D - sqrt(D^2 - width^2)) / 2
+    deep = math.ceil((D - math.sqrt(D * D - width * width)) / 2 / step - 1e-9) * step
+    text = head + f"on its Ø{D * mm:.4g} mm section a flat {deep * mm:.4g} mm deep holds it"
+    if g.section == "tube" and deep > float(g.wall) - spec.limits.min_wall:
+        text += (f", which its {float(g.wall) * mm:.4g} mm wall less limits.min_wall = {spec.limits.min_wall * mm:.4g} "
+                 "mm does not leave (flat_wall): a thicker wall")
+    return text + ", a narrower gauge or smaller margins would"
+
+
+def _least_bar(spec, width: float) -> float:
+    """The least diameter (m, up to the 0.01 mm grid) on which a flat is ``width`` wide: a flat
+    ``p`` deep is ``2 sqrt(p (D - p))`` wide, so ``D >= p + width^2 / (4 p)``, and ``p <= f D``
+    (``limits.max_pocket_fraction``), with ``p`` a multiple of ``cad.depth_step`` no shallower
+    than the least depth; the deeper flats need more diameter beyond ``p = width / 2``."""
+    step, f = spec.cad.depth_step, spec.limits.max_pocket_fraction
+    first = math.ceil(shallowest_pocket(spec) / step - 1e-9)
+    last = max(first, math.ceil(width / 2 / step))
+    least = min(max(p / f, p + width * width / (4 * p)) for p in (k * step for k in range(first, last + 1)))
+    return math.ceil(least / ROUNDING - 1e-9) * ROUNDING
 
 
 def _binds(best: Evaluation, name: str) -> bool:

@@ -60,9 +60,9 @@ class GridBox:
                  keys: tuple):
         self.design, self.spec, self.trial, self.named, self.st = design, spec, trial, named, st
         self.viol, self.objective, self.deflection, self.mass, self.valid = viol, objective, deflection, mass, valid
-        # each point's worst of the geometry's own rules (nominal), of the duty's other limits
-        # (nominal and at the corners), and of the accuracy targets
-        self.rules, self.bearing, self.targets = keys
+        # each point's worst of the geometry's own rules (nominal; the rules themselves, for
+        # ``broken``), of the duty's other limits (nominal and at the corners) and of the targets
+        self.rules, self._own, self.bearing, self.targets = keys
 
     @classmethod
     def around(cls, design: Design, spec, reach: int = 0) -> "GridBox | None":
@@ -99,9 +99,11 @@ class GridBox:
         with np.errstate(all="ignore"):
             a = model.analyse(trial, params, spec, adjust=design.adjustment)
             lims = model.limits(trial, a, params, spec)
-            # the closest design's keys (``closest.closeness``): the geometry's rules, the duty's limits
-            # but the targets (the corners' with them), the targets; every limit is in one of them
-            rules = model.worst_normalised([lim for lim in lims if lim.name not in model.DUTY_LIMITS], len(combos))
+            # the closest design's keys (``closest.closeness``): the geometry's rules (how many are
+            # broken, a size limit among them), the duty's limits but the targets (the corners' with
+            # them), the targets; every limit is in one of them
+            own = [lim for lim in lims if lim.name not in model.DUTY_LIMITS]
+            rules = model.worst_normalised(own, len(combos))
             bearing = np.maximum(model.worst_normalised([lim for lim in lims if lim.name in model.DUTY_LIMITS
                                                          and lim.name not in model.TARGET_LIMITS], len(combos)),
                                  tolerance.worst(trial, params, spec, design.adjustment))
@@ -113,13 +115,24 @@ class GridBox:
         valid = np.isfinite(viol) & np.isfinite(objective) & np.all(np.diff(st, axis=1) > 0, axis=1)
         if not valid.any():
             return None
-        return cls(design, spec, trial, named, st, viol, objective, deflection, mass, valid, (rules, bearing, targets))
+        return cls(design, spec, trial, named, st, viol, objective, deflection, mass, valid,
+                   (rules, own, bearing, targets))
+
+    def broken(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each point's (whether it breaks a size limit, how many of the geometry's rules it breaks)."""
+        n = len(self.viol)
+        over = {lim.name: np.broadcast_to(np.asarray(lim.normalised, dtype=float) > model.FEASIBILITY_TOLERANCE, (n,))
+                for lim in self._own}
+        outside = np.zeros(n, dtype=bool)
+        for name in set(over) & set(model.SIZE_LIMITS):
+            outside |= over[name]
+        return outside, sum((o.astype(int) for o in over.values()), np.zeros(n, dtype=int))
 
     def choose(self, lowest: bool = False, closest: bool = False) -> Evaluation | None:
         """The box's best point, evaluated on its own (``round_and_check``'s choice). With
         ``closest``, when no point meets every limit, the closest by ``closest.closeness``'s order:
-        one meeting the geometry's own rules, then the least violation of the duty's other
-        limits, then of the targets."""
+        within the size limits, then the fewest of the geometry's own rules broken, then the least
+        violation of the duty's other limits, then of the targets."""
         objective, valid = self.objective, self.valid
         feasible = valid & (self.viol <= model.FEASIBILITY_TOLERANCE)
         if feasible.any():
@@ -130,7 +143,8 @@ class GridBox:
         elif closest:
             idx = np.flatnonzero(valid)
             keys = [np.maximum(worst[idx], model.FEASIBILITY_TOLERANCE) for worst in (self.targets, self.bearing)]
-            best = idx[np.lexsort((*keys, self.rules[idx] > model.FEASIBILITY_TOLERANCE))[0]]
+            outside, broken = self.broken()
+            best = idx[np.lexsort((*keys, broken[idx], outside[idx]))[0]]
         else:
             best = int(np.argmin(np.where(valid, self.viol, np.inf)))
         design = self.design

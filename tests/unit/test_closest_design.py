@@ -161,3 +161,68 @@ def test_with_an_error_budget_the_noise_advice_leaves_room_for_the_terms_that_do
                             .replace("force_error: 1 %", "force_error: 0.3 %") + env)
     [said] = [m for m in search.optimize(drift).messages if m.startswith("the accuracy targets are out of reach")]
     assert "no electronics noise alone would meet them" in said and "electronics noise of at most" not in said
+
+
+FLAT = re.compile(r"flat_chord: .* takes a bar of at least ([0-9.]+) mm")
+FACE = re.compile(r"gauge_face: the gauge's backing, ([0-9.]+) mm wide .* overhangs the ([0-9.]+) mm face")
+
+
+def _widened(spec, size: float):
+    lim = spec.limits
+    return replace(spec, limits=replace(lim, width=(lim.width[0], size), height=(lim.height[0], size)))
+
+
+def test_where_the_gauge_fits_no_allowed_section_the_closest_design_stays_within_its_sizes_and_the_advice_holds():
+    # The bench suite's 045-millinewton (generate_suite(50, 0)): a 1.2 mm wide gauge, its pocket 1.6 mm
+    # wide, on round bars with flats at most 0.3 D deep on a 0.05 mm grid, at most 0.9546 mm across:
+    # no bar allowed holds the pocket. The closest design breaks no more of the geometry's rules
+    # than it must (its flat's width and the fit's shoulder, not its diameter's limit). The bar the
+    # advice names is the least on the 0.01 mm grid with a grid depth p <= 0.3 D whose flat,
+    # 2 sqrt(p (D - p)) wide, holds the pocket (counted here point by point), and with the sizes
+    # allowed a grid step past it (at 1.78 mm a 0.5 mm flat is exactly 1.6 mm wide) the search
+    # finds a design keeping every rule of the geometry.
+    from designer.bench.suite import _generate
+
+    spec = _generate(44, "millinewton", 0).spec
+    found = search.optimize(spec)
+    broken = {v.name for v in found.best.violations}
+    assert "flat_chord" in broken and not broken & {"diameter_max", "pocket_depth_max"}
+    # 020-tight-limits: its closest design had been a bar past its largest diameter when that broke
+    # fewer rules (the flat's width and its fit's length) than one within it
+    broken = {v.name for v in search.optimize(_generate(19, "tight-limits", 0).spec).best.violations}
+    assert "flat_chord" in broken and not broken & set(model.SIZE_LIMITS)
+    need = float(FLAT.search(" ".join(found.messages)).group(1))
+    least = next(d / 100 for d in range(90, 300) for p in (k * 0.05 for k in range(1, 60))
+                 if p <= 0.3 * d / 100 + 1e-12 and 2 * (p * (d / 100 - p)) ** 0.5 >= 1.6 - 1e-12)
+    assert need == pytest.approx(least, abs=1e-9) and least == pytest.approx(1.78)
+    assert meets_rules(search.optimize(_widened(spec, (need + 0.01) * 1e-3)).best)
+
+    # 023-millinewton: the same gauge on round bars without flats, at most 0.9546 mm across: the
+    # gauge overhangs the widest (0.95 mm on the 0.01 mm grid below the limit)
+    spec = _generate(22, "millinewton", 0).spec
+    found = search.optimize(spec)
+    backing, face = (float(v) for v in FACE.search(" ".join(found.messages)).groups())
+    assert backing == pytest.approx(1.2) and face == pytest.approx(0.95)
+    assert meets_rules(search.optimize(_widened(spec, backing * 1e-3)).best)
+
+
+def test_a_tube_s_flat_too_narrow_for_its_pocket_is_told_the_depth_that_holds_it_and_the_wall_that_would_leave_it():
+    # The bench suite's 036-infeasible-noise (generate_suite(50, 1)): a Ø10 mm tube with a 1 mm wall
+    # and 1 mm limits.min_wall, its flat 0.5 mm deep under a 5.5 mm pocket. Its bar is large enough
+    # (a flat 2 sqrt(p (D - p)) wide holds the pocket from p = (D - sqrt(D^2 - 5.5^2))/2 = 0.824 mm, on
+    # the 0.05 mm grid 0.85 mm), but its wall leaves no flat that deep (flat_wall: p <= t - min_wall).
+    from designer.bench.suite import _generate
+
+    spec = _generate(35, "infeasible-noise", 1).spec
+    found = search.optimize(spec)
+    g = found.best.design.geometry
+    text = next(m for m in found.messages if m.startswith("flat_chord"))
+    depth, wall = (float(v) * 1e-3 for v in re.search(r"a flat ([0-9.]+) mm deep holds it, which its ([0-9.]+) mm "
+                                                       r"wall", text).groups())
+    D, pocket, step = float(g.diameter), spec.pocket_size()[1], spec.cad.depth_step
+    assert wall == pytest.approx(float(g.wall)) and depth > wall - spec.limits.min_wall
+    assert 2 * (depth * (D - depth)) ** 0.5 >= pocket > 2 * ((depth - step) * (D - depth + step)) ** 0.5
+    assert depth == pytest.approx(0.85e-3)
+    # that flat in a wall as thick as it needs keeps both rules
+    deeper = replace(found.best.design, geometry=replace(g, depth=depth, wall=depth + spec.limits.min_wall))
+    assert not {v.name for v in evaluate(deeper, spec).violations} & {"flat_chord", "flat_wall"}
