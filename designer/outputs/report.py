@@ -452,7 +452,8 @@ def candidate_order(record: dict) -> str:
     if record.get("status") == "infeasible":
         return ("No candidate meets every limit. Each shows its closest design (where its sizes are free, "
                 "solved again for the least violation with every rule of the geometry met); they are ranked: "
-                "a beam first, then one keeping those rules, then by the worst violation, value/limit − 1, of "
+                "a beam first, then one within the sizes the spec allows, then the fewest of those rules "
+                "broken, then by the worst violation, value/limit − 1, of "
                 "the duty's limits (stress, strain, signal, deflection, frequency), then of the accuracy "
                 "targets (failed solves at the end); the first, the least infeasible, is the reported design.")
     text = (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "

@@ -251,3 +251,20 @@ def test_a_short_clamp_offers_a_bolt_it_can_hold(length, tail):
     assert str(err.value) == (f"spec.cad.clamp_length: {length!r} m ({length * 1e3:g} mm) is too short for two 4 mm "
                               "bolts; it must be at least 24 mm (holes 1.5 bolt diameters from the block's ends)"
                               + tail)
+
+
+@pytest.mark.parametrize("width, depth", [(0.0055, 0.0003), (0.017, 0.002)])
+def test_a_flat_narrower_than_its_pocket_is_told_the_depth_that_holds_it_or_that_none_does(width, depth):
+    # A flat p deep on a Ø16 mm bar is 2 sqrt(p (D - p)) wide: a 5.5 mm pocket needs p = (D -
+    # sqrt(D^2 - 5.5^2))/2 = 0.4878 mm; no flat is wider than the bar, so a 17 mm pocket has none
+    import re
+
+    change = (lambda r: r["design"]["feature"].update(width=width, depth=depth))
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate("round_flats", change))
+    text = str(info.value)
+    if width < 0.016:
+        least = float(re.search(r"the depth must be at least ([0-9.]+) mm", text).group(1))
+        assert least == pytest.approx((16 - (16 ** 2 - 5.5 ** 2) ** 0.5) / 2, abs=0.005)
+    else:
+        assert "no flat on a Ø16 mm bar is that wide" in text and "at least" not in text

@@ -214,9 +214,10 @@ def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
     R = width / 2
     half_chord = flat_half_chord(R, depth)
     if 2 * half_chord < p_wid - LENGTH_EPS:
+        need = (f"the depth must be at least {fmt_mm(R - math.sqrt(R * R - p_wid * p_wid / 4))} mm" if p_wid < width
+                else f"no flat on a Ø{fmt_mm(width)} mm bar is that wide")
         raise DesignFileError(f"{where}.depth: {_mm(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
-                              f"than the pocket width {fmt_mm(p_wid)} mm the gauge needs; the depth must be at least "
-                              f"{fmt_mm(R - math.sqrt(max(R * R - p_wid * p_wid / 4, 0.0)))} mm")
+                              f"than the pocket width {fmt_mm(p_wid)} mm the gauge needs; {need}")
     if axes == 2 and not half_chord < R - depth:
         raise DesignFileError(f"{where}.depth: {_mm(depth)} is too deep for flats on four faces: neighbouring flats "
                               f"would meet; the depth must be less than {fmt_mm(R - R / math.sqrt(2))} mm")
