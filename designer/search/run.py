@@ -348,7 +348,8 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         status, messages = "optimal", []
         message = f"{best.design.label()} meets every limit"
     else:
-        farther = _farther(spec, problems, candidates[0], method) if closest else None
+        # (with no room for the stations whatever the section, the diagnosis names that alone)
+        farther = _farther(spec, problems, candidates[0], method) if closest and not no_room(spec) else None
         status, messages = "infeasible", diagnose(spec, best, candidates, farther)
         message = messages[0]
     if best.design.stock is not None:

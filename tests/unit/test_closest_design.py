@@ -226,3 +226,17 @@ def test_a_tube_s_flat_too_narrow_for_its_pocket_is_told_the_depth_that_holds_it
     # that flat in a wall as thick as it needs keeps both rules
     deeper = replace(found.best.design, geometry=replace(g, depth=depth, wall=depth + spec.limits.min_wall))
     assert not {v.name for v in evaluate(deeper, spec).violations} & {"flat_chord", "flat_wall"}
+
+
+def test_with_no_room_for_the_stations_the_diagnosis_names_that_alone():
+    # The bench suite's 030-infeasible-room (generate_suite(50, 0)): 3 stations of 8.9 mm pockets,
+    # 5 mm clamp clearance and the gauge gaps need 35.7 mm before the 5 mm load clearance, and the
+    # load region starts at 26.6 mm (docs/model.md §1): no section has room. The closest design's
+    # stations do not fit, and its figures resolve nothing (its smallest signal was 4e-14 noise
+    # levels, and the advice a noise of 5e-18 mV): the diagnosis names the room alone.
+    from designer.bench.suite import _generate
+
+    found = search.optimize(_generate(29, "infeasible-room", 0).spec)
+    assert found.status == "infeasible" and len(found.messages) == 2
+    assert re.match(r"load.position: no room for 3 gauge stations .* need 35.7 mm .* at least 40.7 mm",
+                    found.messages[1])
