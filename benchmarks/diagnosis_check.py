@@ -9,7 +9,9 @@ the diagnosis names is followed and the search run again:
   design breaks nothing but the targets (and the noise is the spec's own, not a catalogue
   front-end's): that design meets every limit with that noise, and so does the search;
 - ``from load.position[0] = X mm, a <material> ... meets every limit``: the search over that
-  material finds a design with the load region from there.
+  material finds a design with the load region from there;
+- ``with limits.max_deflection = Y mm a <material> ... meets every limit``: the search over that
+  material finds a design with that deflection allowed.
 
     python benchmarks/diagnosis_check.py [--seeds 0 1 2] [--count 50] [--out benchmarks/diagnosis_check.md]
 """
@@ -37,6 +39,7 @@ from designer.search import optimize  # noqa: E402
 FORCE = re.compile(r"every limit it breaks grows with the largest force: at load\.force\[1\] = ([0-9.e+-]+) N")
 NOISE = re.compile(r"electronics noise of at most ([0-9.e+-]+) mV at the output")
 REGION = re.compile(r"from load\.position\[0\] = ([0-9.e+-]+) mm, a (\S+) ")
+LOOSER = re.compile(r"with limits\.max_deflection = ([0-9.e+-]+) mm a (\S+) ")
 
 
 def check(spec) -> list[dict]:
@@ -61,6 +64,12 @@ def check(spec) -> list[dict]:
         moved = replace(spec, load=replace(spec.load, position_min=start),
                         search=replace(spec.search, materials=(material,)))
         rows.append({"advice": f"load.position[0] = {start * 1e3:.4g} mm ({material})", "design": None,
+                     "search": optimize(moved).success})
+    if m := LOOSER.search(text):
+        level, material = float(m.group(1)) * 1e-3, m.group(2)
+        moved = replace(spec, limits=replace(spec.limits, max_deflection=level),
+                        search=replace(spec.search, materials=(material,)))
+        rows.append({"advice": f"limits.max_deflection = {level * 1e3:.3g} mm ({material})", "design": None,
                      "search": optimize(moved).success})
     return rows
 

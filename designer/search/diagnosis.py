@@ -42,10 +42,11 @@ def no_room(spec) -> str:
             f"{(need + spec.limits.load_clearance) * 1e3:.4g} mm; move the load region out, or {fix}")
 
 
-def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
+def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> list[str]:
     """Name the limits in conflict and what would resolve them, in the spec's own terms.
-    ``farther``: a load region's start and the design that meets every limit from there
-    (``closest.farther_load``), when the room before the load region holds ``best``."""
+    ``farther``: a load region's start and the design that meets every limit from there, when the
+    room before the load region holds ``best``; ``looser``: an allowed deflection and the design
+    that meets every limit under it, when ``best`` breaks the deflection limit (``remedies``)."""
     mm = 1e3
     out = []
     if crowded := no_room(spec):
@@ -175,7 +176,9 @@ def diagnose(spec, best: Evaluation, candidates, farther=None) -> list[str]:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
                    f"{float(v.limit) * mm:.4g} mm {where}; allow at least {float(v.value) * mm:.4g} mm"
-                   + (f", or enlarge {larger}" if larger else ""))
+                   + (f", or enlarge {larger}" if larger else "")
+                   + (f"; with limits.max_deflection = {_up(looser[0] * mm, 3)} mm a {looser[1].design.label()} "
+                      f"{_shape(looser[1].design.geometry)} meets every limit" if looser is not None else ""))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
     elif duty and _binds(best, "domain_lp_grid_max"):

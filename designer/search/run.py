@@ -11,7 +11,8 @@ import numpy as np
 from designer import model
 from designer.errors import SolverError, SpecError, describe_allowed
 from designer.result.evaluation import Evaluation
-from designer.search.closest import closeness, closest_designs, farther_load
+from designer.search import remedies
+from designer.search.closest import closeness, closest_designs
 from designer.search.diagnosis import diagnose, no_room
 from designer.search.methods import solve
 from designer.search.ongrid import SECTION_VARIABLES, back_off, closer_on_the_grid, onto_the_grid
@@ -349,8 +350,10 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         message = f"{best.design.label()} meets every limit"
     else:
         # (with no room for the stations whatever the section, the diagnosis names that alone)
-        farther = _farther(spec, problems, candidates[0], method) if closest and not no_room(spec) else None
-        status, messages = "infeasible", diagnose(spec, best, candidates, farther)
+        found = {} if not closest or no_room(spec) else {
+            name: how(spec, problems, candidates[0], method, solve_candidate)
+            for name, how in (("farther", remedies.farther), ("looser", remedies.looser_deflection))}
+        status, messages = "infeasible", diagnose(spec, best, candidates, **found)
         message = messages[0]
     if best.design.stock is not None:
         message = f"{best.design.label()} ({best.design.stock.label}) " + ("meets every limit" if best.feasible
@@ -358,24 +361,6 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     return SearchResult(success=best.feasible, status=status, message=message, x=best.design, best=best,
                         candidates=candidates, solver=solver, messages=messages, seconds=seconds, nfev=evaluations,
                         continuous=continuous_optimum(spec, problems, candidates))
-
-
-# How far (m) past the least start of a load region (``closest.farther_load``, to 0.1 mm) its
-# material and family are searched, in turn, for a design that meets every limit on the grid.
-FARTHER = (0.0, 5e-4, 2e-3)
-
-
-def _farther(spec, problems: dict, cand: Candidate, method: str) -> tuple[float, Evaluation] | None:
-    """A start of the load region, to 0.1 mm, from which ``cand``'s material and family have a design
-    that meets every limit, found by the search, and that design; None when there is none."""
-    least = farther_load(spec, problems, cand)
-    for past in FARTHER if least is not None else ():
-        start = round(math.ceil(least / 1e-4 - 1e-9) * 1e-4 + past, 7)
-        moved = replace(spec, load=replace(spec.load, position_min=start))
-        found = solve_candidate(FamilyProblem(moved, cand.family), catalogue.material(cand.material), method).evaluation
-        if found is not None and found.feasible:
-            return start, found
-    return None
 
 
 # Materials whose Young's moduli are within this of each other are relaxed together when a
