@@ -60,18 +60,21 @@ def check(spec) -> list[dict]:
         rows.append({"advice": f"noise {noise * 1e3:.3g} mV", "design": evaluate(best.design, quiet).feasible,
                      "search": optimize(quiet).success})
     if m := REGION.search(text):
-        start, material = float(m.group(1)) * 1e-3, m.group(2)
-        moved = replace(spec, load=replace(spec.load, position_min=start),
-                        search=replace(spec.search, materials=(material,)))
-        rows.append({"advice": f"load.position[0] = {start * 1e3:.4g} mm ({material})", "design": None,
-                     "search": optimize(moved).success})
+        start = float(m.group(1)) * 1e-3
+        rows.append(_searched(spec, m.group(2), f"load.position[0] = {start * 1e3:.4g} mm",
+                              load=replace(spec.load, position_min=start)))
     if m := LOOSER.search(text):
-        level, material = float(m.group(1)) * 1e-3, m.group(2)
-        moved = replace(spec, limits=replace(spec.limits, max_deflection=level),
-                        search=replace(spec.search, materials=(material,)))
-        rows.append({"advice": f"limits.max_deflection = {level * 1e3:.3g} mm ({material})", "design": None,
-                     "search": optimize(moved).success})
+        level = float(m.group(1)) * 1e-3
+        rows.append(_searched(spec, m.group(2), f"limits.max_deflection = {level * 1e3:.3g} mm",
+                              limits=replace(spec.limits, max_deflection=level)))
     return rows
+
+
+def _searched(spec, material: str, advice: str, **change) -> dict:
+    """The row of advice naming a design of ``material`` under ``spec`` changed (``change``): whether
+    the search over that material finds a design there."""
+    moved = replace(spec, search=replace(spec.search, materials=(material,)), **change)
+    return {"advice": f"{advice} ({material})", "design": None, "search": optimize(moved).success}
 
 
 def main(argv=None) -> int:
