@@ -10,8 +10,8 @@ the diagnosis names is followed and the search run again:
   front-end's): that design meets every limit with that noise, and so does the search;
 - ``from load.position[0] = X mm, a <material> ... meets every limit``: the search over that
   material finds a design with the load region from there;
-- ``with limits.max_deflection = Y mm a <material> ... meets every limit``: the search over that
-  material finds a design with that deflection allowed.
+- ``with limits.max_deflection = Y mm a <material> ... meets every limit`` (or
+  ``limits.min_frequency = f Hz``): the search over that material finds a design under that limit.
 
     python benchmarks/diagnosis_check.py [--seeds 0 1 2] [--count 50] [--out benchmarks/diagnosis_check.md]
 """
@@ -40,6 +40,7 @@ FORCE = re.compile(r"every limit it breaks grows with the largest force: at load
 NOISE = re.compile(r"electronics noise of at most ([0-9.e+-]+) mV at the output")
 REGION = re.compile(r"from load\.position\[0\] = ([0-9.e+-]+) mm, a (\S+) ")
 LOOSER = re.compile(r"with limits\.max_deflection = ([0-9.e+-]+) mm a (\S+) ")
+HIGHER = re.compile(r"with limits\.min_frequency = ([0-9.e+-]+) Hz a (\S+) ")
 
 
 def check(spec) -> list[dict]:
@@ -67,6 +68,10 @@ def check(spec) -> list[dict]:
         level = float(m.group(1)) * 1e-3
         rows.append(_searched(spec, m.group(2), f"limits.max_deflection = {level * 1e3:.3g} mm",
                               limits=replace(spec.limits, max_deflection=level)))
+    if m := HIGHER.search(text):
+        level = float(m.group(1))
+        rows.append(_searched(spec, m.group(2), f"limits.min_frequency = {level:.4g} Hz",
+                              limits=replace(spec.limits, min_frequency=level)))
     return rows
 
 

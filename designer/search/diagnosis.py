@@ -45,8 +45,10 @@ def no_room(spec) -> str:
 def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> list[str]:
     """Name the limits in conflict and what would resolve them, in the spec's own terms.
     ``farther``: a load region's start and the design that meets every limit from there, when the
-    room before the load region holds ``best``; ``looser``: an allowed deflection and the design
-    that meets every limit under it, when ``best`` breaks the deflection limit (``remedies``)."""
+    room before the load region holds ``best``; ``looser``: ``{limit: (level, design)}``, a level of
+    the deflection or frequency limit ``best`` breaks under which the design meets every limit
+    (``remedies.looser``)."""
+    looser = looser or {}
     mm = 1e3
     out = []
     if crowded := no_room(spec):
@@ -177,8 +179,7 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
                    f"{float(v.limit) * mm:.4g} mm {where}; allow at least {float(v.value) * mm:.4g} mm"
                    + (f", or enlarge {larger}" if larger else "")
-                   + (f"; with limits.max_deflection = {_up(looser[0] * mm, 3)} mm a {looser[1].design.label()} "
-                      f"{_shape(looser[1].design.geometry)} meets every limit" if looser is not None else ""))
+                   + _looser(looser.get("deflection"), "limits.max_deflection", _up, mm, "mm"))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
     elif duty and _binds(best, "domain_lp_grid_max"):
@@ -191,8 +192,9 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
         out.append(_sharp_pockets(best.design.geometry, hull))
     if "natural_frequency" in violated:
         v = violated["natural_frequency"]
-        out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = {float(v.limit):.4g} Hz; "
-                   f"lower it to {float(v.value):.4g} Hz or shorten the beam")
+        out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = "
+                   f"{float(v.limit):.4g} Hz; lower it to {float(v.value):.4g} Hz or shorten the beam"
+                   + _looser(looser.get("natural_frequency"), "limits.min_frequency", _down, 1.0, "Hz"))
     if violated and all(name in LOAD_LIMITS for name in violated) and len(violated) > 1:
         # each grows as the largest force: at F_max / (1 + the worst violation) this design meets them all
         ratio = max(float(v.value) / float(v.limit) for v in best.violations)
@@ -234,6 +236,16 @@ def _least_bar(spec, width: float) -> float:
     last = max(first, math.ceil(width / 2 / step))
     least = min(max(p / f, p + width * width / (4 * p)) for p in (k * step for k in range(first, last + 1)))
     return math.ceil(least / ROUNDING - 1e-9) * ROUNDING
+
+
+def _looser(found, key: str, rounded, unit_scale: float, unit: str) -> str:
+    """``; with KEY = level a <design> meets every limit`` for a ``remedies.looser`` answer (the level
+    rounded the looser way, ``rounded``, so that the design meets it too), '' without one."""
+    if found is None:
+        return ""
+    level, ev = found
+    return (f"; with {key} = {rounded(level * unit_scale, 3)} {unit} a {ev.design.label()} "
+            f"{_shape(ev.design.geometry)} meets every limit")
 
 
 def _binds(best: Evaluation, name: str) -> bool:

@@ -19,10 +19,11 @@ from designer.spec import catalogue
 # How far (m) past the least start of a load region (``closest.farther_load``, to 0.1 mm) its
 # material and family are searched, in turn, for a design that meets every limit on the grid.
 FARTHER = (0.0, 5e-4, 2e-3)
-# Over the least allowed deflection the least-violation solve gives (``looser_deflection``), the
-# levels at which the closest candidate's material and family are searched, in turn, for a design
-# that meets every limit on the grid (rounding its sizes takes a little of the room).
-LOOSER = (1.0, 1.02, 1.1, 1.5)
+# The limits a looser level of which may resolve a spec (``looser``): the spec's key, the level
+# the least violation v of the limit asks for, and the levels then searched, in turn, over it
+# (rounding the sizes to the grid takes a little of the room): 2, 10 and 50 % looser.
+SWEPT = {"deflection": ("max_deflection", lambda level, v: level * (1 + v), (1.0, 1.02, 1.1, 1.5)),
+         "natural_frequency": ("min_frequency", lambda level, v: level * (1 - v), (1.0, 1 / 1.02, 1 / 1.1, 1 / 1.5))}
 
 def farther(spec, problems: dict, cand, method: str, solve) -> tuple[float, Evaluation] | None:
     """A start of the load region, to 0.1 mm, from which ``cand``'s material and family have a design
@@ -37,26 +38,25 @@ def farther(spec, problems: dict, cand, method: str, solve) -> tuple[float, Eval
     return None
 
 
-def looser_deflection(spec, problems: dict, cand, method: str, solve) -> tuple[float, Evaluation] | None:
-    """When ``cand``'s closest design breaks ``limits.max_deflection``: an allowed deflection (m) at
-    which its material and family have a design that meets every limit, found by the search, and
-    that design. The level is first the least violation of the deflection limit alone, every other
-    limit met (``FamilyProblem.least_violation``; its normalised row is ``v`` at the answer, so the
-    limit it needs is ``max_deflection (1 + v)``), then LOOSER's steps over it. None when no search
-    there finds one, or for sizes from stock."""
-    ev, limit = cand.evaluation, spec.limits.max_deflection
-    problem = problems.get(cand.family)
-    if (limit is None or ev is None or problem is None or stock_system(spec, cand.family) != "none"
-            or not any(v.name == "deflection" for v in ev.violations)):
-        return None
-    material = catalogue.material(cand.material)
-    _, worst = problem.least_violation(problem.params(material), start_from(problem, ev), soft=("deflection",))
-    if not math.isfinite(worst):
-        return None
-    for past in LOOSER:
-        level = limit * (1 + max(worst, 0.0)) * past
-        moved = replace(spec, limits=replace(spec.limits, max_deflection=level))
-        found = solve(FamilyProblem(moved, cand.family), material, method).evaluation
-        if found is not None and found.feasible:
-            return level, found
-    return None
+def looser(spec, problems: dict, cand, method: str, solve) -> dict:
+    """For each limit of SWEPT that ``cand``'s closest design breaks (the deflection, the natural
+    frequency): ``{limit: (level, design)}``, a level of its spec key at which its material and
+    family have a design that meets every limit, found by the search, and that design. The level is
+    first the least violation of that limit alone, every other limit met
+    (``FamilyProblem.least_violation``, its normalised row ``v`` at the answer), then SWEPT's steps
+    from it. A limit is left out when no search there finds a design, and all for sizes from stock."""
+    ev, problem = cand.evaluation, problems.get(cand.family)
+    if ev is None or problem is None or stock_system(spec, cand.family) != "none":
+        return {}
+    material, out = catalogue.material(cand.material), {}
+    for name in sorted({v.name for v in ev.violations} & set(SWEPT)):
+        key, level_for, steps = SWEPT[name]
+        _, worst = problem.least_violation(problem.params(material), start_from(problem, ev), soft=(name,))
+        least = level_for(getattr(spec.limits, key), max(worst, 0.0))
+        for step in steps if math.isfinite(least) and least > 0 else ():
+            moved = replace(spec, limits=replace(spec.limits, **{key: least * step}))
+            found = solve(FamilyProblem(moved, cand.family), material, method).evaluation
+            if found is not None and found.feasible:
+                out[name] = (least * step, found)
+                break
+    return out

@@ -352,7 +352,7 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
         # (with no room for the stations whatever the section, the diagnosis names that alone)
         found = {} if not closest or no_room(spec) else {
             name: how(spec, problems, candidates[0], method, solve_candidate)
-            for name, how in (("farther", remedies.farther), ("looser", remedies.looser_deflection))}
+            for name, how in (("farther", remedies.farther), ("looser", remedies.looser))}
         status, messages = "infeasible", diagnose(spec, best, candidates, **found)
         message = messages[0]
     if best.design.stock is not None:

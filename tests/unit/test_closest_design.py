@@ -264,3 +264,23 @@ def test_a_deflection_limit_too_tight_for_the_targets_is_told_the_deflection_at_
     family = next(f for f in search.families(at) if f.section == section and f.feature == "none")
     ref = reference.reference_search(at, family, catalogue.material(material), levels=5)
     assert ref is not None and ref.feasible
+
+
+def test_a_frequency_limit_too_high_for_the_targets_is_told_the_frequency_at_which_a_design_meets_every_limit():
+    # The gripper finger with limits.min_frequency = 3 kHz: its stiffest, lightest bar reaches about
+    # 860 Hz and then misses its targets, so lowering the limit to that leaves it without a design;
+    # the advice names a lower limit at which one of the closest design's material and family meets
+    # every limit, which the exhaustive reference search confirms.
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    spec = replace(spec, limits=replace(spec.limits, min_frequency=3000.0))
+    found = search.optimize(spec)
+    [said] = [m for m in found.messages if m.startswith("natural_frequency:")]
+    reached = float(re.search(r"lower it to ([0-9.]+) Hz", said).group(1))
+    level, material = re.search(r"with limits\.min_frequency = ([0-9.]+) Hz a (\S+) ", said).groups()
+    assert float(level) < reached
+    assert not search.optimize(replace(spec, limits=replace(spec.limits, min_frequency=reached * 0.99))).success
+    at = replace(spec, limits=replace(spec.limits, min_frequency=float(level)))
+    g = found.candidates[0].evaluation.design.geometry
+    family = next(f for f in search.families(at) if (f.section, f.feature) == (g.section, g.feature))
+    ref = reference.reference_search(at, family, catalogue.material(material), levels=5)
+    assert ref is not None and ref.feasible
