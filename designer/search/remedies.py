@@ -25,6 +25,7 @@ FARTHER = (0.0, 5e-4, 2e-3)
 SWEPT = {"deflection": ("max_deflection", lambda level, v: level * (1 + v), (1.0, 1.02, 1.1, 1.5)),
          "natural_frequency": ("min_frequency", lambda level, v: level * (1 - v), (1.0, 1 / 1.02, 1 / 1.1, 1 / 1.5))}
 
+
 def farther(spec, problems: dict, cand, method: str, solve) -> tuple[float, Evaluation] | None:
     """A start of the load region, to 0.1 mm, from which ``cand``'s material and family have a design
     that meets every limit, found by the search, and that design; None when there is none."""
