@@ -212,6 +212,27 @@ def test_candidates_plot_marks_infeasible_and_shows_an_evaluated_design(optimize
     assert [t.get_text() for t in alone.get_yticklabels()] == ["2024-T3 · rectangle"]
 
 
+
+def test_every_candidate_label_ends_inside_the_axes_even_on_the_longest_bar(optimized):
+    # An infeasible spec's candidates keep the search's order (closeness, not the objective), so the
+    # chosen design may be the longest bar, its label the longest ("... ◀ chosen"): drawn at the
+    # fixed 1.45 x margin it ran into the legend. Laid out as saved, each label's right edge is
+    # within the axes' (display pixels).
+    design = copy.deepcopy(optimized)
+    design["status"] = "infeasible"
+    longest = max(c["objective"] for c in design["candidates"] if c.get("objective") is not None)
+    for c in design["candidates"]:
+        c["status"] = "infeasible"
+        if c["material"] == design["design"]["material"] and c.get("objective") is not None:
+            c["objective"] = 3 * longest
+    fig = plots.plot_candidates(design)
+    ax = fig.axes[0]
+    fig.draw_without_rendering()
+    edge = ax.get_window_extent().x1
+    chosen = [t for t in ax.texts if "chosen" in t.get_text()]
+    assert chosen and all(t.get_window_extent().x1 <= edge for t in ax.texts)
+
+
 # ----------------------------------------------------------------------------- trade-off fronts
 
 def test_tradeoff_front_is_the_best_feasible_point_at_each_limit(tradeoff):

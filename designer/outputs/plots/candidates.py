@@ -33,16 +33,18 @@ def plot_candidates(design: Mapping, ax=None):
     missing_at = (max(known) if known else 1.0)
 
     y = np.arange(len(rows))
+    labels = []   # (annotation, its bar's end)
     for yi, row, value, bound in zip(y, rows, values, bounds):
         colour = C_STATUS.get(row["status"], "#7f7f7f")
         infeasible = row["status"] in ("infeasible", "failed")
         if bound is not None:  # outranked: a faint bar to its answer before rounding (no bound on its designs)
             ax.barh(yi, bound - bottom, left=bottom, height=0.7, color=colour, alpha=0.35, edgecolor=colour,
                     linewidth=0.6, zorder=3)
-            _label(ax, bound, yi, _missing_text(row, scale), color="#555555")
+            labels.append((_label(ax, bound, yi, _missing_text(row, scale), color="#555555"), bound))
             continue
         if value is None:
-            _label(ax, bottom if log else 0.0, yi, _missing_text(row, scale), color=colour)
+            at = bottom if log else 0.0
+            labels.append((_label(ax, at, yi, _missing_text(row, scale), color=colour), at))
             continue
         ax.barh(yi, value - bottom, left=bottom, height=0.7, color=colour, alpha=0.45 if infeasible else 0.85,
                 hatch="xx" if infeasible else None, edgecolor="black" if row["chosen"] else colour,
@@ -52,7 +54,7 @@ def plot_candidates(design: Mapping, ax=None):
         detail = ", ".join(d for d in detail if d)
         text = fmt_number(value, 4) + (f"  ({detail})" if detail and kind == "error" else "") + \
             ("   ◀ chosen" if row["chosen"] else "")
-        _label(ax, value, yi, text, fontweight="bold" if row["chosen"] else "normal")
+        labels.append((_label(ax, value, yi, text, fontweight="bold" if row["chosen"] else "normal"), value))
     ax.set_yticks(y, [_candidate_label(r) for r in rows], fontsize=8.5)
     for tick, row in zip(ax.get_yticklabels(), rows):
         if row["chosen"]:
@@ -85,17 +87,66 @@ def plot_candidates(design: Mapping, ax=None):
                      fontsize=10.5)
     else:
         ax.set_title(f"The evaluated design: {s.name} (no search, no other candidates)", fontsize=10.5)
+    _fit_labels(ax, labels, log)
     return fig
+
+
+def _fit_labels(ax, labels, log: bool) -> None:
+    """The x axis widened until every bar's label ends inside it: a long label on the longest bar
+    (the chosen design of an infeasible spec, ranked by closeness rather than its objective, with
+    "◀ chosen") ran into the legend. The axes' width is estimated from the figure's, less the
+    widest tick label, the legend's widest entry and LAYOUT_PAD (laying the figure out to measure
+    it took a second); a label keeps its width in points whatever the axis' limits. Text is
+    measured only where a generous bound on its width (WIDEST_GLYPH) would not fit."""
+    from matplotlib.backends.backend_agg import RendererAgg
+
+    measure = RendererAgg(1, 1, 72).get_text_width_height_descent   # widths in points
+
+    def lines(text) -> list[str]:
+        return text.get_text().split("\n")
+
+    def width(text) -> float:
+        return max(measure(line, text.get_fontproperties(), ismath=False)[0] for line in lines(text))
+
+    def widest(texts) -> float:   # the longest of ``texts``, measured
+        return width(max(texts, key=lambda t: max(map(len, lines(t))))) if texts else 0.0
+
+    legend = ax.get_legend()
+    room = (ax.figure.get_figwidth() * 72 - widest(ax.get_yticklabels())
+            - (widest(legend.get_texts()) if legend else 0.0) - LAYOUT_PAD)
+    left, right = ax.get_xlim()
+    t = np.log10 if log else (lambda v: v)
+    need = t(right)
+
+    def reach(label, x, w) -> float:   # the right limit at which the label ends at the axes' edge
+        share = 1 - (w + LABEL_OFFSET + 2 * label.get_fontsize() * LABEL_PAD) / room
+        return t(left) + (t(x) - t(left)) / share if share > 0.2 else -math.inf
+
+    for label, x in labels:
+        if reach(label, x, max(map(len, lines(label))) * label.get_fontsize() * WIDEST_GLYPH) > need:
+            need = max(need, reach(label, x, width(label)))
+    ax.set_xlim(left, 10 ** need if log else need)
+
+
+# A bound on a label's mean glyph width, in ems: above DejaVu Sans's bold digits and letters.
+WIDEST_GLYPH = 0.8
+# Points of the figure's width that are neither the axes, the tick labels nor the legend's text
+# (ticks, the legend's handles, the paddings): 39-47 on the candidate charts laid out to measure.
+LAYOUT_PAD = 60.0
 
 
 # Each bar's label a little right of the bar's end, on a faint white ground above the grid and the
 # e = 1 line it may cross.
-LABEL_BOX = {"boxstyle": "square,pad=0.1", "facecolor": "white", "edgecolor": "none", "alpha": 0.85}
+LABEL_PAD = 0.1   # of the font size, round the text
+LABEL_BOX = {"boxstyle": f"square,pad={LABEL_PAD}", "facecolor": "white", "edgecolor": "none", "alpha": 0.85}
 
 
-def _label(ax, x: float, y: float, text: str, **style) -> None:
-    ax.annotate(text, (x, y), xytext=(5, 0), textcoords="offset points", va="center", fontsize=8, zorder=6,
-                bbox=LABEL_BOX, **style)
+LABEL_OFFSET = 5   # points right of the bar's end
+
+
+def _label(ax, x: float, y: float, text: str, **style):
+    return ax.annotate(text, (x, y), xytext=(LABEL_OFFSET, 0), textcoords="offset points", va="center", fontsize=8,
+                       zorder=6, bbox=LABEL_BOX, **style)
 
 
 # An outranked candidate's bar ends at its answer before rounding: IPOPT's local optimum of
