@@ -281,6 +281,8 @@ def in_nlp_units(value, objective: str):
 CAP = 9
 #: the limits a trade-off front sweeps (``search.tradeoff``), and each one's unit in the NLP (SI per unit)
 SWEPT_UNITS = {"max_deflection": MM, "min_frequency": 1.0}
+#: each swept spec key's limit (``model.limits``' name), which is also the analysis' figure it bounds
+SWEPT_LIMIT = {"max_deflection": "deflection", "min_frequency": "natural_frequency"}
 
 
 def material_params(material, spec, cap: float = NO_CAP) -> list[float]:

@@ -12,18 +12,18 @@ from dataclasses import replace
 
 from designer.result.evaluation import Evaluation
 from designer.search.closest import farther_load
-from designer.search.problem import FamilyProblem, start_from
+from designer.search.problem import SWEPT_LIMIT, FamilyProblem, start_from
 from designer.search.stock import stock_system
 from designer.spec import catalogue
 
 # How far (m) past the least start of a load region (``closest.farther_load``, to 0.1 mm) its
 # material and family are searched, in turn, for a design that meets every limit on the grid.
 FARTHER = (0.0, 5e-4, 2e-3)
-# The limits a looser level of which may resolve a spec (``looser``): the spec's key, the level
-# the least violation v of the limit asks for, and the levels then searched, in turn, over it
-# (rounding the sizes to the grid takes a little of the room): 2, 10 and 50 % looser.
-SWEPT = {"deflection": ("max_deflection", lambda level, v: level * (1 + v), (1.0, 1.02, 1.1, 1.5)),
-         "natural_frequency": ("min_frequency", lambda level, v: level * (1 - v), (1.0, 1 / 1.02, 1 / 1.1, 1 / 1.5))}
+# The limits a looser level of which may resolve a spec (``looser``), by spec key: the level the
+# least violation v of its limit asks for, and the levels then searched, in turn, over it (rounding
+# the sizes to the grid takes a little of the room): 2, 10 and 50 % looser.
+LOOSER = {"max_deflection": (lambda level, v: level * (1 + v), (1.0, 1.02, 1.1, 1.5)),
+          "min_frequency": (lambda level, v: level * (1 - v), (1.0, 1 / 1.02, 1 / 1.1, 1 / 1.5))}
 
 
 def farther(spec, problems: dict, cand, method: str, solve) -> tuple[float, Evaluation] | None:
@@ -40,24 +40,30 @@ def farther(spec, problems: dict, cand, method: str, solve) -> tuple[float, Eval
 
 
 def looser(spec, problems: dict, cand, method: str, solve) -> dict:
-    """For each limit of SWEPT that ``cand``'s closest design breaks (the deflection, the natural
+    """For each limit of LOOSER that ``cand``'s closest design breaks (the deflection, the natural
     frequency): ``{limit: (level, design)}``, a level of its spec key at which its material and
     family have a design that meets every limit, found by the search, and that design. The level is
     first the least violation of that limit alone, every other limit met
-    (``FamilyProblem.least_violation``, its normalised row ``v`` at the answer), then SWEPT's steps
-    from it. A limit is left out when no search there finds a design, and all for sizes from stock."""
+    (``FamilyProblem.least_violation``, its normalised row ``v`` at the answer), then LOOSER's steps
+    from it, each solved on one graph with the limit's level as a parameter (``FamilyProblem``'s
+    ``swept``, as the trade-off fronts are). A limit is left out when no search there finds a
+    design, and all for sizes from stock."""
     ev, problem = cand.evaluation, problems.get(cand.family)
     if ev is None or problem is None or stock_system(spec, cand.family) != "none":
         return {}
     material, out = catalogue.material(cand.material), {}
-    for name in sorted({v.name for v in ev.violations} & set(SWEPT)):
-        key, level_for, steps = SWEPT[name]
+    broken = {v.name for v in ev.violations}
+    for key, (level_for, steps) in LOOSER.items():
+        name = SWEPT_LIMIT[key]
+        if name not in broken:
+            continue
         _, worst = problem.least_violation(problem.params(material), start_from(problem, ev), soft=(name,))
         least = level_for(getattr(spec.limits, key), max(worst, 0.0))
-        for step in steps if math.isfinite(least) and least > 0 else ():
-            moved = replace(spec, limits=replace(spec.limits, **{key: least * step}))
-            found = solve(FamilyProblem(moved, cand.family), material, method).evaluation
+        graph = FamilyProblem(spec, cand.family, swept=key) if math.isfinite(least) and least > 0 else None
+        for level in (least * step for step in steps) if graph is not None else ():
+            moved = replace(spec, limits=replace(spec.limits, **{key: level}))
+            found = solve(graph.at(moved, level), material, method).evaluation
             if found is not None and found.feasible:
-                out[name] = (least * step, found)
+                out[name] = (level, found)
                 break
     return out

@@ -14,7 +14,7 @@ import numpy as np
 
 from designer.errors import InputError
 from designer.result.evaluation import evaluate
-from designer.search.problem import FamilyProblem, families
+from designer.search.problem import SWEPT_LIMIT, FamilyProblem, families
 from designer.search.run import Candidate, optimize
 from designer.search.stock import stock_system
 from designer.spec import catalogue
@@ -26,7 +26,6 @@ SPAN = 10.0       # levels from value/SPAN**0.5 to value*SPAN**0.5 around the ch
 # the swept limit at the tighter of two neighbouring levels is not bound by it at either: its
 # design at the neighbouring level is its design at this one, judged again under this level.
 UNBOUND_ROOM = 1e-2
-SWEPT_LIMIT = {"max_deflection": "deflection", "min_frequency": "natural_frequency"}
 
 
 def _levels(centre: float) -> np.ndarray:
@@ -52,7 +51,6 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     out = {}
     sweeps = (("max_deflection", float(chosen.deflection), spec.limits.max_deflection),
               ("min_frequency", float(chosen.natural_frequency), spec.limits.min_frequency))
-    achieved = {"max_deflection": "deflection", "min_frequency": "natural_frequency"}
     done = 0
     for key, value, given in sweeps:
         graphs = {fam: FamilyProblem(base, fam, swept=key) for fam in families(base)}
@@ -112,7 +110,7 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
                 # x: the limit the design was solved under; value: its own deflection or
                 # frequency, which the deflection limit's room (docs/model.md §4) keeps below x
                 points.append({"material": material, "section": fam.label, "x": float(level),
-                               "value": None if ev is None else float(getattr(ev.analysis, achieved[key])),
+                               "value": None if ev is None else float(getattr(ev.analysis, SWEPT_LIMIT[key])),
                                "objective": None if ev is None else float(ev.error_ratio),
                                "feasible": bool(ev is not None and ev.feasible)})
         out[key] = points
