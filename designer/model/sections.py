@@ -170,6 +170,17 @@ def channel_inertia(g: Geometry, ops: Ops = NUMERIC):
     return 2 * 2 / 3 * (big - z0 ** 3 * a)
 
 
+def flat_half_chord(radius: float, depth: float) -> float:
+    """Half the chord of a flat ``depth`` deep on a circle of ``radius`` (m)."""
+    return math.sqrt(max(radius * radius - (radius - depth) ** 2, 0.0))
+
+
+def flat_depth(radius: float, width: float) -> float:
+    """The depth (m) of a flat ``width`` wide on a circle of ``radius``, ``flat_half_chord``'s inverse:
+    ``R - sqrt(R^2 - width^2/4)``; the radius when ``width`` is the diameter or more."""
+    return radius - math.sqrt(max(radius * radius - width * width / 4, 0.0))
+
+
 # A flat's clamp-side end wall, where its K_t peaks, is highest (the depth p) in the middle of the
 # flat, where the wire channel runs into it: the channel, w_c wide and t_c deep, leaves a shoulder
 # p - t_c high there, and beside it, at |y| = w_c/2 on the round, sqrt(R^2 - w_c^2/4) - (R - p).

@@ -12,12 +12,12 @@ files) and ``designer.outputs.drawing`` (the sheet and the picture) both build o
 
 from __future__ import annotations
 
-import math
 import re
 import unicodedata
 from dataclasses import dataclass
 
 from designer import model
+from designer.model.sections import flat_half_chord
 
 MM = 1e-3  # metres per millimetre; CAD files are in millimetres (SPEC.md, the CAD frame)
 
@@ -162,11 +162,6 @@ class BeamCad:
         if self.section == "round":
             return f"Ø{fmt_mm(self.width)} round"
         return f"Ø{fmt_mm(self.width)} x {fmt_mm(self.wall)} wall tube"
-
-
-def flat_half_chord(radius: float, depth: float) -> float:
-    """Half the chord of a flat ``depth`` deep on a circle of ``radius`` (m)."""
-    return math.sqrt(max(radius * radius - (radius - depth) ** 2, 0.0))
 
 
 def fmt_mm(value_m: float) -> str:

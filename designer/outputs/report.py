@@ -35,7 +35,7 @@ def feature_text(feature: dict, section: dict | None = None) -> str:
     bar or tube (cut across the bar; their width at the surface is the chord the depth leaves)."""
     mm = 1e3
     if feature["kind"] == "pocket" and section is not None and section["kind"] in ("round", "tube"):
-        from designer.outputs.part import flat_half_chord
+        from designer.model.sections import flat_half_chord
 
         depth = feature["depth"]
         chord = 2 * flat_half_chord(section["diameter"] / 2, depth)

@@ -7,6 +7,7 @@ import math
 from designer import model
 from designer.model import corrections, domain, grooves
 from designer.model.limits import shallowest_pocket
+from designer.model.sections import flat_depth
 from designer.result.evaluation import ROUNDING, Evaluation
 
 # The stress limits (docs/model.md §4), and the limits whose value grows in proportion to the
@@ -217,8 +218,7 @@ def _narrow_flat(spec, g, v, where: str, larger: str) -> str:
         return (head + f"a flat that wide, on its depth's grid and within limits.max_pocket_fraction = "
                 f"{spec.limits.max_pocket_fraction:g}, takes a bar of at least {least * mm:.4g} mm; choose a narrower "
                 "gauge or smaller margins" + (f", or enlarge {larger}" if larger else ""))
-    # the chord 2 sqrt(p (D - p)) is the pocket's width at p = (D - sqrt(D^2 - width^2)) / 2
-    deep = math.ceil((D - math.sqrt(D * D - width * width)) / 2 / step - 1e-9) * step
+    deep = math.ceil(flat_depth(D / 2, width) / step - 1e-9) * step
     text = head + f"on its Ø{D * mm:.4g} mm section a flat {deep * mm:.4g} mm deep holds it"
     if g.section == "tube" and deep > float(g.wall) - spec.limits.min_wall:
         text += (f", which its {float(g.wall) * mm:.4g} mm wall less limits.min_wall = {spec.limits.min_wall * mm:.4g} "

@@ -154,6 +154,19 @@ def test_flat_segment_formulas_at_their_limits():
     assert model.flat_half_angle(R, R) == pytest.approx(math.pi / 2, rel=1e-12)
 
 
+def test_a_flats_width_and_its_depth_are_each_others_inverse():
+    # the chord of a circle: a flat p deep on radius R is 2 sqrt(R^2 - (R - p)^2) wide. With R = 5
+    # and the 3-4-5 right triangle, a flat 2 deep is 8 wide; a flat as wide as the diameter is
+    # R deep (a half disc), and one of no width is no depth.
+    from designer.model.sections import flat_depth, flat_half_chord
+
+    assert 2 * flat_half_chord(5.0, 2.0) == pytest.approx(8.0, rel=1e-12)
+    assert flat_depth(5.0, 8.0) == pytest.approx(2.0, rel=1e-12)
+    assert flat_depth(5.0, 10.0) == pytest.approx(5.0, rel=1e-12)
+    assert flat_depth(5.0, 12.0) == pytest.approx(5.0, rel=1e-12)
+    assert flat_depth(5.0, 0.0) == 0.0
+
+
 # ----------------------------------------------------------------- symbolic and numeric agree
 
 # casadi 3.7 warns (FutureWarning) where a numpy function meets a casadi value, which later

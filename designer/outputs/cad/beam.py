@@ -24,8 +24,8 @@ from typing import Any
 from designer import model
 from designer.errors import DesignFileError, brief
 from designer.model import grooves
-from designer.model.sections import LEAST_CUT, round_down
-from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, flat_half_chord, fmt_mm
+from designer.model.sections import LEAST_CUT, flat_depth, flat_half_chord, round_down
+from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, fmt_mm
 from designer.result.designfile import validate
 from designer.outputs.cad import mills
 from designer.spec.cad import default_corner_radius
@@ -214,7 +214,7 @@ def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
     R = width / 2
     half_chord = flat_half_chord(R, depth)
     if 2 * half_chord < p_wid - LENGTH_EPS:
-        need = (f"the depth must be at least {fmt_mm(R - math.sqrt(R * R - p_wid * p_wid / 4))} mm" if p_wid < width
+        need = (f"the depth must be at least {fmt_mm(flat_depth(R, p_wid))} mm" if p_wid < width
                 else f"no flat on a Ø{fmt_mm(width)} mm bar is that wide")
         raise DesignFileError(f"{where}.depth: {_mm(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
                               f"than the pocket width {fmt_mm(p_wid)} mm the gauge needs; {need}")
