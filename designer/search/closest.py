@@ -43,7 +43,14 @@ MARGINS = (0.0, 3e-3, 1e-2, 3e-2)
 def meets_rules(ev: Evaluation) -> bool:
     """Whether ``ev`` meets every limit but its duty's: the geometry's own rules, at its nominal
     sizes and its tolerance corners."""
-    return _worst(ev, lambda name: name not in model.DUTY_LIMITS) <= model.FEASIBILITY_TOLERANCE
+    return not broken_rules(ev)
+
+
+def broken_rules(ev: Evaluation) -> set[str]:
+    """The geometry's own rules (every limit but its duty's) that ``ev`` breaks, at its nominal
+    sizes or a tolerance corner."""
+    tol = model.FEASIBILITY_TOLERANCE
+    return {lim.name for lim in ev.judged if lim.name not in model.DUTY_LIMITS and float(lim.normalised) > tol}
 
 
 def closeness(ev: Evaluation) -> tuple:
@@ -54,8 +61,7 @@ def closeness(ev: Evaluation) -> tuple:
     the duty's limits but the targets (a lower load, a stronger or stiffer material would meet
     them), then the worst of the targets' (less noise, a larger least force), each met counting
     as met, however much room it keeps."""
-    tol = model.FEASIBILITY_TOLERANCE
-    broken = {lim.name for lim in ev.judged if lim.name not in model.DUTY_LIMITS and float(lim.normalised) > tol}
+    tol, broken = model.FEASIBILITY_TOLERANCE, broken_rules(ev)
     bearing = _worst(ev, lambda name: name in BEARING)
     targets = _worst(ev, lambda name: name in model.TARGET_LIMITS)
     return (not buildable(ev), bool(broken & set(model.SIZE_LIMITS)), len(broken), max(bearing, tol),
