@@ -49,6 +49,14 @@ def brief(value, width: int = 80) -> str:
     return text if len(text) <= width else text[:width - 3] + "..."
 
 
+def metres(value) -> str:
+    """A length of design.json for a message: in m, as the file holds it, and in mm. Twelve
+    significant digits, so that a spec's 0.6 mm (0.0006000000000000001 m once converted) reads
+    0.0006 m, while any two sizes on the 0.01 mm grid still read apart."""
+    v = float(value)
+    return f"{v:.12g} m ({v * 1e3:.6g} mm)"
+
+
 def describe_allowed(choices) -> str:
     """``"one of [a, b, c]"`` for error messages."""
     return "one of [" + ", ".join(str(c) for c in choices) + "]"

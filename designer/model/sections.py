@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from designer.errors import metres
 from designer.model.ops import NUMERIC, Ops, clipped_root, ops_for
 
 
@@ -311,11 +312,6 @@ def _mm(value) -> str:
     return f"{float(value) * 1e3:.6g} mm"
 
 
-def _value(value) -> str:
-    """A design.json value as the file holds it (m) and in mm."""
-    return f"{float(value)!r} m ({float(value) * 1e3:.6g} mm)"
-
-
 def unbuildable(g: Geometry) -> tuple[str, str] | None:
     """The first rule that keeps ``g`` (numbers) from being a beam at all, as ``(key, reason)``
     with the design.json key under ``design``; None for a buildable beam. These are not limits
@@ -324,28 +320,28 @@ def unbuildable(g: Geometry) -> tuple[str, str] | None:
     dims = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}[g.section]
     for name in dims:
         if not getattr(g, name) > 0:
-            return f"section.{name}", f"{_value(getattr(g, name))} must be positive"
+            return f"section.{name}", f"{metres(getattr(g, name))} must be positive"
     if g.section == "tube" and not g.wall < g.diameter / 2:
-        return "section.wall", f"{_value(g.wall)} must be less than half the diameter ({_mm(g.diameter / 2)})"
+        return "section.wall", f"{metres(g.wall)} must be less than half the diameter ({_mm(g.diameter / 2)})"
     size = g.size
     if g.feature == "pocket":
         if not g.depth > 0:
-            return "feature.depth", f"{_value(g.depth)} must be positive"
+            return "feature.depth", f"{metres(g.depth)} must be positive"
         limit, what = pocket_reach(g)
         if not g.depth < limit:
-            return "feature.depth", f"{_value(g.depth)} is not less than {what} ({_mm(limit)})"
+            return "feature.depth", f"{metres(g.depth)} is not less than {what} ({_mm(limit)})"
         if g.section == "rectangle" and not g.pocket_width < g.width:
-            return "feature.width", f"{_value(g.pocket_width)} must be less than the section width ({_mm(g.width)})"
+            return "feature.width", f"{metres(g.pocket_width)} must be less than the section width ({_mm(g.width)})"
     if g.feature == "hole":
         if g.section != "rectangle":
             return "feature.kind", f"'hole' needs a rectangle section, not {g.section!r}"
         if not g.hole > 0:
-            return "feature.diameter", f"{_value(g.hole)} must be positive"
+            return "feature.diameter", f"{metres(g.hole)} must be positive"
         if not g.hole < size:
-            return "feature.diameter", f"{_value(g.hole)} must be less than the section height ({_mm(size)})"
+            return "feature.diameter", f"{metres(g.hole)} must be less than the section height ({_mm(size)})"
     for i, s in enumerate(g.stations):
         if not 0 < s < g.length:
-            return f"stations[{i}]", (f"{_value(s)} is off the beam; must lie between 0 and the free length "
+            return f"stations[{i}]", (f"{metres(s)} is off the beam; must lie between 0 and the free length "
                                       f"{_mm(g.length)}")
     if any(b <= a for a, b in zip(g.stations, g.stations[1:])):
         return "stations", f"{[round(float(s) * 1e3, 6) for s in g.stations]} mm must increase from the clamp outwards"
@@ -394,11 +390,11 @@ def features_apart(stations, length, l_f, feature: str) -> tuple[str, str] | Non
     lo, hi = l_f / 2, length - l_f / 2
     for i, s in enumerate(stations):
         if not lo < s < hi:
-            return f"stations[{i}]", (f"{_value(s)} is off the beam: with its {_mm(l_f)} {what} it must lie between "
+            return f"stations[{i}]", (f"{metres(s)} is off the beam: with its {_mm(l_f)} {what} it must lie between "
                                       f"{_mm(lo)} and {_mm(hi)} from the clamp face (free length {_mm(length)})")
     for i in range(len(stations) - 1):
         if not stations[i + 1] - stations[i] > l_f:
-            return f"stations[{i + 1}]", (f"{_value(stations[i + 1])} is too close to station {i} at "
+            return f"stations[{i + 1}]", (f"{metres(stations[i + 1])} is too close to station {i} at "
                                           f"{_mm(stations[i])}: the {_mm(l_f)} {what}s would overlap; stations "
                                           f"must increase by more than {_mm(l_f)}")
     return None

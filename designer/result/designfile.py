@@ -17,7 +17,7 @@ from pathlib import Path
 from designer import model
 from designer.spec.units import RANGES
 from designer.result.record import VERSION
-from designer.errors import DesignFileError, SpecError, brief, describe_allowed, read_text
+from designer.errors import DesignFileError, SpecError, brief, describe_allowed, metres, read_text
 from designer.spec.keys import plain_name
 
 SECTION_KEYS = {"rectangle": ("width", "height"), "round": ("diameter",), "tube": ("diameter", "wall")}
@@ -255,7 +255,7 @@ def rebuild(record: dict):
     f = d["feature"]
     feature = Feature(kind=f["kind"], **{k: f[k] for k in FEATURE_KEYS[f["kind"]]})
     if d["length"] < spec.load.position_max:   # as a spec's design block (spec.reader)
-        raise DesignFileError(f"design.length: {d['length']!r} m ({d['length'] * 1e3:g} mm) is shorter than the "
+        raise DesignFileError(f"design.length: {metres(d['length'])} is shorter than the "
                               f"largest load position spec.load.position[1] = {spec.load.position_max * 1e3:g} mm")
     geometry = geometry_for(spec, section, feature, d["stations"], d["length"], axes=d.get("axes", 1))
     return spec, Design(material, geometry, _adjustment(d))

@@ -268,3 +268,14 @@ def test_a_flat_narrower_than_its_pocket_is_told_the_depth_that_holds_it_or_that
         assert least == pytest.approx((16 - (16 ** 2 - 5.5 ** 2) ** 0.5) / 2, abs=0.005)
     else:
         assert "no flat on a Ø16 mm bar is that wide" in text and "at least" not in text
+
+
+def test_a_size_on_its_grid_reads_as_the_file_holds_it():
+    # a depth of 12 steps of the 0.05 mm grid is 12 * 5e-5 = 0.0006000000000000001 m in binary
+    # (design.json holds 0.0006); the message names it 0.0006 m. (A 6.5 mm pocket on the Ø16 mm
+    # bar needs a flat (16 - sqrt(16^2 - 6.5^2))/2 = 0.69 mm deep.)
+    depth = 12 * 5e-5
+    assert repr(depth) == "0.0006000000000000001"
+    with pytest.raises(DesignFileError) as info:
+        cad.resolve(mutate("round_flats", lambda r: r["design"]["feature"].update(width=0.0065, depth=depth)))
+    assert str(info.value).startswith("design.feature.depth: 0.0006 m (0.6 mm) gives a flat ")

@@ -22,7 +22,7 @@ import math
 from typing import Any
 
 from designer import model
-from designer.errors import DesignFileError, brief
+from designer.errors import DesignFileError, brief, metres
 from designer.model import grooves
 from designer.model.sections import LEAST_CUT, flat_depth, flat_half_chord, round_down
 from designer.outputs.part import BeamCad, Channels, Clamp, Grooves, fmt_mm
@@ -50,10 +50,6 @@ CLAMP_LENGTH_STEP = 0.005
 ROUND_STEP = 1e-5
 # Lengths closer than this are equal (m): below the 0.01 mm resolution of design.json.
 LENGTH_EPS = 1e-9
-
-
-def _mm(value_m: float) -> str:
-    return f"{value_m!r} m ({fmt_mm(value_m)} mm)"
 
 
 def _mapping(obj: Any, where: str) -> dict:
@@ -207,7 +203,7 @@ def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
     where = "design.feature"
     if kind == "rectangle":
         if axes == 2 and not depth + p_wid / 2 < width / 2:
-            raise DesignFileError(f"{where}.depth: {_mm(depth)} with a {fmt_mm(p_wid)} mm wide pocket on all four "
+            raise DesignFileError(f"{where}.depth: {metres(depth)} with a {fmt_mm(p_wid)} mm wide pocket on all four "
                                   f"faces makes neighbouring pockets meet; depth + width/2 must be less than "
                                   f"{fmt_mm(width / 2)} mm")
         return
@@ -216,10 +212,10 @@ def _check_pocket(kind, width, wall, depth, p_wid, axes) -> None:
     if 2 * half_chord < p_wid - LENGTH_EPS:
         need = (f"the depth must be at least {fmt_mm(flat_depth(R, p_wid))} mm" if p_wid < width
                 else f"no flat on a Ø{fmt_mm(width)} mm bar is that wide")
-        raise DesignFileError(f"{where}.depth: {_mm(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
+        raise DesignFileError(f"{where}.depth: {metres(depth)} gives a flat {fmt_mm(2 * half_chord)} mm wide, narrower "
                               f"than the pocket width {fmt_mm(p_wid)} mm the gauge needs; {need}")
     if axes == 2 and not half_chord < R - depth:
-        raise DesignFileError(f"{where}.depth: {_mm(depth)} is too deep for flats on four faces: neighbouring flats "
+        raise DesignFileError(f"{where}.depth: {metres(depth)} is too deep for flats on four faces: neighbouring flats "
                               f"would meet; the depth must be less than {fmt_mm(R - R / math.sqrt(2))} mm")
 
 
@@ -255,7 +251,7 @@ def _clamp(cad: dict, width: float, height: float) -> Clamp:
         largest = length / (4 * BOLT_EDGE)   # the bolt the block's length holds
         smaller = (f"; or give a spec.cad.bolt_diameter of at most {fmt_mm(round_down(largest, ROUND_STEP))} mm"
                    if largest >= LEAST_CUT else "")
-        raise DesignFileError(f"spec.cad.clamp_length: {_mm(length)} is too short for two {fmt_mm(bolt)} mm bolts; "
+        raise DesignFileError(f"spec.cad.clamp_length: {metres(length)} is too short for two {fmt_mm(bolt)} mm bolts; "
                               f"it must be at least {fmt_mm(minimum)} mm (holes {BOLT_EDGE:g} bolt diameters from "
                               f"the block's ends){smaller}")
     return Clamp(length=length, width=block_width, height=height, bolt_diameter=bolt, bolt_clearance=clearance,
@@ -293,7 +289,7 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
         mill = _length(cad, "end_mill_diameter", "spec.cad", required=False)
         return default_corner_radius(min(float(shallowest), depth), system, mill)
     if not given < depth - LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} must be less than the pocket depth "
+        raise DesignFileError(f"spec.cad.corner_radius: {metres(given)} must be less than the pocket depth "
                               f"({fmt_mm(depth)} mm), so that the pocket keeps a wall above its floor radius")
     floor = p_len - 2 * given
     if kind != "rectangle" and floor < g_len - LENGTH_EPS:  # slots: checked with the end mill
@@ -301,7 +297,7 @@ def _corner_radius(cad: dict, limits: dict, depth: float, p_len: float, g_len: f
         allowed = (f"it must be at most {fmt_mm(room)} mm" if room > LENGTH_EPS else
                    f"a flat no longer than the backing has no room for one: make it at least "
                    f"{fmt_mm(g_len + 2 * given)} mm long (design.feature.length)")
-        raise DesignFileError(f"spec.cad.corner_radius: {_mm(given)} leaves a flat floor {fmt_mm(floor)} mm long, "
+        raise DesignFileError(f"spec.cad.corner_radius: {metres(given)} leaves a flat floor {fmt_mm(floor)} mm long, "
                               f"shorter than the {fmt_mm(g_len)} mm gauge backing; {allowed}")
     return given
 
@@ -319,13 +315,13 @@ def _channels(cad: dict, kind: str, depth: float, p_wid: float, end_mill: float 
     if not 0 < width <= room + LENGTH_EPS:
         what = ("the pocket width less the end mill diameter, so that the channel enters the pocket's straight "
                 "end wall" if kind == "rectangle" else "the pocket width")
-        raise DesignFileError(f"spec.cad.channel_width: {_mm(width)} is too wide; it must be at most "
+        raise DesignFileError(f"spec.cad.channel_width: {metres(width)} is too wide; it must be at most "
                               f"{fmt_mm(room)} mm ({what}); or set spec.cad.wire_channels: false")
     c_depth = _length(cad, "channel_depth", "spec.cad", required=False)
     if c_depth is None:
         c_depth = default_depth
     if not 0 < c_depth < depth:
-        raise DesignFileError(f"spec.cad.channel_depth: {_mm(c_depth)} must be less than the pocket depth "
+        raise DesignFileError(f"spec.cad.channel_depth: {metres(c_depth)} must be less than the pocket depth "
                               f"({fmt_mm(depth)} mm)")
     return Channels(width=width, depth=c_depth)
 
@@ -357,7 +353,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
         if wall - min_wall < shallow:
             deepest, what = wall - min_wall, f"the tube wall less spec.limits.min_wall ({fmt_mm(min_wall)} mm)"
     if not 0 < g_depth <= deepest + LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.groove_depth: {_mm(g_depth)} is too deep; it must be at most "
+        raise DesignFileError(f"spec.cad.groove_depth: {metres(g_depth)} is too deep; it must be at most "
                               f"{deepest * 1e3:.4g} mm ({what})")
     half = grooves.WIDTH / 2
     lo, hi = stations[-1] + l_f / 2 + half, length - half
@@ -368,7 +364,7 @@ def _grooves(cad, spec, kind, width, height, wall, length, stations, l_f, limits
         if not lo - LENGTH_EPS <= x <= hi + LENGTH_EPS:
             which = f"{key}" if key.endswith("positions") else f"{key} (default groove at {fmt_mm(x)} mm)"
             move = "move it" if key.endswith("positions") else "give spec.cad.groove_positions"
-            raise DesignFileError(f"{which}: a groove at {_mm(x)} does not fit: grooves must lie between the last "
+            raise DesignFileError(f"{which}: a groove at {metres(x)} does not fit: grooves must lie between the last "
                                   f"gauge feature and the free end, from {fmt_mm(lo)} mm to {fmt_mm(hi)} mm; "
                                   f"{move} or set spec.cad.load_grooves: false")
         out.append(float(x))

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from designer.errors import DesignFileError
+from designer.errors import DesignFileError, metres
 from designer.outputs.part import fmt_mm
 from designer.spec import catalogue
 from designer.spec.tools import EndMill
@@ -22,10 +22,6 @@ from designer.spec.tools import EndMill
 END_MILL_FRACTION = 0.6
 # Lengths closer than this are equal (m): below the 0.01 mm resolution of design.json.
 LENGTH_EPS = 1e-9
-
-
-def _mm(value_m: float) -> str:
-    return f"{value_m!r} m ({fmt_mm(value_m)} mm)"
 
 
 def spec_system(spec) -> str:
@@ -53,7 +49,7 @@ def check_flat_end_mill(given: float | None, p_len: float) -> None:
     """A given end mill (cad.end_mill_diameter, m) for a flat on a round bar or tube: moved across
     the bar, it cuts a flat as long as itself, so it must be no wider than the flat is long."""
     if given is not None and given > p_len + LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} is wider than the flat is long "
+        raise DesignFileError(f"spec.cad.end_mill_diameter: {metres(given)} is wider than the flat is long "
                               f"({fmt_mm(p_len)} mm); moved across the bar it would cut a longer flat: it must be "
                               "at most the flat's length")
 
@@ -132,19 +128,19 @@ def end_mill(given: float | None, p_len: float, p_wid: float, g_len: float, g_wi
                    if t <= END_MILL_FRACTION * p_wid + LENGTH_EPS and t / 2 > corner + LENGTH_EPS
                    and gauge_fits(t)]
         if not fitting:
-            raise DesignFileError(f"design.feature.width: {_mm(p_wid)} leaves no catalogue end mill "
+            raise DesignFileError(f"design.feature.width: {metres(p_wid)} leaves no catalogue end mill "
                                   f"that cuts the slot with a {fmt_mm(corner)} mm corner radius and keeps the "
                                   f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge on its flat floor; give "
                                   f"spec.cad.end_mill_diameter or a smaller spec.cad.corner_radius")
         return fitting[-1]
     if given > p_wid + LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} is wider than the {fmt_mm(p_wid)} mm pocket; "
-                              f"it must be at most the pocket width")
+        raise DesignFileError(f"spec.cad.end_mill_diameter: {metres(given)} is wider than the {fmt_mm(p_wid)} mm "
+                              "pocket; it must be at most the pocket width")
     if not corner < given / 2 - LENGTH_EPS:
-        raise DesignFileError(f"spec.cad.corner_radius: {_mm(corner)} must be less than half the end mill "
+        raise DesignFileError(f"spec.cad.corner_radius: {metres(corner)} must be less than half the end mill "
                               f"(Ø{fmt_mm(given)} mm: {fmt_mm(given / 2)} mm)")
     if not gauge_fits(given):
-        raise DesignFileError(f"spec.cad.end_mill_diameter: {_mm(given)} leaves corner radii that cut into the "
+        raise DesignFileError(f"spec.cad.end_mill_diameter: {metres(given)} leaves corner radii that cut into the "
                               f"{fmt_mm(g_len)} x {fmt_mm(g_wid)} mm gauge backing in its "
                               f"{fmt_mm(p_len)} x {fmt_mm(p_wid)} mm pocket (its floor radius "
                               f"{fmt_mm(corner)} mm included); use a smaller end mill")
