@@ -58,6 +58,7 @@ def run_plot(args) -> int:
 MAX_COUNT = 1000
 MAX_LEVELS = 12
 
+
 def _register_bench(sub) -> None:
     b = sub.add_parser(
         "bench", help="compare every search method on a suite of specs (speed, accuracy, failures)",

@@ -15,6 +15,7 @@ from pathlib import Path
 #: have then fails, if at all, as itself and not as its longer temporary.
 TEMP_NAME_CHARS = 40
 
+
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     """Write ``data`` to ``path`` through a temporary file in the same folder. A path that exists
     and is not a regular file (``/dev/null``, a FIFO, a terminal) is written directly: replacing it

@@ -89,8 +89,6 @@ def _continuous_key(cand) -> tuple:
     return (0, ev.objective) if ev.feasible else (1, ev.worst_violation)
 
 
-
-
 def continuous_optimum(spec, problems: dict, candidates: list) -> Evaluation | None:
     """With ``search.stock``, the best design of continuous sizes the stock search began from, on
     the 0.01 mm grid and checked. The families' answers were kept before rounding or repaired by

@@ -203,7 +203,6 @@ def test_the_cad_process_ends_when_a_killed_optimize_leaves_it_waiting(tmp_path)
         proc.kill()
 
 
-
 def test_the_command_leaves_once_it_is_done_without_the_interpreter_s_shutdown(tmp_path):
     # a thread asleep for 20 s, which the interpreter's shutdown would wait for (as unloading
     # casadi, matplotlib and the rest takes 0.2-0.3 s after an optimize), is not waited for; the

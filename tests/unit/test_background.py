@@ -29,7 +29,6 @@ def test_a_prepared_child_without_a_job_is_stopped():
     assert not child._process.is_alive()
 
 
-
 def test_the_answer_does_not_wait_for_the_child_interpreter_s_shutdown():
     # the job leaves a thread asleep for 20 s, which the interpreter's shutdown would wait for (as
     # unloading the CAD kernel and matplotlib takes about half a second): the parent has its

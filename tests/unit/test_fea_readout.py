@@ -3,7 +3,6 @@
 import pytest
 
 
-
 def test_surface_is_found_next_to_a_crowd_of_fine_facets():
     """A gauge or profile point just past a finely meshed region (a floor radius) lies on a coarse
     facet whose centroid is farther than the nearest fine ones: the readout must still find the

@@ -89,7 +89,6 @@ def test_infeasible_and_ranked_least_infeasible_first():
     assert "deflection" in broken and broken <= set(model.DUTY_LIMITS)
 
 
-
 def test_a_group_of_materials_proved_infeasible_is_infeasible_in_each():
     # The weigh-bar narrowed to 14 mm, on plain bars (a slot in a rectangle that tall would be more
     # than 4 gauge grids long, outside the pocket study, docs/model.md §7; the design reported
@@ -136,6 +135,7 @@ def test_a_family_tries_first_the_start_that_served_its_last_material():
             assert cand.evaluation.objective == pytest.approx(alone.evaluation.objective, rel=model.TIE_TOLERANCE)
     assert len(helped) >= 3, [c.material for c in rects]
 
+
 def test_with_no_feasible_family_every_candidate_is_solved_on_its_own(monkeypatch):
     # When nothing is feasible, the least-infeasible design (and the diagnosis built on it) must
     # be each candidate's own solve, not a design at a relaxation's answer.
@@ -157,6 +157,7 @@ def test_with_no_feasible_family_every_candidate_is_solved_on_its_own(monkeypatc
         assert not any(f.startswith(("not solved: infeasible", "its other starts not run")) for f in cand.fallbacks)
         # every start of its own: the relaxation's solves come first where they are kept
         assert len([s for s in cand.solves if s.x.size and s.method == "ipopt"]) >= 2
+
 
 class _Fake:
     """The parts of an Evaluation that ranking reads."""
@@ -344,7 +345,6 @@ def test_casadi_graph_and_numeric_model_agree_at_the_optimum():
     assert e == pytest.approx(ev.error_ratio)
 
 
-
 @pytest.mark.parametrize("key, level", [("max_deflection", 0.37e-3), ("min_frequency", 410.0)])
 def test_a_swept_graph_at_a_level_is_the_numeric_model_at_that_limit(key, level):
     # A trade-off front solves every level on one graph with the swept limit as a parameter: at
@@ -380,7 +380,6 @@ def test_a_front_skips_only_candidates_with_no_feasible_design():
         found = search.optimize(at, materials=[p["material"]])
         cand = next(c for c in found.candidates if c.family.label == p["section"])
         assert cand.evaluation is None or not cand.evaluation.feasible, (key, p)
-
 
 
 # The bench suite's 015-imperial (``bench.generate_suite()``): tubes alone, so on stock rows;

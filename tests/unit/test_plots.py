@@ -212,7 +212,6 @@ def test_candidates_plot_marks_infeasible_and_shows_an_evaluated_design(optimize
     assert [t.get_text() for t in alone.get_yticklabels()] == ["2024-T3 · rectangle"]
 
 
-
 def test_every_candidate_label_ends_inside_the_axes_even_on_the_longest_bar(optimized):
     # An infeasible spec's candidates keep the search's order (closeness, not the objective), so the
     # chosen design may be the longest bar, its label the longest ("... ◀ chosen"): drawn at the

@@ -285,8 +285,6 @@ def reference(kind: str, dims: dict, t: float, grooved: bool) -> tuple:
     return float(nominal) / 1e6, kt
 
 
-
-
 def groove_kt(kind: str, dims: dict, t: float, n: float, profile: str | None = "u",
               poisson: float = POISSON) -> GrooveKt:
     """The 3-D ``K_t`` of a groove ``t`` mm deep on a section ``kind`` of ``dims`` (mm: ``width``

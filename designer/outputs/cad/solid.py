@@ -109,7 +109,6 @@ def build_solid(beam: BeamCad):
     return solids[0]
 
 
-
 def _groove_tool(beam: BeamCad, x: float, W: float, H: float):
     """The cutter of one load groove at ``x`` (mm): a full-radius groove, its root a half circle of
     half the groove's width (the U-notch whose K_t the beam model takes, docs/model.md §4, as a

@@ -120,6 +120,7 @@ class SensorData:
 
 # --------------------------------------------------------------------------- reading helpers
 
+
 def _key(obj, key: str, where: str = ""):
     path = f"{where}.{key}" if where else key
     if not isinstance(obj, Mapping):
