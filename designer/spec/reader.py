@@ -464,6 +464,9 @@ def _parse_search(raw) -> Search:
     if not isinstance(chosen, (list, tuple)) or not chosen:
         raise SpecError(f"search.materials: {chosen!r} must be 'all' or a list of catalogue names")
     for i, m in enumerate(chosen):
+        if m == "all":
+            raise SpecError(f"search.materials[{i}]: 'all' stands for the whole list (search.materials: all), not "
+                            f"for a name in one; a list names materials of the catalogue, {describe_allowed(names)}")
         _catalogue_name(m, f"search.materials[{i}]", catalogue.material)
     sections = raw.get("sections", list(SECTION_KINDS))
     if isinstance(sections, str):

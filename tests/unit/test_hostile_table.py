@@ -167,6 +167,7 @@ SPEC_VALUES = [
     ("search", "all", ()), ("search.materials", "unobtainium", ()), ("search.materials", 42, ()),
     ("search.materials", [], ()), ("search.materials", ["6061-T6", "nope"], ("search.materials[1]", "nope")),
     ("search.materials", {"a": 1}, ()), ("search.materials", [7075], ("7075", "quote")),
+    ("search.materials", ["6061-T6", "all"], ("search.materials[1]", "whole list", "one of [6061-T6,")),
     ("search.sections", "triangle", ()), ("search.sections", [], ()), ("search.sections", ["round", 3], ("3",)),
     ("search.feature", "slot", ()), ("search.feature", 1, ()), ("search.method", "grid", ("unknown key",)),
     ("search.stock", "cheap", ("none, metric, imperial, any",)), ("search.stock", ["metric"], ()),
