@@ -100,6 +100,7 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
         binding = [lim.name for lim in best.limits if lim.record()["active"]
                    and lim.name not in ("force_error", "position_error")]
         quiet = _quieter(spec, a, targets, need)
+        others = [name for name in violated if name not in ("force_error", "position_error")]
         ways = ([f"electronics noise of at most {_down(quiet * 1e3, 3)} mV at the output (now {sv * 1e3:.3g} mV)"]
                 if quiet is not None else [])
         if spec.load.force_min * need <= spec.load.force_max and not a.budget:
@@ -113,6 +114,8 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
                       if room > 1 + 1e-12 else "") + ")"
                    + (f" with {', '.join(binding)} binding" if binding else "")
                    + "; they would be met with " + ", or ".join(ways)
+                   + (f"; any of these meets the targets only: {', '.join(others)} "
+                      f"{'stays' if len(others) == 1 else 'stay'} broken" if others else "")
                    + ("; no electronics noise alone would meet them (the error budget's other terms exceed them at "
                       "some load)" if quiet is None else "")
                    + _largest_term(spec, a))
