@@ -92,15 +92,15 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
         out.append(_narrow_flat(spec, best.design.geometry, violated["flat_chord"], where, larger))
     if "force_error" in violated or "position_error" in violated:
         e = best.error_ratio
-        targets = {lim.name: lim for lim in best.limits if lim.name in ("force_error", "position_error")}
+        targets = {lim.name: lim for lim in best.limits if lim.name in model.TARGET_LIMITS}
         # how far the errors must fall, and the room the targets keep for the 3-D strain
         # (docs/model.md §4): met at e = 1/(1 + u)
         need = max(float(lim.value) / float(lim.limit) for lim in targets.values())
         room = float(targets["force_error"].part_limit) / float(targets["force_error"].limit)
         binding = [lim.name for lim in best.limits if lim.record()["active"]
-                   and lim.name not in ("force_error", "position_error")]
+                   and lim.name not in model.TARGET_LIMITS]
         quiet = _quieter(spec, a, targets, need)
-        others = [name for name in violated if name not in ("force_error", "position_error")]
+        others = [name for name in violated if name not in model.TARGET_LIMITS]
         ways = ([f"electronics noise of at most {_down(quiet * 1e3, 3)} mV at the output (now {sv * 1e3:.3g} mV)"]
                 if quiet is not None else [])
         if spec.load.force_min * need <= spec.load.force_max and not a.budget:
