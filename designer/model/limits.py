@@ -89,8 +89,10 @@ class Limit:
 
 
 def limits(g: Geometry, a, m, spec, include_targets: bool = True,
-           ops: Ops = NUMERIC, table=None) -> list[Limit]:
-    """Every limit of docs/model.md §4 and the geometry rules of §1."""
+           ops: Ops = NUMERIC, table=None, rules: bool = True) -> list[Limit]:
+    """Every limit of docs/model.md §4 and the geometry rules of §1 (``rules=False``: the limits of
+    §4 alone, without the section's sizes and manufacturing rules and the fits' domain, which a
+    tolerance corner does not judge)."""
     from designer.model import corrections
 
     lim, load = spec.limits, spec.load
@@ -157,8 +159,9 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
                       rating=spec.targets.force_error),
                 Limit("position_error", a.position_error, spec.targets.position_error / (1 + allowance), unit="m",
                       rating=spec.targets.position_error)]
-    out += section_limits(g, spec, ops)
-    out += domain_limits(g, table, spec)
+    if rules:
+        out += section_limits(g, spec, ops)
+        out += domain_limits(g, table, spec)
     return out
 
 

@@ -134,7 +134,8 @@ def _at_corners(built: Geometry, m, spec, adjust):
         a = analyse(built, m, spec, adjust=adjust)
         count = _count(built)
         lost = np.broadcast_to(no_beam(built), (count,))
-        lims = [lim for lim in limits(built, a, m, spec, include_targets=False) if lim.name in CORNER_LIMITS]
+        lims = [lim for lim in limits(built, a, m, spec, include_targets=False, rules=False)
+                if lim.name in CORNER_LIMITS]
         if lost.any():
             lims = [replace(lim, value=np.where(lost, np.nan, np.broadcast_to(np.asarray(lim.value, dtype=float),
                                                                               (count,))))
