@@ -20,6 +20,7 @@ them and the second term reduces to ``sigma_V^2 h M`` with the regression levera
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -139,6 +140,27 @@ def measure_readings(calibration: Calibration, readings: Readings, noise: float 
         raise CsvError(f"{readings.source}: header: bridge columns {[b.name for b in readings.bridges]} do not "
                        f"match the calibration's {list(calibration.bridge_names)}")
     return measure(calibration, readings.voltages, noise, include_calibration)
+
+
+# The RMS of a measurement's errors against known loads in units of their predicted 1-sigma
+# (``error_ratios``) above which the readings do not fit the calibration. Over 1200 simulated
+# sensors measured as they were calibrated (the weigh-bar example and Prototype B, 4- and 9-point
+# schemes, sigma_V from the residuals) the larger of the two stayed within 0.58-2.17; with one
+# bridge's zero moved by 10 sigma_V it was 4.9-10.4 (benchmarks/measure_ratio_check.md).
+CONSISTENT_RATIO = 3.0
+
+
+def error_ratios(m: Measurement, force, position) -> tuple[float, float]:
+    """The RMS, over the rows with a load, of the force's and the position's error against the
+    known ``force`` and ``position`` in units of their predicted 1-sigma: about 1 when the readings
+    are of the calibrated sensor and its noise is the calibration's sigma_V (each row's 1-sigma
+    holds the reading's noise and the calibration's own uncertainty); NaN without a 1-sigma."""
+    force, position = np.asarray(force, dtype=float), np.asarray(position, dtype=float)
+    loaded = np.abs(force) > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        z = ((m.force - force) / m.sigma_force, (m.position - position) / m.sigma_position)
+    return tuple(float(np.sqrt(np.mean(e[loaded] ** 2))) if np.isfinite(e[loaded]).all() and loaded.any()
+                 else math.nan for e in z)
 
 
 def predicted_sigma(k, d, loads: LoadSet, sigma_v: float, calibration_loads: LoadSet | None = None,

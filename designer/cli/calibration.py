@@ -201,7 +201,7 @@ def run_measure(args) -> int:
     from rich.table import Table
 
     from designer.calibration import readings
-    from designer.calibration.measurement import measure_readings
+    from designer.calibration.measurement import CONSISTENT_RATIO, error_ratios, measure_readings
     from designer.spec import units
 
     guard_inputs({"-o": args.output}, {"calibration.json": args.calibration, "readings": args.readings})
@@ -248,7 +248,18 @@ def run_measure(args) -> int:
         if biaxial and data.angle is not None:
             ea = np.abs(np.degrees(np.angle(np.exp(1j * (m.angle - data.angle)))))[loaded]
             text += f", angle {np.mean(ea):.3g}°"
+        ratios = error_ratios(m, data.force, data.position)
+        if all(math.isfinite(r) for r in ratios):
+            text += (f"; errors over their predicted 1σ, RMS: force {ratios[0]:.3g}, position {ratios[1]:.3g} "
+                     "(about 1 where the sensor measures as predicted)")
         console.print(text)
+        if max(ratios) > CONSISTENT_RATIO:   # (NaN compares False)
+            sigma_v = cal.noise if noise is None else noise
+            _print_warnings(console, [f"the estimates miss the file's loads by {max(ratios):.3g} times their "
+                                      f"predicted 1σ (RMS; at most about {CONSISTENT_RATIO:g} when the readings are "
+                                      "of the calibrated sensor): readings of another sensor or calibration.json, "
+                                      "a zero that has moved since calibrating, or more noise than the σ_V "
+                                      f"{sigma_v * MV:.3g} mV used"])
     if cal.noise is None and noise is None:
         console.print("the calibration has no noise estimate; give --noise for the 1-sigma columns")
     outside = int(np.sum(m.outside))

@@ -82,6 +82,54 @@ def test_commands_round_trip(tmp_path, capsys, key):
     assert sigmas[1] == pytest.approx(2 * sigmas[0], rel=1e-5)   # 6 significant digits in the CSV
 
 
+def test_measure_gives_the_errors_over_their_predicted_sigma_and_warns_when_the_readings_do_not_fit(
+        tmp_path, capsys):
+    """measure's check against the file's loads in units of each row's predicted 1σ (noise and
+    calibration). Monte Carlo reference: where the 1σ is right the mean square of (estimate - load)
+    / 1σ is 1, times dof/(dof - 2) = 45/43 for sigma_V estimated from the residuals (18 loads x 3
+    bridges - 9 constants); over 40 simulated Prototype B sensors, each calibrated on the 9-point
+    scheme twice and measured at the paper's loads, it lies within about 4 standard errors (0.06) of
+    that. Readings whose first bridge's zero has moved by 10 sigma_V since calibrating miss by far
+    more (about 7 times their 1σ), and are warned of."""
+    from designer.calibration.measurement import error_ratios
+
+    design = str(DATA / "cal_prototype_b.json")
+    rec = rd.read_design(design)
+    squares = []
+    for seed in range(40):
+        fitted = cal.calibrate(rd.simulated_scheme_readings(rec, "9", seed, 2), cal.design_constants(rec))
+        data = rd.simulated_scheme_readings(rec, "paper", seed)
+        squares.append(np.square(error_ratios(cal.measure_readings(fitted, data), data.force, data.position)))
+    assert np.mean(squares, axis=0) == pytest.approx(45 / 43, abs=0.25)
+
+    cal_csv, test_csv, other_csv = tmp_path / "cal.csv", tmp_path / "test.csv", tmp_path / "other.csv"
+    cal_json, results = tmp_path / "calibration.json", tmp_path / "results.csv"
+    assert main(["simulate-readings", design, "-o", str(cal_csv), "--scheme", "9", "--seed", "2", "--repeats",
+                 "2"]) == 0
+    assert main(["simulate-readings", design, "-o", str(test_csv), "--seed", "2"]) == 0
+    assert main(["calibrate", str(cal_csv), "--design", design, "-o", str(cal_json)]) == 0
+    sigma_v = json.loads(cal_json.read_text())["noise"]["sigma_v"]
+    loads = rd.read_readings(test_csv)
+    moved = rd.simulated_sensor_offsets(rec, 2) + np.array([10 * sigma_v, 0, 0])
+    rd.write_readings(other_csv, rd.simulate_readings(rec, loads.force, loads.position, np.random.default_rng(5),
+                                                      offsets=moved))
+    capsys.readouterr()
+    assert main(["measure", str(cal_json), str(test_csv), "-o", str(results)]) == 0
+    printed = " ".join(capsys.readouterr().out.split())
+    # the printed figures are those of the written rows: (estimate - load) / 1σ from results.csv
+    lines = results.read_text().splitlines()
+    values = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
+    truth = rd.read_readings(test_csv)
+    z_force = (values[:, 1] - truth.force) / values[:, 2]
+    z_position = (values[:, 3] - truth.position * 1e3) / values[:, 4]
+    rms = [float(np.sqrt(np.mean(z ** 2))) for z in (z_force, z_position)]
+    assert f"errors over their predicted 1σ, RMS: force {rms[0]:.3g}, position {rms[1]:.3g}" in printed
+    assert "the estimates miss" not in printed
+    assert main(["measure", str(cal_json), str(other_csv), "-o", str(results)]) == 0
+    printed = " ".join(capsys.readouterr().out.split())
+    assert "warning: the estimates miss the file's loads by" in printed and "another sensor" in printed
+
+
 def test_calibrate_prints_warnings(tmp_path, capsys):
     rec = record("a")
     three = rd.simulate_readings(rec, [2.0, 10.0, 19.0], [0.15, 0.65, 0.3], np.random.default_rng(1))
