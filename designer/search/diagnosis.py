@@ -194,6 +194,8 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
     hull = [name for name in violated if name.startswith(f"domain_{domain.NOTCH_HULL}_")]
     if hull:
         out.append(_sharp_pockets(best.design.geometry, hull))
+    out += [_outside_study(spec, best.design.geometry, violated[name]) for name in violated
+            if name.startswith("domain_") and name != "domain_lp_grid_max" and name not in hull]
     if "natural_frequency" in violated:
         v = violated["natural_frequency"]
         out.append(f"natural_frequency: {float(v.value):.4g} Hz is below limits.min_frequency = "
@@ -394,6 +396,31 @@ def _long_pockets(spec, limit, g, binding: bool = False) -> str:
     return (head + f"; the corrections need a pocket at least {least:.2g} times the section's size long on this "
             f"section (docs/model.md §1): a gauge with a grid of at least {g.pocket_length * mm / most:.3g} mm, "
             "search.feature: none (or hole on a rectangle), or a smaller section would be inside")
+
+
+def _outside_study(spec, g, v) -> str:
+    """A ``domain_<parameter>_min`` or ``_max`` limit that the closest design breaks: outside the box of
+    its family's 3-D study its corrections are not trusted (docs/model.md §7). A gauge grid too long
+    for the section (``grid_ratio``) is told the section size and the grid length that would do."""
+    mm, name = 1e3, v.name
+    parameter, side = name[len("domain_"):].rsplit("_", 1)
+    scale, unit = (mm, " mm") if v.unit == "m" else (1.0, "")
+    value, bound = (f"{x}{unit}" for x in _apart(float(v.value) * scale, float(v.limit) * scale))
+    text = (f"{name}: the closest design's {parameter} is {value}, {'above' if side == 'max' else 'below'} "
+            f"{bound}, the {'largest' if side == 'max' else 'least'} of the 3-D study its {g.section} + {g.feature} "
+            "corrections were fitted on (docs/model.md §7); outside it the model is not trusted")
+    if parameter != "grid_ratio" or side != "max":
+        return text
+    # grid_ratio = grid_length / size: a larger section or a shorter grid brings it in
+    size, ratio = float(g.size), float(v.limit)
+    key, word = ("limits.height", "high") if g.section == "rectangle" and g.axes == 1 else ("limits.width and "
+                                                                                           "limits.height", "across")
+    top = spec.limits.height[1] if key == "limits.height" else min(spec.limits.width[1], spec.limits.height[1])
+    need = math.ceil(g.grid_length / ratio / ROUNDING - 1e-9) * ROUNDING
+    shortest = math.floor(ratio * size / ROUNDING * 10 + 1e-9) * ROUNDING / 10
+    return (f"{text}: its gauge's {g.grid_length * mm:.4g} mm grid needs a section at least {need * mm:.4g} mm {word}"
+            + (f", which {key} (up to {top * mm:.4g} mm) does not allow" if need > top + 1e-12 else "")
+            + f", or on {size * mm:.4g} mm a gauge whose grid is at most {shortest * mm:.4g} mm long")
 
 
 def _sharp_pockets(g, names) -> str:
