@@ -157,6 +157,9 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
                   ("groove_clearance", "their features, limits.load_clearance and half a groove's width",
                    "the load groove at", "cad.groove_positions", lambda: min(grooves.positions(spec))))
     duty = any(name in model.DUTY_LIMITS for name in violated)
+    # a larger section lowers the stress and the strain, and with them the signal: it helps the
+    # duty's limits but the targets (the errors grow as the strain falls)
+    bearing = any(name in model.DUTY_LIMITS and name not in model.TARGET_LIMITS for name in violated)
     for name, reach, past, move, edge in clearances:
         if name in violated:
             v = violated[name]
@@ -174,10 +177,13 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
             found = (f" (from load.position[0] = {farther[0] * mm:.4g} mm, a {farther[1].design.label()} "
                      f"{_shape(farther[1].design.geometry)} meets every limit)"
                      if farther is not None and name == "load_clearance" else "")
-            out.append(f"{name} binds: the closest design's stations, {reach} reach {past} {edge() * mm:.4g} mm, "
-                       f"and the gaps between its features grow with the section: that holds it at {shape}; "
-                       f"{move} farther out{found}, fewer stations, a smaller gauge or smaller margins would allow "
-                       "a larger one")
+            head = f"{name} binds: the closest design's stations, {reach} reach {past} {edge() * mm:.4g} mm"
+            ways = f"{move} farther out{found}, fewer stations, a smaller gauge or smaller margins"
+            out.append(f"{head}, and the gaps between its features grow with the section: that holds it at {shape}; "
+                       f"{ways} would allow a larger one" if bearing else
+                       # only the targets missed: the bridges farther apart tell force and position better
+                       # (sigma_F falls as 1 / (d_N - d_1) on two bridges, sigma_x about so)
+                       f"{head}; {ways} would let the stations lie farther apart, which lowers both errors")
     if "deflection" in violated:
         v = violated["deflection"]
         out.append(f"deflection: {float(v.value) * mm:.4g} mm exceeds limits.max_deflection = "
@@ -186,7 +192,7 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
                    + _looser(looser.get("deflection"), "limits.max_deflection", _up, mm, "mm"))
     if "domain_lp_grid_max" in violated:
         out.append(_long_pockets(spec, violated["domain_lp_grid_max"], best.design.geometry))
-    elif duty and _binds(best, "domain_lp_grid_max"):
+    elif bearing and _binds(best, "domain_lp_grid_max"):
         # the closest design meets the geometry's rules (``search.closest``): the pocket study's
         # longest pockets may be what holds its section (and so its stress and strain) back
         held = next(lim for lim in best.limits if lim.name == "domain_lp_grid_max")
