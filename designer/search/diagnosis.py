@@ -88,6 +88,8 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
                        f"{float(v.value) * mm:.4g} mm face it is bonded to {where}; choose a narrower gauge or "
                        + (f"enlarge {larger} to at least {wide:.4g} mm" if larger else
                           f"a section at least {wide:.4g} mm across"))
+    if "pocket_side_wall" in violated:   # a slot leaving its bar's sides thinner than the least wall
+        out.append(_thin_side_walls(spec, best.design.geometry, violated["pocket_side_wall"]))
     if "flat_chord" in violated:   # a flat on a round bar or tube narrower than its pocket
         out.append(_narrow_flat(spec, best.design.geometry, violated["flat_chord"], where, larger))
     if "force_error" in violated or "position_error" in violated:
@@ -355,6 +357,20 @@ def _largest_term(spec, a) -> str:
     if top.name.startswith("zero drift") and spec.environment is not None and not spec.environment.tare:
         out += ": environment.tare (offsets measured again, unloaded, at the operating temperature) removes it"
     return out
+
+
+def _thin_side_walls(spec, g, v) -> str:
+    """A slot as wide as the gauge and its margins leaves the closest design's bar thinner sides than
+    limits.min_wall: the least bar width that keeps them, against the widest limits.width allows."""
+    mm, least_wall, top = 1e3, spec.limits.min_wall, spec.limits.width[1]
+    need = math.ceil((float(g.pocket_width) + 2 * least_wall) / ROUNDING - 1e-9) * ROUNDING
+    return (f"pocket_side_wall: the slot, {float(g.pocket_width) * mm:.4g} mm wide (the gauge's width and "
+            "limits.pocket_margin, or cad.corner_radius, where larger, on each side), leaves walls of "
+            f"{float(v.value) * mm:.4g} mm on the closest design's {float(g.width) * mm:.4g} mm wide bar, under "
+            f"limits.min_wall = {least_wall * mm:.4g} mm; a bar at least {need * mm:.4g} mm wide"
+            + (f", which limits.width (up to {top * mm:.4g} mm) does not allow" if need > top + 1e-12 else "")
+            + ", a narrower gauge, a smaller pocket_margin or limits.min_wall, or search.feature: none would keep "
+            "them")
 
 
 def _not_a_beam(spec, key: str, reason: str) -> str:
