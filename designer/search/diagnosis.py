@@ -428,9 +428,11 @@ def _outside_study(spec, g, v) -> str:
     parameter, side = name[len("domain_"):].rsplit("_", 1)
     scale, unit = (mm, " mm") if v.unit == "m" else (1.0, "")
     value, bound = (f"{x}{unit}" for x in _apart(float(v.value) * scale, float(v.limit) * scale))
-    text = (f"{name}: the closest design's {parameter} is {value}, {'above' if side == 'max' else 'below'} "
-            f"{bound}, the {'largest' if side == 'max' else 'least'} of the 3-D study its {g.section} + {g.feature} "
-            "corrections were fitted on (docs/model.md §7); outside it the model is not trusted")
+    # (a bound on a station's distance from the clamp is a length: the ratio times the section's size)
+    what = f"the closest design's {parameter} is" if v.unit != "m" else "at the closest design it is"
+    text = (f"{name}: {what} {value}, {'above' if side == 'max' else 'below'} {bound}, the "
+            f"{'largest' if side == 'max' else 'least'} of the 3-D study its {g.section} + {g.feature} corrections "
+            "were fitted on (docs/model.md §7); outside it the model is not trusted")
     if parameter != "grid_ratio" or side != "max":
         return text
     # grid_ratio = grid_length / size: a larger section or a shorter grid brings it in
