@@ -293,15 +293,25 @@ def _section_room(spec, g) -> tuple[str, str, str]:
     if g.section == "rectangle" and g.axes == 1:
         sizes = {"limits.width": (float(g.width), lim.width[1]), "limits.height": (float(g.height), lim.height[1])}
     else:   # one size within both ranges: a square's side, a diameter
-        top = min(lim.width[1], lim.height[1])
-        size = float(g.width if g.section == "rectangle" else g.diameter)
-        sizes = {key: (size, top) for key, most in (("limits.width", lim.width[1]), ("limits.height", lim.height[1]))
-                 if most <= top}
+        keys, top = _size_bound(spec, g)
+        sizes = {key: (float(g.size), top) for key in keys}
     at = [key for key, (size, most) in sizes.items() if size >= most - ROUNDING - 1e-9]
     if len(at) == len(sizes):
         return "even at the largest section allowed", " and ".join(at), shape
     below = ", ".join(f"{key} allows up to {most * mm:.4g} mm" for key, (size, most) in sizes.items() if key not in at)
     return f"at the closest design's {shape} section ({below})", " and ".join(at), shape
+
+
+def _size_bound(spec, g) -> tuple[tuple[str, ...], float]:
+    """The keys that bound the section's size in the load direction (``g.size``) and its largest
+    allowed: a single-axis rectangle's height; else one size within both ranges (a square's side, a
+    diameter), bounded by the smaller of the two largest."""
+    lim = spec.limits
+    if g.section == "rectangle" and g.axes == 1:
+        return ("limits.height",), lim.height[1]
+    top = min(lim.width[1], lim.height[1])
+    return tuple(key for key, most in (("limits.width", lim.width[1]), ("limits.height", lim.height[1]))
+                 if most <= top), top
 
 
 def _shape(g) -> str:
@@ -437,13 +447,12 @@ def _outside_study(spec, g, v) -> str:
         return text
     # grid_ratio = grid_length / size: a larger section or a shorter grid brings it in
     size, ratio = float(g.size), float(v.limit)
-    key, word = ("limits.height", "high") if g.section == "rectangle" and g.axes == 1 else ("limits.width and "
-                                                                                           "limits.height", "across")
-    top = spec.limits.height[1] if key == "limits.height" else min(spec.limits.width[1], spec.limits.height[1])
+    keys, top = _size_bound(spec, g)
+    word = "high" if g.section == "rectangle" and g.axes == 1 else "across"
     need = math.ceil(g.grid_length / ratio / ROUNDING - 1e-9) * ROUNDING
     shortest = math.floor(ratio * size / ROUNDING * 10 + 1e-9) * ROUNDING / 10
     return (f"{text}: its gauge's {g.grid_length * mm:.4g} mm grid needs a section at least {need * mm:.4g} mm {word}"
-            + (f", which {key} (up to {top * mm:.4g} mm) does not allow" if need > top + 1e-12 else "")
+            + (f", which {' and '.join(keys)} (up to {top * mm:.4g} mm) does not allow" if need > top + 1e-12 else "")
             + f", or on {size * mm:.4g} mm a gauge whose grid is at most {shortest * mm:.4g} mm long")
 
 
