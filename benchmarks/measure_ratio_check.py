@@ -10,10 +10,12 @@ measures a 7 x 7 grid of loads (Prototype B: the paper's loads) on
 
 - the same sensor (independent noise): the ratio should stay under the threshold;
 - a sensor whose first bridge's zero has moved by 2, 5 and 10 sigma_V since calibrating;
-- another simulated sensor (other offsets).
+- another simulated sensor (other offsets);
+- for the biaxial Prototype C, a sensor turned about its axis by 1 and 3 degrees since calibrating
+  (its force and position read as calibrated; only the angle's ratio, the third, can tell).
 
 It prints the median, the 99th percentile and the range of the larger of the force's and the
-position's ratio, and how often each case is warned of. Run by hand (about a minute):
+position's (biaxial: and the angle's) ratio, and how often each case is warned of. Run by hand (about a minute):
 
     python benchmarks/measure_ratio_check.py [--sensors 300]
 """
@@ -40,7 +42,8 @@ def designs() -> dict:
 
     weigh_bar = design(load_spec(ROOT / "examples" / "weigh-bar.yaml"), DesignOptions(tradeoff=False)).record
     return {"weigh-bar": (weigh_bar, "grid"),
-            "Prototype B": (rd.read_design(ROOT / "tests" / "data" / "cal_prototype_b.json"), "paper")}
+            "Prototype B": (rd.read_design(ROOT / "tests" / "data" / "cal_prototype_b.json"), "paper"),
+            "Prototype C": (rd.read_design(ROOT / "tests" / "data" / "cal_prototype_c.json"), "paper")}
 
 
 def ratios(record: dict, scheme: str, measured: str, seed: int, case: str) -> float:
@@ -52,9 +55,16 @@ def ratios(record: dict, scheme: str, measured: str, seed: int, case: str) -> fl
         offsets = offsets + np.eye(len(offsets))[0] * float(case.split()[1]) * fitted.noise
     elif case == "another sensor":
         offsets = rd.simulated_sensor_offsets(record, seed + 100_000)
-    data = rd.simulate_readings(record, loads.force, loads.position, np.random.default_rng([seed, 7]),
+    felt = loads.angle   # the angles the loads are applied at; the file gives loads.angle
+    if case.startswith("turned"):
+        felt = loads.angle + np.radians(float(case.split()[1]))
+    data = rd.simulate_readings(record, loads.force, loads.position, np.random.default_rng([seed, 7]), felt,
                                 offsets=offsets)
-    return max(error_ratios(cal.measure_readings(fitted, data), data.force, data.position))
+    return max(error_ratios(cal.measure_readings(fitted, data), loads.force, loads.position, loads.angle))
+
+
+def loads_angle(record: dict) -> bool:
+    return cal.design_constants(record).axes == 2
 
 
 def main(argv=None) -> int:
@@ -66,10 +76,12 @@ def main(argv=None) -> int:
     print("| design | scheme | measured | case | median | 99th pct | range | warned |")
     print("|---|---|---|---|---:|---:|---|---:|")
     for name, (record, measured) in designs().items():
+        turns = ("turned 1", "turned 3") if loads_angle(record) else ()
         for scheme in ("4", "9"):
-            for case in cases:
+            for case in cases + turns:
                 r = np.array([ratios(record, scheme, measured, seed, case) for seed in range(args.sensors)])
-                label = case.replace("zero", "zero moved by") + (" σ_V on bridge 1" if case.startswith("zero") else "")
+                label = (case.replace("zero", "zero moved by") + (" σ_V on bridge 1" if case.startswith("zero") else "")
+                         + ("° about its axis" if case.startswith("turned") else ""))
                 print(f"| {name} | {scheme}-point | {measured} | {label} | {np.median(r):.2f} | "
                       f"{np.quantile(r, 0.99):.2f} | {r.min():.2f}-{r.max():.2f} | "
                       f"{np.mean(r > CONSISTENT_RATIO):.0%} |", flush=True)

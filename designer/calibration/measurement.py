@@ -143,22 +143,29 @@ def measure_readings(calibration: Calibration, readings: Readings, noise: float 
 
 
 # The RMS of a measurement's errors against known loads in units of their predicted 1-sigma
-# (``error_ratios``) above which the readings do not fit the calibration. Over 1200 simulated
-# sensors measured as they were calibrated (the weigh-bar example and Prototype B, 4- and 9-point
-# schemes, sigma_V from the residuals) the larger of the two stayed within 0.58-2.17; with one
-# bridge's zero moved by 10 sigma_V it was 4.9-10.4 (benchmarks/measure_ratio_check.md).
+# (``error_ratios``) above which the readings do not fit the calibration. Over 1800 simulated
+# sensors measured as they were calibrated (the weigh-bar example, Prototypes B and C, 4- and
+# 9-point schemes, sigma_V from the residuals) the largest ratio stayed within 0.58-2.38; with one
+# bridge's zero moved by 10 sigma_V it was 4.0-10.4, with Prototype C turned by 3 degrees 5.2-15
+# (benchmarks/measure_ratio_check.md).
 CONSISTENT_RATIO = 3.0
 
 
-def error_ratios(m: Measurement, force, position) -> tuple[float, float]:
+def error_ratios(m: Measurement, force, position, angle=None) -> tuple[float, ...]:
     """The RMS, over the rows with a load, of the force's and the position's error against the
     known ``force`` and ``position`` in units of their predicted 1-sigma: about 1 when the readings
     are of the calibrated sensor and its noise is the calibration's sigma_V (each row's 1-sigma
-    holds the reading's noise and the calibration's own uncertainty); NaN without a 1-sigma."""
+    holds the reading's noise and the calibration's own uncertainty); NaN without a 1-sigma.
+
+    A biaxial measurement with the known ``angle`` (rad) gives the angle's third (its error taken
+    the short way round the circle): a sensor turned in its clamp since calibrating reads the
+    force and position right and only the angle wrong."""
     force, position = np.asarray(force, dtype=float), np.asarray(position, dtype=float)
     loaded = np.abs(force) > 0
     with np.errstate(divide="ignore", invalid="ignore"):
-        z = ((m.force - force) / m.sigma_force, (m.position - position) / m.sigma_position)
+        z = [(m.force - force) / m.sigma_force, (m.position - position) / m.sigma_position]
+        if m.angle is not None and angle is not None:
+            z.append(np.angle(np.exp(1j * (m.angle - np.asarray(angle, dtype=float)))) / m.sigma_angle)
     return tuple(float(np.sqrt(np.mean(e[loaded] ** 2))) if np.isfinite(e[loaded]).all() and loaded.any()
                  else math.nan for e in z)
 

@@ -248,18 +248,23 @@ def run_measure(args) -> int:
         if biaxial and data.angle is not None:
             ea = np.abs(np.degrees(np.angle(np.exp(1j * (m.angle - data.angle)))))[loaded]
             text += f", angle {np.mean(ea):.3g}°"
-        ratios = error_ratios(m, data.force, data.position)
+        ratios = error_ratios(m, data.force, data.position, data.angle if biaxial else None)
         if all(math.isfinite(r) for r in ratios):
-            text += (f"; errors over their predicted 1σ, RMS: force {ratios[0]:.3g}, position {ratios[1]:.3g} "
-                     "(about 1 where the sensor measures as predicted)")
+            text += (f"; errors over their predicted 1σ, RMS: force {ratios[0]:.3g}, position {ratios[1]:.3g}"
+                     + (f", angle {ratios[2]:.3g}" if len(ratios) == 3 else "")
+                     + " (about 1 where the sensor measures as predicted)")
         console.print(text)
         if max(ratios) > CONSISTENT_RATIO:   # (NaN compares False)
             sigma_v = cal.noise if noise is None else noise
+            # force and position read as calibrated, the angle not: the sensor has turned in its clamp
+            turned = len(ratios) == 3 and max(ratios[:2]) <= CONSISTENT_RATIO
             _print_warnings(console, [f"the estimates miss the file's loads by {max(ratios):.3g} times their "
-                                      f"predicted 1σ (RMS; at most about {CONSISTENT_RATIO:g} when the readings are "
-                                      "of the calibrated sensor): readings of another sensor or calibration.json, "
-                                      "a zero that has moved since calibrating, or more noise than the σ_V "
-                                      f"{sigma_v * MV:.3g} mV used"])
+                                      f"predicted 1σ (RMS{', the angle' if turned else ''}; at most about "
+                                      f"{CONSISTENT_RATIO:g} when the readings are of the calibrated sensor): "
+                                      + ("the sensor has turned about its axis since calibrating (or the file's "
+                                         "angle_deg measured from another direction), " if turned else "")
+                                      + "readings of another sensor or calibration.json, a zero that has moved "
+                                      f"since calibrating, or more noise than the σ_V {sigma_v * MV:.3g} mV used"])
     if cal.noise is None and noise is None:
         console.print("the calibration has no noise estimate; give --noise for the 1-sigma columns")
     outside = int(np.sum(m.outside))

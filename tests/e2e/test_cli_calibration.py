@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -128,6 +129,54 @@ def test_measure_gives_the_errors_over_their_predicted_sigma_and_warns_when_the_
     assert main(["measure", str(cal_json), str(other_csv), "-o", str(results)]) == 0
     printed = " ".join(capsys.readouterr().out.split())
     assert "warning: the estimates miss the file's loads by" in printed and "another sensor" in printed
+
+
+def test_measure_checks_a_biaxial_sensors_angle_and_warns_when_it_has_turned(tmp_path, capsys):
+    """A biaxial sensor turned about its axis since calibrating reads the force and the position as
+    calibrated (the load's magnitude and place do not change) and only its angle wrong; measure's
+    check takes the angle's error over its predicted 1σ too. Monte Carlo reference as for the
+    uniaxial check: over 40 simulated Prototype C sensors, calibrated on the 9-point scheme twice
+    (36 rows x 4 bridges - 12 constants = 132 degrees of freedom) and measured at the paper's 210
+    loads (section 4.2.1's angles), the mean square of each ratio is 132/130 within about 4
+    standard errors; turned by 3° (about 9 times the angle's 1σ of 0.3° at the paper's loads) only
+    the angle's ratio rises, and measure warns that the sensor has turned."""
+    from designer.calibration.measurement import error_ratios
+
+    design = str(DATA / "cal_prototype_c.json")
+    rec = rd.read_design(design)
+    turn = np.radians(3.0)
+    squares, turned = [], []
+    for seed in range(40):
+        fitted = cal.calibrate(rd.simulated_scheme_readings(rec, "9", seed, 2), cal.design_constants(rec))
+        loads = rd.simulated_scheme_readings(rec, "paper", seed)
+        squares.append(np.square(error_ratios(cal.measure_readings(fitted, loads), loads.force, loads.position,
+                                              loads.angle)))
+        data = rd.simulate_readings(rec, loads.force, loads.position, np.random.default_rng([seed, 7]),
+                                    angles=loads.angle + turn, offsets=rd.simulated_sensor_offsets(rec, seed))
+        turned.append(error_ratios(cal.measure_readings(fitted, data), loads.force, loads.position, loads.angle))
+    assert np.mean(squares, axis=0) == pytest.approx(np.full(3, 132 / 130), abs=0.15)
+    turned = np.array(turned)
+    assert np.all(turned[:, :2] < 1.5) and np.all(turned[:, 2] > 3 * 2)
+
+    cal_csv, test_csv, turned_csv = tmp_path / "cal.csv", tmp_path / "test.csv", tmp_path / "turned.csv"
+    cal_json = tmp_path / "calibration.json"
+    assert main(["simulate-readings", design, "-o", str(cal_csv), "--scheme", "9", "--seed", "2", "--repeats",
+                 "2"]) == 0
+    assert main(["simulate-readings", design, "-o", str(test_csv), "--seed", "2"]) == 0
+    assert main(["calibrate", str(cal_csv), "--design", design, "-o", str(cal_json)]) == 0
+    loads = rd.read_readings(test_csv)
+    # the file states the angles the loads were meant to have; the turned sensor felt them 3° on
+    felt = rd.simulate_readings(rec, loads.force, loads.position, np.random.default_rng(5), angles=loads.angle + turn,
+                                offsets=rd.simulated_sensor_offsets(rec, 2))
+    rd.write_readings(turned_csv, dataclasses.replace(felt, angle=loads.angle))
+    capsys.readouterr()
+    assert main(["measure", str(cal_json), str(test_csv)]) == 0
+    printed = " ".join(capsys.readouterr().out.split())
+    assert ", angle " in printed.split("errors over their predicted 1σ")[1] and "the estimates miss" not in printed
+    assert main(["measure", str(cal_json), str(turned_csv)]) == 0
+    printed = " ".join(capsys.readouterr().out.split())
+    assert "warning: the estimates miss the file's loads by" in printed and "(RMS, the angle;" in printed
+    assert "turned about its axis" in printed
 
 
 def test_calibrate_prints_warnings(tmp_path, capsys):
