@@ -446,8 +446,9 @@ def markdown(record: dict) -> str:
     return "\n".join(lines)
 
 
-def candidate_order(record: dict) -> str:
-    """How the candidates are ranked and the reported one picked (designer.search.run)."""
+def candidate_order(record: dict, shown: list | None = None) -> str:
+    """How the candidates are ranked and the reported one picked (designer.search.run); the note
+    on outranked candidates where one of ``shown`` (default: every candidate) is."""
     objective = record.get("spec", {}).get("objective", "error")
     if record.get("status") == "infeasible":
         return ("No candidate meets every limit. Each shows its closest design (where its sizes are free, "
@@ -459,7 +460,7 @@ def candidate_order(record: dict) -> str:
     text = (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "
             "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
             "the first is the reported design.")
-    if any(c.get("status") == "outranked" for c in record.get("candidates", [])):
+    if any(c.get("status") == "outranked" for c in (record.get("candidates", []) if shown is None else shown)):
         text += (" Outranked: its answer before rounding (IPOPT's optimum of continuous sizes, not a bound: "
                  "a design on the 0.01 mm grid or of stock may be a little better or worse, or may not exist) "
                  "already ranked it out of contention, so it was not rounded or no stock size was solved; "
@@ -511,10 +512,13 @@ def print_summary(record: dict, console=None) -> None:
                         f"[{'red' if not c['satisfied'] else 'yellow'}]{percent(c['margin'])}[/]")
         console.print(lim)
     if record.get("candidates"):
-        cand = Table(title="the chosen candidate and the runners-up", caption=candidate_order(record))
+        shown = record["candidates"][:6]
+        more = len(record["candidates"]) - len(shown)
+        cand = Table(title="the chosen candidate and the runners-up",
+                     caption=candidate_order(record, shown) + (f" {more} more in report.md." if more else ""))
         for col in ("material", "section", "status", "objective", "worst violation", ""):
             cand.add_column(col)
-        for i, c in enumerate(record["candidates"][:6]):
+        for i, c in enumerate(shown):
             obj = _objective_cell(c)
             cand.add_row(c["material"], c["section"], c["status"], obj, _violation(c), "chosen" if i == 0 else "")
         console.print(cand)

@@ -69,6 +69,27 @@ def test_the_candidate_table_says_how_it_is_ranked_and_shows_the_ranking_key(cap
     assert "ranked by the objective (error" in report.candidate_order(record)
 
 
+def test_the_terminal_candidate_table_explains_only_the_statuses_it_shows(capsys):
+    """The terminal shows the first six candidates; its caption explained "Outranked" where only
+    report.md's full table had one (the weigh-bar's 8th and 9th of 27), and now says how many more
+    report.md lists."""
+    from rich.console import Console
+
+    record = _infeasible_record()
+    record["status"] = "optimal"
+    row = {"material": "7075-T6", "section": "round + flat", "status": "optimal", "objective": 0.37,
+           "worst_violation": 0.0}
+    record["candidates"] = [row] * 6 + [dict(row, status="outranked", objective=None, continuous_objective=0.5)] * 2
+    report.print_summary(record, Console(width=200))
+    out = capsys.readouterr().out
+    assert "Outranked" not in out and "2 more in report.md." in out
+    assert "Outranked" in report.markdown(record) and "0.5 before rounding" in report.markdown(record)
+    record["candidates"] = record["candidates"][2:]   # now the terminal shows one
+    report.print_summary(record, Console(width=200))
+    out = capsys.readouterr().out
+    assert "Outranked" in out and "more in report.md" not in out
+
+
 def test_materials_reads_at_80_columns(capsys, monkeypatch):
     from designer.spec import catalogue
 
