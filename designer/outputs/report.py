@@ -418,8 +418,10 @@ def markdown(record: dict) -> str:
             section = c["section"] + (f" ({c['stock']})" if c.get("stock") else "")
             lines.append(f"| {i} | {c['material']} | {section} | {status} | {obj} | {_violation(c)} | {defl} "
                          f"| {mass} |")
-        notes = [f"- {c['material']} {c['section']}: {c['stock_note']}" for c in record["candidates"]
-                 if c.get("stock_note") and c.get("objective") is None]
+        # a note may name its candidate already ("6061-T6 tube: no design of continuous sizes ...")
+        notes = [f"- {note}" if note.startswith(f"{c['material']} {c['section']}:")
+                 else f"- {c['material']} {c['section']}: {note}"
+                 for c in record["candidates"] if (note := c.get("stock_note")) and c.get("objective") is None]
         if notes:
             lines += ["", "Without a stock design:", ""] + notes
     solver = record.get("solver", {})
@@ -458,8 +460,9 @@ def candidate_order(record: dict, shown: list | None = None) -> str:
                 "the duty's limits (stress, strain, signal, deflection, frequency), then of the accuracy "
                 "targets (failed solves at the end); the first, the least infeasible, is the reported design.")
     text = (f"Designs that meet every limit come first, ranked by the objective ({objective}; within "
-            "0.1 % by lower deflection, then lower mass), then the others by their worst violation; "
-            "the first is the reported design.")
+            "0.1 % by lower deflection, then lower mass), then the others, the closest first: a beam, one "
+            "within the sizes the spec allows, the fewest of the geometry's rules broken, then by the worst "
+            "violation of the duty's limits, then of the accuracy targets; the first is the reported design.")
     if any(c.get("status") == "outranked" for c in (record.get("candidates", []) if shown is None else shown)):
         text += (" Outranked: its answer before rounding (IPOPT's optimum of continuous sizes, not a bound: "
                  "a design on the 0.01 mm grid or of stock may be a little better or worse, or may not exist) "

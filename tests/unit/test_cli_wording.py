@@ -81,13 +81,30 @@ def test_the_terminal_candidate_table_explains_only_the_statuses_it_shows(capsys
            "worst_violation": 0.0}
     record["candidates"] = [row] * 6 + [dict(row, status="outranked", objective=None, continuous_objective=0.5)] * 2
     report.print_summary(record, Console(width=200))
-    out = capsys.readouterr().out
+    out = " ".join(capsys.readouterr().out.split())
     assert "Outranked" not in out and "2 more in report.md." in out
     assert "Outranked" in report.markdown(record) and "0.5 before rounding" in report.markdown(record)
     record["candidates"] = record["candidates"][2:]   # now the terminal shows one
     report.print_summary(record, Console(width=200))
-    out = capsys.readouterr().out
+    out = " ".join(capsys.readouterr().out.split())
     assert "Outranked" in out and "more in report.md" not in out
+
+
+def test_the_candidates_section_reads_as_the_search_ranks_and_names_each_candidate_once():
+    """The infeasible candidates after the feasible ones are ranked by ``closest.closeness`` (rules
+    broken before the duty's worst violation): the weigh-bar's rectangles read 1.55, 1.45, ...,
+    0.586, ..., 1.78 under "the others by their worst violation". A stock note that names its
+    candidate is not prefixed again ("6061-T6 tube: 6061-T6 tube: no design ...")."""
+    record = _infeasible_record()
+    record["status"] = "optimal"
+    assert "the fewest of the geometry's rules broken" in report.candidate_order(record)
+    note = "6061-T6 tube: no design of continuous sizes meets every limit, so no stock size was tried"
+    record["candidates"].append({"material": "6061-T6", "section": "tube", "status": "infeasible",
+                                 "objective": None, "stock_note": note})
+    record["candidates"].append({"material": "304", "section": "round", "status": "infeasible",
+                                 "objective": None, "stock_note": "no stock row of 304 round meets every limit"})
+    md = report.markdown(record)
+    assert f"- {note}\n" in md and "- 304 round: no stock row of 304 round meets every limit" in md
 
 
 def test_materials_reads_at_80_columns(capsys, monkeypatch):
