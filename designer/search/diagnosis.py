@@ -124,18 +124,24 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
         if spec.limits.max_deflection is not None and "deflection" in binding:
             out.append(f"the deflection limit binds: limits.max_deflection = {spec.limits.max_deflection * mm:.4g} mm; "
                        "a larger allowed deflection gives a more sensitive beam")
+    # the section below its largest, with the signal broken too: the closest design's least worst
+    # violation balances them (a larger section lowers the stress, the strain and the signal alike)
+    held = (", which the signal holds there: a larger section lowers {} and the signal (min_signal_snr) alike"
+            if "min_signal_snr" in violated and where.startswith("at the closest") else "")
     strength = [v for v in best.violations if v.name in STRENGTH_LIMITS]
     if strength:   # the worst of them (each at its worst, nominal or at a corner)
         v = max(strength, key=lambda v: float(v.value) / float(v.limit))
         ratio = float(v.value) / float(v.limit)
         out.append(f"{v.name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
-                   f"{where}; lower load.force[1] to {_down(spec.load.force_max / ratio)} N, "
+                   f"{where}{held.format('the stress')}; lower load.force[1] to "
+                   f"{_down(spec.load.force_max / ratio)} N, "
                    + (f"enlarge {larger}, " if larger else "")
                    + "choose a stronger material or a lower safety factor")
     if "gauge_strain" in violated:
         v = violated["gauge_strain"]
         out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε "
-                   f"{where}; lower load.force[1] to {_down(spec.load.force_max * float(v.limit) / float(v.value))} N"
+                   f"{where}{held.format('the strain')}; lower load.force[1] to "
+                   f"{_down(spec.load.force_max * float(v.limit) / float(v.value))} N"
                    + (f", enlarge {larger}" if larger else "") + " or choose a stiffer material")
     if "min_signal_snr" in violated:
         v = violated["min_signal_snr"]

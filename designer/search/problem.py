@@ -504,13 +504,14 @@ class FamilyProblem:
             runs += s.evaluations
         return replace(s, evaluations=runs)
 
-    def least_violation(self, params, x0, soft, free=(), margin: float = 0.0) -> tuple[Solve, float]:
+    def least_violation(self, params, x0, soft, free=(), margin: float = 0.0, fixed=None) -> tuple[Solve, float]:
         """IPOPT from ``x0`` on the NLP of the least violation: the design whose worst normalised row
         among the limits named in ``soft`` (nominal and at the tolerance corners) is least, every
         other row met (``margin`` inside its limit), but for those named in ``free``, which are let
-        go; within the variables' bounds. The closest design of a family none of whose designs
-        meets every limit (``search.closest``). Returns the Solve (its ``x``, the design's
-        variables) and that worst row at its answer, as the NLP has it."""
+        go; within the variables' bounds, ``fixed`` (``{index: value}``, NLP units) held at their
+        values. The closest design of a family none of whose designs meets every limit
+        (``search.closest``). Returns the Solve (its ``x``, the design's variables) and that worst
+        row at its answer, as the NLP has it."""
         lo, hi = self.bounds()
         # IPOPT relaxes a bound by 1e-8 of itself; at a pocket's least depth, when the tolerance's
         # deviation is as deep (ISO 2768-v: 0.5 mm), a corner's pocket is cut to no depth, where the
@@ -519,6 +520,8 @@ class FamilyProblem:
         weight = np.array([1.0 if name in soft else 0.0 for name in self.row_names])
         upper = np.array([np.inf if name in free else 0.0 if name in soft else -margin for name in self.row_names]
                          + [0.0] * len(self._terms))
+        for i, v in (fixed or {}).items():
+            lo[i] = hi[i] = v
         x, runs = np.clip(np.array(x0, dtype=float), lo, hi), 0
         for _ in range(DEVIATION_ROUNDS):   # the corners' deviations at the answer's sizes, as ``_solve``
             p = self.with_deviations(params, x)
