@@ -15,7 +15,8 @@ measures a 7 x 7 grid of loads (Prototype B: the paper's loads) on
   (its force and position read as calibrated; only the angle's ratio, the third, can tell).
 
 It prints the median, the 99th percentile and the range of the larger of the force's and the
-position's (biaxial: and the angle's) ratio, and how often each case is warned of. Run by hand (about a minute):
+position's (biaxial: and the angle's) ratio, and how often each case is warned of. Run by hand
+(about a minute):
 
     python benchmarks/measure_ratio_check.py [--sensors 300]
 """
@@ -63,10 +64,6 @@ def ratios(record: dict, scheme: str, measured: str, seed: int, case: str) -> fl
     return max(error_ratios(cal.measure_readings(fitted, data), loads.force, loads.position, loads.angle))
 
 
-def loads_angle(record: dict) -> bool:
-    return cal.design_constants(record).axes == 2
-
-
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--sensors", type=int, default=300)
@@ -76,7 +73,7 @@ def main(argv=None) -> int:
     print("| design | scheme | measured | case | median | 99th pct | range | warned |")
     print("|---|---|---|---|---:|---:|---|---:|")
     for name, (record, measured) in designs().items():
-        turns = ("turned 1", "turned 3") if loads_angle(record) else ()
+        turns = ("turned 1", "turned 3") if cal.design_constants(record).axes == 2 else ()   # biaxial
         for scheme in ("4", "9"):
             for case in cases + turns:
                 r = np.array([ratios(record, scheme, measured, seed, case) for seed in range(args.sensors)])

@@ -21,8 +21,8 @@ from dataclasses import replace
 from designer import model
 from designer.errors import InputError
 from designer.result.evaluation import Evaluation, evaluate
-from designer.search.problem import MM, start_from
-from designer.search.rounding import ANSWER_TOLERANCE, GridBox, buildable, floor_ceil, only_targets_missed
+from designer.search.problem import start_from
+from designer.search.rounding import ANSWER_TOLERANCE, GridBox, buildable, depths_held, only_targets_missed
 from designer.search.stock import stock_system
 from designer.spec import catalogue
 
@@ -98,7 +98,7 @@ def closest_designs(spec, problems: dict, candidates: list) -> list:
             # than the 0.01 mm grid around the answer makes up (seed 13's 036-infeasible-noise: a flat
             # 1.057 -> 1.1 mm deep, its worst violation 13.2 % -> 16.0 %): held at its neighbouring
             # grid values, the rest solved again, as ``ongrid`` does for a design
-            for held in _depths_held(problem, s.x):
+            for held in depths_held(problem, s.x):
                 s2, _ = problem.least_violation(params, s.x, soft=BEARING, free=model.TARGET_LIMITS, fixed=held)
                 solves.append(s2)
                 near = _rounded(problem.design(s2.x, material), spec) if s2.success else None
@@ -130,25 +130,15 @@ def _closest_of(found: list) -> Evaluation | None:
     the deflection lost 4 % on the signal (seed 13's 032-infeasible-deflection, its depth held)."""
     if not found:
         return None
-    lead = min(found, key=closeness)
-    head = closeness(lead)
-    tied = [ev for ev in found
-            if closeness(ev)[:3] == head[:3] and 1 + closeness(ev)[3] <= (1 + head[3]) * (1 + WORST_TIE)]
+    keyed = [(closeness(ev), ev) for ev in found]
+    head = min(key for key, _ in keyed)
+    tied = [(key, ev) for key, ev in keyed
+            if key[:3] == head[:3] and 1 + key[3] <= (1 + head[3]) * (1 + WORST_TIE)]
     tol = model.FEASIBILITY_TOLERANCE
 
     def others(ev):
         return sorted((max(float(lim.normalised), tol) for lim in ev.judged if lim.name in BEARING), reverse=True)[1:]
-    return min(tied, key=lambda ev: (others(ev), closeness(ev)))
-
-
-def _depths_held(problem, x) -> list[dict]:
-    """``{index: value}`` holding the pocket's depth at each of its grid values (``cad.depth_step``)
-    around ``x``'s that its bounds allow; none for a family without a pocket."""
-    if "depth" not in problem.names:
-        return []
-    i, (lo, hi) = problem.names.index("depth"), problem.bounds()
-    depths = floor_ceil(float(x[i]) * MM, step=problem.spec.cad.depth_step)
-    return [{i: d / MM} for d in dict.fromkeys(depths) if lo[i] <= d / MM <= hi[i]]
+    return min(tied, key=lambda pair: (others(pair[1]), pair[0]))[1]
 
 
 def farther_load(spec, problems: dict, cand) -> float | None:

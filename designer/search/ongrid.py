@@ -11,7 +11,7 @@ from designer import model
 from designer.errors import InputError
 from designer.result.evaluation import ROUNDING, Evaluation, evaluate
 from designer.search.problem import MM, FamilyProblem, Solve, in_nlp_units
-from designer.search.rounding import GridBox, floor_ceil, only_targets_missed, pick, round_and_check
+from designer.search.rounding import GridBox, depths_held, floor_ceil, only_targets_missed, pick, round_and_check
 
 # When rounding to 0.01 mm breaks a limit that IPOPT's answer met, and no section on the grid
 # near it checks out with the rest solved again (``_on_the_grid``), IPOPT solves again with the
@@ -192,17 +192,8 @@ def _depth_held(problem: FamilyProblem, params, material, s: Solve, solves: list
     continuous answer; the better of the two then. None for a family without a pocket or when
     neither meets every limit. A depth step of 0.05 mm takes a section step of about as much to
     make up, which the 0.01 mm grid around the answer does not reach."""
-    if "depth" not in problem.names:
-        return None
-    i = problem.names.index("depth")
     found = []
-    step = problem.spec.cad.depth_step
-    lo, hi = problem.bounds()
-    # a grid value outside the depth's bounds is no pocket the spec allows (a depth of 0 under the
-    # least depth: its notch's square root has no derivative there, IPOPT's Invalid_Number_Detected)
-    depths = [d for d in floor_ceil(float(s.x[i]) * MM, step=step) if lo[i] <= d / MM <= hi[i]]
-    for depth in sorted(depths, key=lambda d: abs(d / MM - s.x[i])):
-        held = {i: depth / MM}
+    for held in depths_held(problem, s.x):
         s2 = problem.solve_ipopt(params, s.x, fixed=held)
         solves.append(s2)
         if not s2.success:

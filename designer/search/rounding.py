@@ -18,7 +18,7 @@ from designer import model
 from designer.errors import InputError
 from designer.model import tolerance
 from designer.result.evaluation import ROUNDING, Design, Evaluation, channelled, evaluate
-from designer.search.problem import pocket_as_needed
+from designer.search.problem import MM, pocket_as_needed
 
 
 # Steps of its own grid (cad.depth_step, 0.05 mm by default) that a wider box reaches in the depth
@@ -183,6 +183,18 @@ def floor_ceil(v: float, reach: int = 0, step: float = ROUNDING) -> tuple:
     lo = math.floor(v / step + 1e-9)
     hi = math.ceil(v / step - 1e-9)
     return tuple(round(k * step, 8) for k in range(max(lo - reach, 1) if reach else lo, hi + reach + 1))
+
+
+def depths_held(problem, x) -> list[dict]:
+    """``{index: value}`` (NLP units) holding the pocket's depth at each value of its grid
+    (``cad.depth_step``) around ``x``'s, the nearer first; none for a family without a pocket. A
+    grid value outside the depth's bounds is no pocket the spec allows (a depth of 0 under the
+    least depth: its notch's square root has no derivative there, IPOPT's Invalid_Number_Detected)."""
+    if "depth" not in problem.names:
+        return []
+    i, (lo, hi) = problem.names.index("depth"), problem.bounds()
+    depths = [d / MM for d in floor_ceil(float(x[i]) * MM, step=problem.spec.cad.depth_step)]
+    return [{i: d} for d in sorted(depths, key=lambda d: abs(d - x[i])) if lo[i] <= d <= hi[i]]
 
 
 def outranked_before_rounding(problem, material, s, cap: float | None, within: float = ANSWER_TOLERANCE
