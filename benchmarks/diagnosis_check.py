@@ -11,7 +11,9 @@ the diagnosis names is followed and the search run again:
 - ``from load.position[0] = X mm, a <material> ... meets every limit``: the search over that
   material finds a design with the load region from there;
 - ``with limits.max_deflection = Y mm a <material> ... meets every limit`` (or
-  ``limits.min_frequency = f Hz``): the search over that material finds a design under that limit.
+  ``limits.min_frequency = f Hz``): the search over that material finds a design under that limit;
+- ``with search.feature: none (...) a <material> ... meets every limit``: the search over that
+  material, without a feature, finds a design.
 
     python benchmarks/diagnosis_check.py [--seeds 0 1 2] [--count 50] [--out benchmarks/diagnosis_check.md]
 """
@@ -41,6 +43,7 @@ NOISE = re.compile(r"electronics noise of at most ([0-9.e+-]+) mV at the output"
 REGION = re.compile(r"from load\.position\[0\] = ([0-9.e+-]+) mm, a (\S+) ")
 LOOSER = re.compile(r"with limits\.max_deflection = ([0-9.e+-]+) mm a (\S+) ")
 HIGHER = re.compile(r"with limits\.min_frequency = ([0-9.e+-]+) Hz a (\S+) ")
+PLAIN = re.compile(r"with search\.feature: none \([^)]*\) a (\S+) ")
 
 
 def check(spec) -> list[dict]:
@@ -72,13 +75,16 @@ def check(spec) -> list[dict]:
         level = float(m.group(1))
         rows.append(_searched(spec, m.group(2), f"limits.min_frequency = {level:.4g} Hz",
                               limits=replace(spec.limits, min_frequency=level)))
+    if m := PLAIN.search(text):
+        rows.append(_searched(spec, m.group(1), "search.feature: none",
+                              search=replace(spec.search, feature="none", materials=(m.group(1),))))
     return rows
 
 
 def _searched(spec, material: str, advice: str, **change) -> dict:
     """The row of advice naming a design of ``material`` under ``spec`` changed (``change``): whether
     the search over that material finds a design there."""
-    moved = replace(spec, search=replace(spec.search, materials=(material,)), **change)
+    moved = replace(spec, **{"search": replace(spec.search, materials=(material,)), **change})
     return {"advice": f"{advice} ({material})", "design": None, "search": optimize(moved).success}
 
 

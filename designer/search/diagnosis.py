@@ -43,12 +43,13 @@ def no_room(spec) -> str:
             f"{(need + spec.limits.load_clearance) * 1e3:.4g} mm; move the load region out, or {fix}")
 
 
-def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> list[str]:
+def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None, plain=None) -> list[str]:
     """Name the limits in conflict and what would resolve them, in the spec's own terms.
     ``farther``: a load region's start and the design that meets every limit from there, when the
     room before the load region holds ``best``; ``looser``: ``{limit: (level, design)}``, a level of
     the deflection or frequency limit ``best`` breaks under which the design meets every limit
-    (``remedies.looser``)."""
+    (``remedies.looser``); ``plain``: the best design without a feature when it meets every limit
+    (``remedies.plain``)."""
     looser = looser or {}
     mm = 1e3
     out = []
@@ -221,6 +222,12 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None) -> l
         out.append(f"every limit it breaks grows with the largest force: at load.force[1] = "
                    f"{_down(spec.load.force_max / ratio)} N (now {spec.load.force_max:.4g} N) this design meets "
                    "every limit")
+    if plain is not None:
+        d = plain.design
+        sizes = _shape(d.geometry) if d.stock is None else f"({d.stock.label})"
+        bare = "not recessed in pockets" if spec.search.feature == "pocket" else "without holes"
+        out.append(f"with search.feature: none (the gauges bonded on the bar's own faces, {bare}) "
+                   f"a {d.label()} {sizes} meets every limit")
     return out
 
 

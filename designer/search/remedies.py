@@ -1,8 +1,9 @@
 """What would resolve an infeasible spec, found by searching again: the designs the diagnosis
-names beside its advice (``diagnosis.diagnose``'s ``farther`` and ``looser``). Each searches the
-closest candidate's material and family again with the spec changed one way, by ``solve``
-(``run.solve_candidate``, given by the search that calls these), and names a change only where that
-search finds a design meeting every limit on the grid.
+names beside its advice (``diagnosis.diagnose``'s ``farther``, ``looser`` and ``plain``). Each
+searches again with the spec changed one way, by ``solve`` (``run.solve_candidate``: the closest
+candidate's material and family) or ``search`` (``run.optimize``: every material and section, given
+by the search that calls these), and names a change only where that search finds a design meeting
+every limit on the grid.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from designer.errors import FpdError
 from designer.result.evaluation import Evaluation
 from designer.search.closest import farther_load
 from designer.search.problem import SWEPT_LIMIT, FamilyProblem, start_from
@@ -67,3 +69,21 @@ def looser(spec, problems: dict, cand, method: str, solve) -> dict:
                 out[name] = (level, found)
                 break
     return out
+
+
+def plain(spec, search) -> Evaluation | None:
+    """The best design without a feature (``search.feature: none``: the gauges bonded on the bar's
+    own faces) when it meets every limit, found by ``search`` (``run.optimize`` over the spec's
+    materials and sections, without closest designs) for a spec that asks for a pocket or a hole;
+    None otherwise. A pocket's stress concentration, its fatigue stress above all, and the rules
+    that fit it on the bar (a flat as wide as the gauge, a slot's side walls, the pocket study's
+    range) can leave a spec no design that a plain bar has (the bench suite's seed 14
+    023-millinewton: no flat as wide as its gauge fits the round bars allowed, and a slot leaves
+    no side walls, while a plain Ti-6Al-4V bar meets every limit)."""
+    if spec.search.feature == "none":
+        return None
+    try:
+        found = search(replace(spec, search=replace(spec.search, feature="none")))
+    except FpdError:   # no section left to try without a feature (a tube on no stock)
+        return None
+    return found.best if found.success and found.best.feasible else None

@@ -351,8 +351,9 @@ def optimize(spec, method: str = "ipopt", progress=None, materials=None, tie_bre
     else:
         # (with no room for the stations whatever the section, the diagnosis names that alone)
         found = {} if not closest or no_room(spec) else {
-            name: how(spec, problems, candidates[0], method, solve_candidate)
-            for name, how in (("farther", remedies.farther), ("looser", remedies.looser))}
+            "plain": remedies.plain(spec, lambda moved: optimize(moved, method, closest=False)),
+            **{name: how(spec, problems, candidates[0], method, solve_candidate)
+               for name, how in (("farther", remedies.farther), ("looser", remedies.looser))}}
         status, messages = "infeasible", diagnose(spec, best, candidates, **found)
         message = messages[0]
     if best.design.stock is not None:

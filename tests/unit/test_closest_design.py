@@ -409,3 +409,35 @@ def test_a_closest_design_on_a_depth_grid_step_is_solved_again_and_the_advice_sa
     ours = {lim.name: float(lim.normalised) for lim in best.limits}
     assert normalised[1.01]["fatigue_feature"] < ours["fatigue_feature"] < normalised[0.99]["fatigue_feature"]
     assert normalised[1.01]["min_signal_snr"] > ours["min_signal_snr"] > normalised[0.99]["min_signal_snr"]
+
+
+def test_a_spec_whose_pocket_fits_no_section_allowed_is_told_the_plain_bar_that_meets_every_limit():
+    # The bench suite's seed 14 023-millinewton: 2024-T3 or Ti-6Al-4V, rectangles and round bars
+    # up to 1.424 mm wide and 1.324 mm high, a gauge 1.2 mm wide with 0.2 mm pocket margins: a 1.6 mm
+    # pocket. No pocket fits (closed forms): a slot that wide leaves no side walls in a bar at most
+    # 1.424 mm wide, and a flat p <= 0.3 D deep is at most 2 sqrt(0.3 x 0.7) D = 0.917 D wide, 1.21
+    # mm on the largest round bar (Ø1.324 mm). The diagnosis had told only the flat's least bar;
+    # the plain bar, its gauges bonded on its own faces, meets every limit, and the diagnosis names
+    # it. Followed, the search gives that design.
+    from designer.bench.suite import _generate
+
+    spec = _generate(22, "millinewton", 14).spec
+    pocket = spec.gauge.width + 2 * spec.limits.pocket_margin
+    largest = min(spec.limits.width[1], spec.limits.height[1])
+    f = spec.limits.max_pocket_fraction
+    assert pocket == pytest.approx(1.6e-3) and spec.limits.width[1] < pocket
+    assert 2 * (f * (1 - f)) ** 0.5 * largest < pocket
+    found = search.optimize(spec)
+    assert not found.success and spec.search.feature == "pocket"
+    [said] = [m for m in found.messages if m.startswith("with search.feature: none")]
+    told = re.fullmatch(r"with search\.feature: none \(the gauges bonded on the bar's own faces, not recessed in "
+                        r"pockets\) "
+                        r"a (\S+) rectangle ([0-9.]+) × ([0-9.]+) mm meets every limit", said)
+    assert told, said
+    plain = replace(spec, search=replace(spec.search, feature="none", materials=(told.group(1),)))
+    followed = search.optimize(plain)
+    g = followed.best.design.geometry
+    assert followed.success and g.feature == "none"
+    assert (g.width * 1e3, g.height * 1e3) == (pytest.approx(float(told.group(2))),
+                                              pytest.approx(float(told.group(3))))
+
