@@ -16,6 +16,27 @@ STRENGTH_LIMITS = ("stress_root", "stress_feature", "fatigue_feature")
 LOAD_LIMITS = (*STRENGTH_LIMITS, "gauge_strain", "adc_range", "deflection")
 # The error budget's terms in proportion to the noise (model.budget.contributions)
 NOISE_TERMS = ("noise", "calibration fit")
+# What the 3-D study's parameters measure (docs/model.md §7), for a design outside its study
+# (``_outside_study``); {size}: the section's size in the load direction, {depth}: what a pocket's
+# depth is measured against
+PARAMETERS = {
+    "length_ratio": "the feature's length along the beam over {size}",
+    "width_ratio": "the width over {size}",
+    "grid_ratio": "the gauge's grid length over {size}",
+    "depth_ratio": "the pocket's depth over {depth}",
+    "radius_ratio": "the pocket's floor radius over its depth",
+    "notch_ratio": "the root of the pocket's depth over its floor radius",
+    "pocket_width_ratio": "the slot's width over the bar's",
+    "side_wall_ratio": "the width its slot leaves, both side walls, over {size}",
+    "plan_notch": "the root of the slot's depth over its corner radius in plan, the end mill's",
+    "shoulder_ratio": "the height of the flat's end wall that its wire channel leaves, over the flat's depth",
+    "shoulder_notch": "the root of that end wall's height over the floor radius",
+    "hole_ratio": "the hole's diameter over {size}",
+    "wall_ratio": "the tube's wall over its diameter",
+    "clamp_near": "exp(-3 u), its first feature's end u sizes from the clamp",
+    "gap_slow": "exp(-3.7 g), the gauge grid's ends g sizes inside the pocket's",
+    "slenderness": "the beam's length over {size}",
+}
 
 
 def no_room(spec) -> str:
@@ -452,7 +473,11 @@ def _outside_study(spec, g, v) -> str:
     scale, unit = (mm, " mm") if v.unit == "m" else (1.0, "")
     value, bound = (f"{x}{unit}" for x in _apart(float(v.value) * scale, float(v.limit) * scale))
     # (a bound on a station's distance from the clamp is a length: the ratio times the section's size)
-    what = f"the closest design's {parameter} is" if v.unit != "m" else "at the closest design it is"
+    size = "the height" if g.section == "rectangle" and g.axes == 1 else \
+        ("the side" if g.section == "rectangle" else "the diameter")
+    meaning = PARAMETERS.get(parameter, "").format(size=size, depth="the wall" if g.section == "tube" else size)
+    what = (f"the closest design's {parameter}" + (f" ({meaning})" if meaning else "") + " is" if v.unit != "m"
+            else "at the closest design it is")
     text = (f"{name}: {what} {value}, {'above' if side == 'max' else 'below'} {bound}, the "
             f"{'largest' if side == 'max' else 'least'} of the 3-D study its {g.section} + {g.feature} corrections "
             "were fitted on (docs/model.md §7); outside it the model is not trusted")
