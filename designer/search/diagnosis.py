@@ -175,10 +175,11 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None, plai
         else:
             ratio = float(v.limit) / float(v.value)
             snr, least = _apart(float(v.value), float(v.limit))
-            noise, now = _apart(sv / ratio * 1e3, sv * 1e3)
+            noise, now = _apart(sv / ratio * 1e3, sv * 1e3, math.floor)
+            force, least_now = _apart(spec.load.force_min * ratio, spec.load.force_min, math.ceil, 4)
             out.append(f"min_signal_snr: the smallest signal is {snr} noise levels, below {least}; "
                        f"lower the noise to {noise} mV (now {now} mV)"
-                       + (f" or raise load.force[0] to {spec.load.force_min * ratio:.4g} N"
+                       + (f" or raise load.force[0] to {force} N (now {least_now} N)"
                           if spec.load.force_min * ratio <= spec.load.force_max else ""))
     # room by the gauge gaps alone, whatever the section, but not by this design's own rules (the
     # webs between pockets, the fits' least pocket length): how far its stations reach, past what
@@ -357,12 +358,15 @@ def _shape(g) -> str:
     return f"Ø{float(g.diameter) * mm:.4g} mm"
 
 
-def _apart(a: float, b: float) -> tuple[str, str]:
-    """``a`` and ``b`` written with as few significant digits (3 at least) as tell them apart."""
-    for digits in range(3, 8):
-        if f"{a:.{digits}g}" != f"{b:.{digits}g}":
+def _apart(a: float, b: float, way=None, least: int = 3) -> tuple[str, str]:
+    """``a`` and ``b`` written with as few significant digits (``least`` at least) as tell them apart; ``a``
+    rounded ``way`` (``math.floor``, ``math.ceil``) when given: a largest noise or a least force
+    named must not pass the one it was worked out for."""
+    for digits in range(least, 8):
+        first = f"{a:.{digits}g}" if way is None else _rounded(a, digits, way)
+        if first != f"{b:.{digits}g}":
             break
-    return f"{a:.{digits}g}", f"{b:.{digits}g}"
+    return first, f"{b:.{digits}g}"
 
 
 def _quieter(spec, a, targets: dict, need: float) -> float | None:
