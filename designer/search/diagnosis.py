@@ -154,15 +154,21 @@ def diagnose(spec, best: Evaluation, candidates, farther=None, looser=None, plai
     if strength:   # the worst of them (each at its worst, nominal or at a corner)
         v = max(strength, key=lambda v: float(v.value) / float(v.limit))
         ratio = float(v.value) / float(v.limit)
-        out.append(f"{v.name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa "
-                   f"{where}{held.format('the stress')}; lower load.force[1] to "
+        rating = _rating(v)
+        room = ("" if rating is None else
+                f" ({rating / 1e6:.4g} MPa less the room kept for the model's stress uncertainty)")
+        out.append(f"{v.name}: {float(v.value) / 1e6:.4g} MPa exceeds the allowable {float(v.limit) / 1e6:.4g} MPa"
+                   f"{room} {where}{held.format('the stress')}; lower load.force[1] to "
                    f"{_down(spec.load.force_max / ratio)} N, "
                    + (f"enlarge {larger}, " if larger else "")
                    + "choose a stronger material or a lower safety factor")
     if "gauge_strain" in violated:
         v = violated["gauge_strain"]
-        out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds the gauge's {float(v.limit) * 1e6:.0f} µε "
-                   f"{where}{held.format('the strain')}; lower load.force[1] to "
+        rating, limit = _rating(v), f"{float(v.limit) * 1e6:.0f} µε"
+        room = (f"the gauge's {limit}" if rating is None else f"{limit}, the gauge's {rating * 1e6:.0f} µε less the "
+                "room kept for the model's gauge-strain uncertainty,")
+        out.append(f"gauge_strain: {float(v.value) * 1e6:.0f} µε exceeds {room} {where}{held.format('the strain')}; "
+                   "lower load.force[1] to "
                    f"{_down(spec.load.force_max * float(v.limit) / float(v.value))} N"
                    + (f", enlarge {larger}" if larger else "") + " or choose a stiffer material")
     if "min_signal_snr" in violated:
@@ -284,6 +290,15 @@ def _least_bar(spec, width: float) -> float:
     last = max(first, math.ceil(width / 2 / step))
     least = min(max(p / f, p + width * width / (4 * p)) for p in (k * step for k in range(first, last + 1)))
     return math.ceil(least / ROUNDING - 1e-9) * ROUNDING
+
+
+def _rating(v) -> float | None:
+    """The rating a limit is kept inside of (``Limit.rating``: the gauge's strain, the material's
+    allowable stress, less the room for the model's own uncertainty; docs/model.md §4, §7), or None
+    for a limit at its rating."""
+    if v.rating is None or abs(float(v.rating) - float(v.limit)) <= 1e-9 * abs(float(v.rating)):
+        return None
+    return float(v.rating)
 
 
 def _looser(found, key: str, rounded, unit_scale: float, unit: str) -> str:

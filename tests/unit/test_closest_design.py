@@ -484,3 +484,24 @@ def test_a_signal_a_hair_below_its_limit_is_told_a_force_and_a_noise_that_differ
     assert spec.sigma_v / (float(noise) * 1e-3) * float(snr.value) >= float(snr.limit)
     at = replace(spec, load=replace(spec.load, force_min=float(force)))
     assert not any(v.name == "min_signal_snr" for v in evaluate(found.best.design, at).violations)
+
+
+def test_a_limit_kept_inside_its_rating_is_told_with_the_rating_it_comes_from():
+    # The gauge-strain and the fatigue limits keep room for the model's own uncertainty
+    # (docs/model.md §4, §7): seed 13's 035-kilonewton was told its gauge allows 1181 µε, where
+    # the gauge's max_strain is 1200 µε; seed 14's 009-tight-limits its 7075-T6 flats' fatigue
+    # allowable as 50.48 MPa, where MODEL.md §4's min(yield, fatigue) / safety_factor is 53 MPa.
+    from designer.bench.suite import _generate
+
+    spec = _generate(34, "kilonewton", 13).spec
+    [said] = [m for m in search.optimize(spec).messages if m.startswith("gauge_strain")]
+    told = re.search(r"exceeds ([0-9]+) µε, the gauge's ([0-9]+) µε less the room kept for the model's "
+                     "gauge-strain uncertainty,", said)
+    assert told, said
+    assert int(told.group(2)) == round(spec.gauge.max_strain * 1e6) == 1200 and int(told.group(1)) < 1200
+    spec = _generate(8, "tight-limits", 14).spec
+    found = search.optimize(spec)
+    [said] = [m for m in found.messages if m.startswith("fatigue_feature")]
+    m = found.best.design.material
+    allowable = min(m.yield_strength, m.fatigue) / spec.limits.safety_factor
+    assert f"({allowable / 1e6:.4g} MPa less the room kept for the model's stress uncertainty)" in said
