@@ -76,7 +76,7 @@ def plain(spec, search) -> Evaluation | None:
     own faces) when it meets every limit, found by ``search`` (``run.optimize`` over the spec's
     materials and sections, without closest designs) for a spec that asks for a pocket or a hole;
     None otherwise. A pocket's stress concentration, its fatigue stress above all, and the rules
-    that fit it on the bar (a flat as wide as the gauge, a slot's side walls, the pocket study's
+    that fit it on the bar (a flat as wide as the pocket, a slot's side walls, the pocket study's
     range) can leave a spec no design that a plain bar has (the bench suite's seed 14
     023-millinewton: no flat as wide as its gauge fits the round bars allowed, and a slot leaves
     no side walls, while a plain Ti-6Al-4V bar meets every limit)."""
