@@ -22,7 +22,8 @@ from designer import model
 from designer.errors import InputError
 from designer.result.evaluation import Evaluation, evaluate
 from designer.search.problem import start_from
-from designer.search.rounding import ANSWER_TOLERANCE, GridBox, buildable, depths_held, only_targets_missed
+from designer.search.rounding import (ANSWER_TOLERANCE, GridBox, broken_rules, buildable, depths_held,
+                                      only_targets_missed)
 from designer.search.stock import stock_system
 from designer.spec import catalogue
 
@@ -48,13 +49,6 @@ def meets_rules(ev: Evaluation) -> bool:
     """Whether ``ev`` meets every limit but its duty's: the geometry's own rules, at its nominal
     sizes and its tolerance corners."""
     return not broken_rules(ev)
-
-
-def broken_rules(ev: Evaluation) -> set[str]:
-    """The geometry's own rules (every limit but its duty's) that ``ev`` breaks, at its nominal
-    sizes or a tolerance corner."""
-    tol = model.FEASIBILITY_TOLERANCE
-    return {lim.name for lim in ev.judged if lim.name not in model.DUTY_LIMITS and float(lim.normalised) > tol}
 
 
 def closeness(ev: Evaluation) -> tuple:

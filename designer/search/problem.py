@@ -504,15 +504,19 @@ class FamilyProblem:
             runs += s.evaluations
         return replace(s, evaluations=runs)
 
-    def least_violation(self, params, x0, soft, free=(), margin: float = 0.0, fixed=None) -> tuple[Solve, float]:
+    def least_violation(self, params, x0, soft, free=(), margin: float = 0.0, fixed=None, box=None,
+                        least: bool = False) -> tuple[Solve, float]:
         """IPOPT from ``x0`` on the NLP of the least violation: the design whose worst normalised row
         among the limits named in ``soft`` (nominal and at the tolerance corners) is least, every
         other row met (``margin`` inside its limit), but for those named in ``free``, which are let
-        go; within the variables' bounds, ``fixed`` (``{index: value}``, NLP units) held at their
-        values. The closest design of a family none of whose designs meets every limit
+        go; within the variables' bounds (``box`` and ``least`` as ``solve_ipopt``'s: a relaxation
+        whose worst row bounds every design's in the box), ``fixed`` (``{index: value}``, NLP units)
+        held at their values. The closest design of a family none of whose designs meets every limit
         (``search.closest``). Returns the Solve (its ``x``, the design's variables) and that worst
         row at its answer, as the NLP has it."""
         lo, hi = self.bounds()
+        for i, (a, b) in (box or {}).items():
+            lo[i], hi[i] = a, b
         # IPOPT relaxes a bound by 1e-8 of itself; at a pocket's least depth, when the tolerance's
         # deviation is as deep (ISO 2768-v: 0.5 mm), a corner's pocket is cut to no depth, where the
         # fatigue limit's derivative is no number (IPOPT's Invalid_Number_Detected): kept 1 nm over
@@ -524,14 +528,14 @@ class FamilyProblem:
             lo[i] = hi[i] = v
         x, runs = np.clip(np.array(x0, dtype=float), lo, hi), 0
         for _ in range(DEVIATION_ROUNDS):   # the corners' deviations at the answer's sizes, as ``_solve``
-            p = self.with_deviations(params, x)
+            p = self.with_deviations(params, lo - LEAST_LIFT if least else x)
             start = float(np.max(self._rows_at(x, p)[weight > 0], initial=0.0))
             s = _run_ipopt(self.ipopt("least"), x0=np.append(x, start), p=np.append(p, weight),
                            lbx=np.append(lo, -np.inf), ubx=np.append(hi, np.inf), lbg=-np.inf, ubg=upper)
             runs += s.evaluations
             moved = self.deviations(s.x[:-1]) != self.deviations(x)
             x = s.x[:-1]
-            if not s.success or not moved:
+            if not s.success or not moved or least:
                 break
         return replace(s, x=x, evaluations=runs, multipliers=None), float(s.x[-1])
 

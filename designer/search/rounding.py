@@ -176,6 +176,13 @@ def buildable(ev: Evaluation) -> bool:
     return model.unbuildable(ev.design.geometry) is None
 
 
+def broken_rules(ev: Evaluation) -> set[str]:
+    """The geometry's own rules (every limit but its duty's) that ``ev`` breaks, at its nominal
+    sizes or a tolerance corner."""
+    tol = model.FEASIBILITY_TOLERANCE
+    return {lim.name for lim in ev.judged if lim.name not in model.DUTY_LIMITS and float(lim.normalised) > tol}
+
+
 def floor_ceil(v: float, reach: int = 0, step: float = ROUNDING) -> tuple:
     """The values of the grid of ``step`` (0.01 mm unless given) just below and above ``v`` (m);
     one when ``v`` is on the grid; with ``reach``, that many more grid steps each side (none at or

@@ -207,13 +207,18 @@ def test_where_the_gauge_fits_no_allowed_section_the_closest_design_stays_within
 
 
 def test_a_tube_s_flat_too_narrow_for_its_pocket_is_told_the_depth_that_holds_it_and_the_wall_that_would_leave_it():
-    # The bench suite's 036-infeasible-noise (generate_suite(50, 1)): a Ø10 mm tube with a 1 mm wall
-    # and 1 mm limits.min_wall, its flat 0.5 mm deep under a 5.5 mm pocket. Its bar is large enough
-    # (a flat 2 sqrt(p (D - p)) wide holds the pocket from p = (D - sqrt(D^2 - 5.5^2))/2 = 0.824 mm, on
-    # the 0.05 mm grid 0.85 mm), but its wall leaves no flat that deep (flat_wall: p <= t - min_wall).
+    # The bench suite's 036-infeasible-noise (generate_suite(50, 1)), its tubes at most 8 mm across
+    # and limits.min_wall 2 mm: the closest is a Ø8 mm tube with a 2 mm wall (the thickest Ø8 tube in
+    # stock; the thinner ones leave less), its flat too shallow for its 5.5 mm pocket. Its tube is
+    # large enough (a flat 2 sqrt(p (D - p)) wide holds the pocket from
+    # p = (D - sqrt(D^2 - 5.5^2))/2 = 1.095 mm, on the 0.05 mm grid 1.1 mm), but its wall leaves no
+    # flat that deep (flat_wall: p <= t - min_wall). (With its own limits a Ø12 x 2 mm tube keeps
+    # every rule of the geometry, and the closest design is that.)
     from designer.bench.suite import _generate
 
     spec = _generate(35, "infeasible-noise", 1).spec
+    spec = replace(spec, limits=replace(spec.limits, width=(spec.limits.width[0], 8e-3),
+                                        height=(spec.limits.height[0], 8e-3), min_wall=2e-3))
     found = search.optimize(spec)
     g = found.best.design.geometry
     text = next(m for m in found.messages if m.startswith("flat_chord"))
@@ -222,7 +227,7 @@ def test_a_tube_s_flat_too_narrow_for_its_pocket_is_told_the_depth_that_holds_it
     D, pocket, step = float(g.diameter), spec.pocket_size()[1], spec.cad.depth_step
     assert wall == pytest.approx(float(g.wall)) and depth > wall - spec.limits.min_wall
     assert 2 * (depth * (D - depth)) ** 0.5 >= pocket > 2 * ((depth - step) * (D - depth + step)) ** 0.5
-    assert depth == pytest.approx(0.85e-3)
+    assert depth == pytest.approx(1.1e-3) and D == pytest.approx(8e-3)
     # that flat in a wall as thick as it needs keeps both rules
     deeper = replace(found.best.design, geometry=replace(g, depth=depth, wall=depth + spec.limits.min_wall))
     assert not {v.name for v in evaluate(deeper, spec).violations} & {"flat_chord", "flat_wall"}
