@@ -105,7 +105,7 @@ def same_section(design, like):
 
 
 def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = math.inf,
-                 prune_infeasible: bool = False, margin: float = 0.0, every_row: bool = False) -> StockOutcome:
+                 prune_infeasible: bool = False, margin: float = 0.0, closest: bool = False) -> StockOutcome:
     """The best stock row for one material x family, from ``x0`` (the continuous answer, NLP
     units); ``rows`` (as ``stock_rows`` gives them) limits the search to those rows. ``cap``
     (objective, SI): a design another family has on stock; rows bounded above it by more than the
@@ -114,14 +114,14 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
     A set of rows whose relaxation (the section free between the set's sizes) IPOPT finds
     infeasible holds no row that meets every limit. It is dropped when a design that meets every
     limit is known (the cap, or a row checked here), or always with ``prune_infeasible``: then the
-    outcome has no least-infeasible design for such rows (the search runs again without it when
-    no stock design meets every limit, ``stocked.candidates_on_stock``). IPOPT keeps every constraint ``margin``
-    inside its limit (``run.resolve``). ``every_row``: the least infeasible row is sought instead (no
-    design met every limit, ``stocked.candidates_on_stock``; ``least_infeasible``)."""
+    outcome has no least-infeasible design for such rows. IPOPT keeps every constraint ``margin``
+    inside its limit (``run.resolve``). ``closest``: the least infeasible row is sought instead
+    (``least_infeasible``), as ``stocked.candidates_on_stock`` asks when no stock design meets every
+    limit."""
     rows, note = stock_rows(problem, material) if rows is None else (rows, "")
     if not rows:
         return StockOutcome(None, (), 0, 0, note)
-    if every_row:
+    if closest:
         return least_infeasible(problem, material, x0, rows)
     spec = problem.spec
     params = problem.params(material)
@@ -225,10 +225,11 @@ def least_infeasible(problem: FamilyProblem, material, x0, rows: list) -> StockO
     row of the duty's limits, nominal and at the tolerance corners, least; the geometry's own rules
     held) with its section held, rounded and checked. The rows are searched by branch and bound as
     ``search_stock``'s: the least violation with the section free between a set's sizes (the
-    tolerance corners at their least) bounds every row's in the set, a set whose rows cannot keep
-    the rules (IPOPT's infeasibility verdict) has no bound, and a set bounded above the least
-    violation a row keeping the rules has is not opened. The least infeasible row is the first by
-    the geometry's rules broken, then the worst violation. On the bench suite's seed 14
+    tolerance corners at their least) bounds every row's in the set, and a set bounded above the
+    least violation a row keeping the rules has is not opened. A set whose rows cannot keep the
+    rules (IPOPT's infeasibility verdict) is set aside, and its rows are solved one by one, for the
+    least violation of every limit and rule, only when no row keeps them. The least infeasible row
+    is the first by the geometry's rules broken, then the worst violation. On the bench suite's seed 14
     013-kilonewton this solves 13 of each tube's 158 rows, where every row was once solved from
     the continuous answer for the limits, and the IPOPT answers that proved the rows infeasible
     left a closest tube breaking four of the geometry's rules (docs/model.md §5)."""
@@ -245,13 +246,14 @@ def least_infeasible(problem: FamilyProblem, material, x0, rows: list) -> StockO
             return max(worst, bound), s
         return (math.inf if s.message in IPOPT_INFEASIBLE else bound), None
 
-    def leaf(member, start) -> float:
-        """The row's least violation when its design keeps the geometry's rules, else infinity."""
+    def leaf(member, start, rules: bool = True) -> float:
+        """The row's least violation when its design keeps the geometry's rules, else infinity;
+        without ``rules`` they are violations as the limits are, and the depth is not held."""
         item, fixed, exact = rows[member]
-        s, _ = problem.least_violation(params, start, soft, fixed=fixed)
+        s, _ = problem.least_violation(params, start, soft if rules else set(problem.row_names), fixed=fixed)
         solves.append(s)
         found = [round_and_check(on_stock(problem.design(s.x, material), item, exact), spec)]
-        for held in depths_held(problem, s.x):   # the pocket's depth on its grid (``closest_designs``)
+        for held in depths_held(problem, s.x) if rules else ():   # the pocket's depth on its grid (``closest_designs``)
             s2, _ = problem.least_violation(params, s.x, soft, fixed={**fixed, **held})
             solves.append(s2)
             found.append(round_and_check(on_stock(problem.design(s2.x, material), item, exact), spec))
@@ -264,7 +266,8 @@ def least_infeasible(problem: FamilyProblem, material, x0, rows: list) -> StockO
 
     everything = list(range(len(rows)))
     bound, root = relax(everything, x0, -math.inf)
-    heap, counter, leaves, best = [(bound, 0, everything, root)], 1, 0, math.inf
+    heap, aside = ([(bound, 0, everything, root)], []) if bound < math.inf else ([], everything)
+    counter, leaves, best = 1, 0, math.inf
     while heap:
         bound, _, members, parent = heapq.heappop(heap)
         if bound > best:
@@ -276,8 +279,15 @@ def least_infeasible(problem: FamilyProblem, material, x0, rows: list) -> StockO
             continue
         for part in _split(points, members, start, index):
             child, s = relax(part, start, bound)
-            heapq.heappush(heap, (child, counter, part, s or parent))
-            counter += 1
+            if child < math.inf:
+                heapq.heappush(heap, (child, counter, part, s or parent))
+                counter += 1
+            else:
+                aside += part
+    if not math.isfinite(best):   # no row keeps the geometry's rules
+        for member in aside:
+            leaf(member, x0, rules=False)
+        leaves += len(aside)
     evaluation = min(checked, key=_farness, default=None)
     return _outcome(problem, material, rows, [] if evaluation is None else [evaluation], solves, leaves, 0)
 

@@ -73,7 +73,7 @@ def _on_stock(spec, problems: dict, candidates: list, stocked: list, prune_infea
             continue  # its continuous optimum bounds every row: none can rank before the cap
         x0 = start_from(problem, cand.evaluation) if cand.evaluation is not None else problem.starts()[0]
         found = search_stock(problem, material, x0, rows=rows, cap=cap, prune_infeasible=prune_infeasible,
-                             every_row=not prune_infeasible)
+                             closest=not prune_infeasible)
         ev = found.evaluation
         out[i] = replace(cand, evaluation=ev, solves=cand.solves + found.solves, continuous=cand.evaluation,
                          stock_note=found.note if ev is None or not ev.feasible else "", outranked=found.outranked)

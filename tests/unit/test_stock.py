@@ -387,14 +387,14 @@ def test_with_no_feasible_stock_design_the_least_infeasible_row_is_reported(monk
 
 def _least_infeasible_searches(monkeypatch, spec) -> tuple:
     """``optimize(spec)``, and the arguments and outcome of each stock search it made for a least
-    infeasible row (``every_row``)."""
+    infeasible row (``closest``)."""
     from designer.search import stocked
 
     made, search = [], stocked.search_stock
 
     def recorded(*args, **kwargs):
         out = search(*args, **kwargs)
-        if kwargs.get("every_row"):
+        if kwargs.get("closest"):
             made.append((args, kwargs["rows"], out))
         return out
     monkeypatch.setattr(stocked, "search_stock", recorded)
