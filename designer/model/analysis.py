@@ -153,7 +153,7 @@ def analyse(g: Geometry, m: MaterialParams, spec, ops: Ops = NUMERIC, table: Cor
     table = corrections.load() if table is None else table
     # per-station factors on the gauge strain (and so on k_i): the feature and clamp corrections,
     # then the design's 3-D/model ratios
-    station_factors = [corrections.strain_factors(g, table, ops)]
+    station_factors = [corrections.strain_factors(g, table, ops, m.poisson)]
     arc = grid_arc_factor(g, ops)
     if arc is not None:
         station_factors.append([arc] * len(g.stations))

@@ -17,14 +17,12 @@ shipped as ``materials/corrections.yaml``:
 - ``stress``: K_t, the 3-D peak stress at the feature (a pocket's or flat's floor radius at its
   ends, a hole's edge) over the beam model's nominal stress at the feature's clamp-side edge;
   a slot's ``stress_face`` the same at its rim on the loaded outer face (K_t the larger);
-- ``stiffness`` (under ``plain``, ``StiffnessFit``): the plain bar's free-end deflection beyond
-  Euler-Bernoulli theory, the clamp's plate effect on a wide bar and the shear deflection of a
-  stubby one (``checks.stiffness_study``).
+- ``stiffness`` (under ``plain``, ``StiffnessFit``): the plain bar's free-end deflection beyond Euler-Bernoulli
+  theory, the clamp's plate effect on a wide bar and a stubby one's shear (``checks.stiffness_study``).
 
-A fit is a polynomial in its family's parameters, smooth so that IPOPT keeps exact
-derivatives, and valid over the box of the study (its ``domain``): designs are kept inside it
-by limits (``model.domain``, ``model.limits``). The parameters are computed here, once, for the study and for the
-model alike.
+A fit is a polynomial in its family's parameters, smooth so that IPOPT keeps exact derivatives,
+and valid over the box of the study (its ``domain``): designs are kept inside it by limits
+(``model.domain``, ``model.limits``). The parameters are computed here, for the study and the model alike.
 """
 
 from __future__ import annotations
@@ -85,11 +83,9 @@ def _parameters(g: Geometry) -> dict:
 def derived_parameters(values: dict, clamp_ratio=None, ops=None) -> dict:
     """The parameters computed from the others (``DERIVED``), for the model and the study's rows alike:
     - ``clamp_near``, the first feature's nearness to the clamp, exp(-3 u) of its clamp-side end
-      ``clamp_ratio`` = u sizes out (``clamp_ratios``): 0.05 one size out, and the clamp's effect
-      on a feature fades faster (none without a clamp ratio);
+      ``clamp_ratio`` = u sizes out (``clamp_ratios``): 0.05 one size out (none without one);
     - a pocket's grid-gap decays (``grid_gap_decays``);
-    - a slot's ``side_wall_ratio`` = (b - w_p)/h: the side walls that carry the load past a
-      part-width slot;
+    - a slot's ``side_wall_ratio`` = (b - w_p)/h: the side walls carrying the load past a slot;
     - a hole's ``hole_edge`` (``hole_edge``);
     - a flat's ``shoulder_notch`` = sqrt(s/r), ``notch_ratio`` of the highest shoulder ``s`` its
       wire channel leaves (``shoulder_ratio``)."""
@@ -185,6 +181,9 @@ def width_amplitude(peak, w0, w, ops):
 
 CLAMP_COEFFICIENTS = ("a", "w0", "k", "u0")
 SECH_REACH = 15.0   # sech(15) = 6e-7
+# ClampFit's loss (fitted on 6061-T6, nu 0.33) scales with a material's Poisson's ratio as
+# (nu / CLAMP_POISSON)^CLAMP_POISSON_POWER: the clamp's series in four materials (benchmarks/clamp_poisson_check.py)
+CLAMP_POISSON, CLAMP_POISSON_POWER = 0.33, 1.4
 
 
 @dataclass(frozen=True)
@@ -500,19 +499,20 @@ def stiffness_fit(table: Corrections):
     return table.fit("plain", "stiffness")
 
 
-def strain_factors(g: Geometry, table: Corrections, ops=None) -> tuple:
-    """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at
-    the station's distance from the clamp over the width, times the family's own ``near_clamp``
-    fit: a ``DecayFit`` or ``EdgeFit`` at its distance in sizes, or a slot's ``ClampShareFit`` of
-    the plain bar's loss to the clamp there, and on a biaxial sensor the side features'
-    ``biaxial_strain_factor``; empty when the table corrects none of them."""
+def strain_factors(g: Geometry, table: Corrections, ops=None, poisson=None) -> tuple:
+    """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at the
+    station's distance from the clamp over the width (its loss scaled to the material's ``poisson``,
+    ``CLAMP_POISSON``), times the family's own ``near_clamp`` fit: a ``DecayFit`` or ``EdgeFit`` at its
+    distance in sizes, or a slot's ``ClampShareFit`` of the plain bar's loss to the clamp there, and
+    on a biaxial sensor the side features' ``biaxial_strain_factor``; empty if the table corrects none."""
     strain, clamp, near = table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")
     if strain is None and clamp is None and near is None:
         return ()
     values = parameters(g)
     base = (strain(values) if strain is not None else 1.0) * biaxial_strain_factor(g, ops)
     factors = [base for _ in g.stations]
-    plate = [clamp(values["width_ratio"], u, ops) if clamp is not None else 1.0 for u in station_width_ratios(g)]
+    scale = 1.0 if poisson is None else (poisson / CLAMP_POISSON) ** CLAMP_POISSON_POWER
+    plate = [1 - (1 - clamp(values["width_ratio"], u, ops)) * scale if clamp else 1.0 for u in station_width_ratios(g)]
     factors = [f * c for f, c in zip(factors, plate)]
     if isinstance(near, ClampShareFit):
         factors = [f * near(values, 1 - c, clamp_nearness(r, ops)) for f, c, r in zip(factors, plate, clamp_ratios(g))]
