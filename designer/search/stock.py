@@ -125,8 +125,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
         return least_infeasible(problem, material, x0, rows)
     spec = problem.spec
     params = problem.params(material)
-    index = sorted(rows[0][1])
-    points = np.array([[mm[i] for i in index] for _, mm, _ in rows])
+    index, points = _sizes(rows)
     solves, checked = [], []
     best_nlp = in_nlp_units(cap, spec.objective)  # the best checked row's objective (or the cap), NLP units
 
@@ -134,7 +133,7 @@ def search_stock(problem: FamilyProblem, material, x0, rows=None, cap: float = m
         return float(problem.functions(s.x, params)[0])
 
     def relax(members, start, parent=None):
-        box = {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
+        box = _box(points, members, index)
         s = problem.solve_ipopt(params, start, box=box, margin=margin, least=True, warm=parent)
         solves.append(s)
         return s
@@ -234,12 +233,11 @@ def least_infeasible(problem: FamilyProblem, material, x0, rows: list) -> StockO
     the continuous answer for the limits, and the IPOPT answers that proved the rows infeasible
     left a closest tube breaking four of the geometry's rules (docs/model.md §5)."""
     spec, params, soft = problem.spec, problem.params(material), set(model.DUTY_LIMITS)
-    index = sorted(rows[0][1])
-    points = np.array([[mm[i] for i in index] for _, mm, _ in rows])
+    index, points = _sizes(rows)
     solves, checked = [], []
 
     def relax(members, start, bound: float) -> tuple:
-        box = {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
+        box = _box(points, members, index)
         s, worst = problem.least_violation(params, start, soft, box=box, least=True)
         solves.append(s)
         if s.success:
@@ -313,6 +311,17 @@ def _outcome(problem, material, rows, checked, solves, leaves: int, pruned: int)
     elif not evaluation.feasible:
         note = f"no stock row of {material.name} {problem.family.label} meets every limit"
     return StockOutcome(evaluation, tuple(solves), len(rows), leaves, note)
+
+
+def _sizes(rows: list) -> tuple[list, np.ndarray]:
+    """``(indices, points)``: the section's variable indices and each row's sizes at them (mm)."""
+    index = sorted(rows[0][1])
+    return index, np.array([[mm[i] for i in index] for _, mm, _ in rows])
+
+
+def _box(points: np.ndarray, members: list, index: list) -> dict:
+    """``{index: (low, high)}``: the box around the sizes of the rows ``members`` (NLP units)."""
+    return {i: (points[members, k].min(), points[members, k].max()) for k, i in enumerate(index)}
 
 
 def _split(points: np.ndarray, members: list, x, index: list) -> list:
