@@ -93,7 +93,7 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     """Every limit of docs/model.md §4 and the geometry rules of §1 (``rules=False``: the limits of
     §4 alone, without the section's sizes and manufacturing rules and the fits' domain, which a
     tolerance corner does not judge)."""
-    from designer.model import corrections
+    from designer.model import corrections, poisson
 
     lim, load = spec.limits, spec.load
     mm = 1e-3  # scale for geometric rules whose limit may be zero
@@ -101,8 +101,8 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
     l_f = g.feature_length
     table = corrections.load() if table is None else table
     # the strain-borne limits, the deflection and the fatigue limit at a feature keep room for the
-    # corrections' own uncertainty (docs/model.md §4, §7)
-    allowance = corrections.strain_allowance(g, table)
+    # corrections' own uncertainty (docs/model.md §4, §7), and for the material's Poisson's ratio
+    allowance = corrections.strain_allowance(g, table) + poisson.strain_room(corrections.family(g), m.poisson, ops)
     out = [
         Limit("stress_root", a.stress_root, m.allowable, unit="Pa"),
         Limit("stress_feature", a.stress_feature, m.static_allowable, unit="Pa"),
@@ -147,7 +147,8 @@ def limits(g: Geometry, a, m, spec, include_targets: bool = True,
         out += [Limit(f"{name}_{i + 1}", d[i + 1] - d[i] - l_f, least, upper=False, scale=mm, unit="m")
                 for name, least in webs for i in range(len(d) - 1)]
     if lim.max_deflection is not None:
-        room = corrections.deflection_allowance(g, table)
+        room = corrections.deflection_allowance(g, table) + poisson.deflection_room(corrections.family(g), m.poisson,
+                                                                                      ops)
         out.append(Limit("deflection", a.deflection, lim.max_deflection / (1 + room), unit="m",
                          rating=lim.max_deflection))
     if lim.min_frequency is not None:
