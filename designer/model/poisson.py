@@ -27,8 +27,9 @@ from designer.model.ops import NUMERIC, Ops
 # up: 13 round flats, 13 holes, 12 slots and 9 tube flats inside the fits' domain, in 17-4PH-H900 and
 # Ti-6Al-4V (and 301-full-hard on a few), set beside 6061-T6 (benchmarks/feature_poisson_check.md)
 STRAIN_ROOM = {"round-pocket": 0.23, "rectangle-hole": 0.28, "rectangle-pocket": 0.09, "tube-pocket": 0.11}
-# ... of the free-end deflection per unit of FIT_POISSON - nu (a larger nu deflects less); plain bars
-# 4, 8 and 16 times as wide as high read 0.3-0.4 % more in 17-4PH-H900 than in 6061-T6
+# ... of the free-end deflection per unit of FIT_POISSON - nu (a larger nu deflects less); plain
+# rectangular bars 4, 8 and 16 times as wide as high read 0.3-0.4 % more in 17-4PH-H900 than in
+# 6061-T6, and plain round bars and tubes, not measured, are taken alike
 DEFLECTION_ROOM = {"round-pocket": 0.21, "rectangle-hole": 0.08, "rectangle-pocket": 0.07, "tube-pocket": 0.07,
                    "rectangle-none": 0.08, "round-none": 0.08, "tube-none": 0.08}
 
