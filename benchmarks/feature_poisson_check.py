@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -33,16 +34,12 @@ MATERIALS = ("6061-T6", "17-4PH-H900", "301-full-hard", "Ti-6Al-4V")   # nu 0.33
 FAMILIES = ("rectangle-pocket", "round-pocket", "tube-pocket", "rectangle-hole")
 
 
-def evaluated(case: study.Case, material: str = study.MATERIAL):
-    """The case's design evaluated (``evaluate_fixed``) in ``material``."""
+def evaluated(case: study.Case):
+    """The case's design evaluated (``evaluate_fixed``)."""
     from designer.result.pipeline import evaluate_fixed
     from designer.spec.reader import parse_spec_text
 
-    before, study.MATERIAL = study.MATERIAL, material    # the case's spec names the study's material
-    try:
-        return evaluate_fixed(parse_spec_text(case.spec_text(), source=case.family))
-    finally:
-        study.MATERIAL = before
+    return evaluate_fixed(parse_spec_text(case.spec_text(), source=case.family))
 
 
 def in_domain(case: study.Case) -> bool:
@@ -70,7 +67,7 @@ def run(material: str, case: study.Case, mesh: str) -> tuple:
     """``(gauge ratios, deflection ratio, feature peak ratio)``: 3-D over the shipped model."""
     from designer.checks.fea import verify_design
 
-    v = verify_design(evaluated(case, material).record, mesh=mesh)
+    v = verify_design(evaluated(replace(case, material=material)).record, mesh=mesh)
     return (tuple(g.ratio for g in v.gauges), v.deflection_fea / v.deflection_model,
             v.stress_feature_fea / v.stress_model)
 

@@ -75,6 +75,7 @@ class Case:
     grid_length: float = GRID_LENGTH          # the gauge's grid (BF350-3AA's, or shorter on the same backing)
     backing_width: float = 0.0                # the gauge's backing across the beam, if narrower than BF350-3AA's
     channel: tuple = ()                       # the wire channel's (width, depth), else the CAD's default
+    material: str = MATERIAL                  # the catalogue's material (the fits' are all 6061-T6's)
 
     @property
     def section(self) -> str:
@@ -119,7 +120,7 @@ class Case:
                 + "bridge: half\n"
                 f"limits: {{max_pocket_fraction: 0.49, min_wall: 0.3 mm, load_clearance: 0 mm, "
                 f"clamp_clearance: {mm(min(self.clamp_clearance, CLAMP_CLEARANCE))}}}\n"
-                f"design:\n  material: {MATERIAL}\n  section: {section}\n  stations: [{mm(near)}, {mm(far)}]\n"
+                f"design:\n  material: {self.material}\n  section: {section}\n  stations: [{mm(near)}, {mm(far)}]\n"
                 f"  feature: {feature}\n"
                 + (f"cad: {{corner_radius: {mm(self.corner_radius)}"
                    + (f", channel_width: {mm(self.channel[0])}, channel_depth: {mm(self.channel[1])}" if self.channel else "")

@@ -1,9 +1,12 @@
 """The limits keep room for the material's Poisson's ratio (docs/model.md §7, ``model.poisson``):
 the features' fits were taken on 6061-T6 (nu 0.33). References are fresh 3-D runs of study bars
 inside the fits' domain in 6061-T6 and in 17-4PH-H900 (nu 0.272, the catalogue's lowest), each
-over the shipped model (``checks.study.model_ratios``), and the model's limits in closed form."""
+over the shipped model (as ``checks.study.model_ratios``, with the deflection), and the model's
+limits in closed form."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import pytest
 
@@ -22,35 +25,34 @@ DEEP_FLAT = study.Case("round-pocket", diameter=9.439e-3, depth=3.215e-3, clamp_
 WIDE_HOLE = study.Case("rectangle-hole", width=25e-3, height=20e-3, hole=15e-3, clamp_clearance=5e-3)
 
 
-def _in(case, material, monkeypatch):
+def _in(case, material):
     """``(spec, evaluate_fixed's result)`` of the case in ``material``, inside the fits' domain."""
-    monkeypatch.setattr(study, "MATERIAL", material)
-    spec = parse_spec_text(case.spec_text(), source=case.family)
+    spec = parse_spec_text(replace(case, material=material).spec_text(), source=case.family)
     result = evaluate_fixed(spec)
     assert not [v.name for v in result.evaluation.violations if v.name.startswith("domain_")]
     return spec, result
 
 
-def _readings(case, material, monkeypatch):
+def _readings(case, material):
     """``(gauge ratios, deflection ratio)``: 3-D over the shipped model in ``material``."""
-    v = verify_design(_in(case, material, monkeypatch)[1].record, mesh="normal")
+    v = verify_design(_in(case, material)[1].record, mesh="normal")
     return [g.ratio for g in v.gauges], v.deflection_fea / v.deflection_model
 
 
 @pytest.mark.slow
-def test_a_deep_round_flat_in_steel_reads_more_strain_and_deflection_and_the_limits_keep_that_room(monkeypatch):
+def test_a_deep_round_flat_in_steel_reads_more_strain_and_deflection_and_the_limits_keep_that_room():
     """In 3-D the steel flat reads about 1.1 % more gauge strain and deflection over the model than
     the same aluminium flat (benchmarks/feature_poisson_check.md); the gauge-strain limit of the steel
     design keeps its fits' room plus at least that much, the deflection limit likewise."""
-    alu, alu_deflection = _readings(DEEP_FLAT, "6061-T6", monkeypatch)
-    steel, steel_deflection = _readings(DEEP_FLAT, STEEL, monkeypatch)
+    alu, alu_deflection = _readings(DEEP_FLAT, "6061-T6")
+    steel, steel_deflection = _readings(DEEP_FLAT, STEEL)
     shifts = [s / a - 1 for s, a in zip(steel, alu)]
     assert min(shifts) > 0.008, shifts
     room = poisson.strain_room("round-pocket", 0.272)
     assert room >= max(shifts)
     assert poisson.deflection_room("round-pocket", 0.272) >= steel_deflection / alu_deflection - 1 > 0.008
     # the steel design's gauge-strain limit: the gauge's rating over 1 + its fits' room + the room for nu
-    spec, result = _in(DEEP_FLAT, STEEL, monkeypatch)
+    spec, result = _in(DEEP_FLAT, STEEL)
     g = result.evaluation.design.geometry
     limit = next(lim for lim in result.evaluation.judged if lim.name == "gauge_strain")
     assert float(limit.limit) == pytest.approx(
@@ -58,17 +60,17 @@ def test_a_deep_round_flat_in_steel_reads_more_strain_and_deflection_and_the_lim
 
 
 @pytest.mark.slow
-def test_a_hole_in_a_wide_steel_bar_reads_less_strain_and_the_targets_keep_that_room(monkeypatch):
+def test_a_hole_in_a_wide_steel_bar_reads_less_strain_and_the_targets_keep_that_room():
     """In 3-D the steel bar's gauges over its holes read up to 1.4 % less strain over the model than
     the aluminium bar's: the errors, which scale as one over the strain, rise by as much, and the
     accuracy targets keep that room."""
-    alu, _ = _readings(WIDE_HOLE, "6061-T6", monkeypatch)
-    steel, _ = _readings(WIDE_HOLE, STEEL, monkeypatch)
+    alu, _ = _readings(WIDE_HOLE, "6061-T6")
+    steel, _ = _readings(WIDE_HOLE, STEEL)
     shifts = [s / a - 1 for s, a in zip(steel, alu)]
     assert max(shifts) < -0.008, shifts
     room = poisson.strain_room("rectangle-hole", 0.272)
     assert room >= -min(shifts)
-    spec, result = _in(WIDE_HOLE, STEEL, monkeypatch)
+    spec, result = _in(WIDE_HOLE, STEEL)
     g = result.evaluation.design.geometry
     target = next(lim for lim in result.evaluation.judged if lim.name == "force_error")
     assert float(target.limit) == pytest.approx(
