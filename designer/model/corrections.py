@@ -31,7 +31,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from designer.model.biaxial import biaxial_strain_factor, biaxial_strain_room
-from designer.model.ops import PEAK_SMOOTHING, ops_for, rounded_max
+from designer.model.ops import NUMERIC, PEAK_SMOOTHING, ops_for, rounded_max
 from designer.model.sections import Geometry, Widened, shoulder_ratio  # noqa: F401 - Widened: ours to give
 
 TABLE = "corrections.yaml"
@@ -53,9 +53,7 @@ def parameters(g: Geometry) -> dict:
 
 def _parameters(g: Geometry) -> dict:
     size = g.size
-    out = {"length_ratio": g.feature_length / size,
-           "width_ratio": g.breadth / size,
-           "grid_ratio": g.grid_length / size}
+    out = {"length_ratio": g.feature_length / size, "width_ratio": g.breadth / size, "grid_ratio": g.grid_length / size}
     if g.feature == "pocket":
         out["depth_ratio"] = g.depth / (g.wall if g.section == "tube" else size)
         out["radius_ratio"] = g.floor_radius / g.depth    # r/t of Peterson's shoulder-fillet charts
@@ -89,8 +87,6 @@ def derived_parameters(values: dict, clamp_ratio=None, ops=None) -> dict:
     - a hole's ``hole_edge`` (``hole_edge``);
     - a flat's ``shoulder_notch`` = sqrt(s/r), ``notch_ratio`` of the highest shoulder ``s`` its
       wire channel leaves (``shoulder_ratio``)."""
-    from designer.model.ops import NUMERIC
-
     out = {}
     if clamp_ratio is not None:
         out[CLAMP_NEAR] = clamp_nearness(clamp_ratio, ops)
@@ -114,8 +110,6 @@ GAP_RATES = {"gap_slow": 3.7}
 
 def grid_gap_decays(length_ratio, grid_ratio, ops=None) -> dict:
     """``{gap_slow}``: ``exp(-k (l_f - l_grid) / (2 size))`` at GAP_RATES."""
-    from designer.model.ops import NUMERIC
-
     gap = (length_ratio - grid_ratio) / 2
     return {name: (ops or NUMERIC).exp(-rate * gap) for name, rate in GAP_RATES.items()}
 
@@ -135,8 +129,6 @@ HOLE_EDGE_RATE = 30.0
 
 def hole_edge(hole_ratio, ops=None):
     """``log(1 + exp(k (d/h - d_0))) / k``: about 0 below ``d_0``, ``d/h - d_0`` above it."""
-    from designer.model.ops import NUMERIC
-
     ops = ops or NUMERIC
     z = HOLE_EDGE_RATE * (hole_ratio - HOLE_EDGE_AT)
     # log(1 + e^z) as max(z, 0) + log(1 + e^-|z|): the same, without e^z overflowing on a wild
@@ -154,8 +146,6 @@ DERIVED = (CLAMP_NEAR, *GAP_RATES, "side_wall_ratio", HOLE_EDGE, SHOULDER_NOTCH)
 
 def clamp_nearness(clamp_ratio, ops=None):
     """``exp(-CLAMP_NEAR_RATE u)`` of a feature ``u`` section sizes from the clamp face."""
-    from designer.model.ops import NUMERIC
-
     return (ops or NUMERIC).exp(-CLAMP_NEAR_RATE * clamp_ratio)
 
 
@@ -182,8 +172,11 @@ def width_amplitude(peak, w0, w, ops):
 CLAMP_COEFFICIENTS = ("a", "w0", "k", "u0")
 SECH_REACH = 15.0   # sech(15) = 6e-7
 # ClampFit's loss (fitted on 6061-T6, nu 0.33) scales with a material's Poisson's ratio as
-# (nu / CLAMP_POISSON)^CLAMP_POISSON_POWER: the clamp's series in four materials (benchmarks/clamp_poisson_check.py)
-CLAMP_POISSON, CLAMP_POISSON_POWER = 0.33, 1.4
+# (nu / CLAMP_POISSON)^CLAMP_POISSON_POWER: the clamp's series in four materials (benchmarks/clamp_poisson_check.py);
+# a plain round bar's or tube's own near_clamp loss as (nu / CLAMP_POISSON)^NEAR_POISSON_POWER: least squares over
+# 16 study bars in 17-4PH-H900 and Ti-6Al-4V (round bars 1.2, tubes 1.09; benchmarks/feature_poisson_check.md)
+CLAMP_POISSON, CLAMP_POISSON_POWER, NEAR_POISSON_POWER = 0.33, 1.4, 1.2
+NEAR_POISSON_FAMILIES = ("round-none", "tube-none")
 
 
 @dataclass(frozen=True)
@@ -206,8 +199,6 @@ class ClampFit:
     loo_max: float = 0.0
 
     def __call__(self, w, u, ops=None):
-        from designer.model.ops import NUMERIC
-
         ops = ops or NUMERIC
         amplitude = width_amplitude(self.a, self.w0, w, ops)
         # beyond |z| = SECH_REACH the restraint is below 1e-6 of its peak: z is held there, so
@@ -246,7 +237,6 @@ class StiffnessFit:
     def extra_deflection(self, g: Geometry, sp, E, poisson, force, x, ops=None):
         """What the plate effect and shear add to Euler-Bernoulli's free-end deflection (m; the
         plate effect takes off) for ``force`` at ``x`` on ``g`` of section properties ``sp``."""
-        from designer.model.ops import NUMERIC
         from designer.model.sections import bore_ratio, shear_stiffness
 
         ops = ops or NUMERIC
@@ -324,8 +314,6 @@ class DecayFit(_OverPolynomial):
     domain: dict            # clamp_ratio and the poly's variables -> (low, high)
 
     def __call__(self, values: dict, u, ops=None):
-        from designer.model.ops import NUMERIC
-
         ops = ops or NUMERIC
         return 1 + ops.exp(-self.rate * u) * grid_mean(self.rate, values["grid_ratio"] / 2, ops) * self.poly(values)
 
@@ -380,8 +368,6 @@ def edge_means(k0, wall_ratio, u, half, ops=None) -> dict:
     """``{osc_c, osc_s}``: the means of ``exp(-b s) cos(b s)`` and ``exp(-b s) sin(b s)`` over
     ``s`` in ``[u - half, u + half]``, ``b = k0 / sqrt(w (1 - w))`` (closed-form antiderivatives
     ``exp(-b s) (sin - cos) / (2 b)`` and ``-exp(-b s) (sin + cos) / (2 b)``)."""
-    from designer.model.ops import NUMERIC
-
     ops = ops or NUMERIC
     b = k0 / ops.sqrt(wall_ratio * (1 - wall_ratio))
 
@@ -397,8 +383,6 @@ def edge_means(k0, wall_ratio, u, half, ops=None) -> dict:
 def grid_mean(rate, half, ops=None):
     """``sinh(rate half) / (rate half)``: the mean of ``exp(-rate s)`` over a grid ``2 half`` long
     over its value at the grid's centre."""
-    from designer.model.ops import NUMERIC
-
     ops = ops or NUMERIC
     z = ops.fmax(rate * half, 1e-6)   # a grid of no length (a point gauge): the value at its centre
     return (ops.exp(z) - ops.exp(-z)) / (2 * z)
@@ -503,8 +487,9 @@ def strain_factors(g: Geometry, table: Corrections, ops=None, poisson=None) -> t
     """Each station's gauge-strain factor: the feature's ``strain`` fit times the ``clamp`` fit at the
     station's distance from the clamp over the width (its loss scaled to the material's ``poisson``,
     ``CLAMP_POISSON``), times the family's own ``near_clamp`` fit: a ``DecayFit`` or ``EdgeFit`` at its
-    distance in sizes, or a slot's ``ClampShareFit`` of the plain bar's loss to the clamp there, and
-    on a biaxial sensor the side features' ``biaxial_strain_factor``; empty if the table corrects none."""
+    distance in sizes (on a plain round bar or tube, its loss scaled to ``poisson`` too), or a slot's
+    ``ClampShareFit`` of the plain bar's loss to the clamp there, and on a biaxial sensor the side
+    features' ``biaxial_strain_factor``; empty if the table corrects none."""
     strain, clamp, near = table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")
     if strain is None and clamp is None and near is None:
         return ()
@@ -517,7 +502,9 @@ def strain_factors(g: Geometry, table: Corrections, ops=None, poisson=None) -> t
     if isinstance(near, ClampShareFit):
         factors = [f * near(values, 1 - c, clamp_nearness(r, ops)) for f, c, r in zip(factors, plate, clamp_ratios(g))]
     elif near is not None:
-        factors = [f * near(values, u, ops) for f, u in zip(factors, station_ratios(g))]
+        own = (1.0 if poisson is None or family(g) not in NEAR_POISSON_FAMILIES
+               else (poisson / CLAMP_POISSON) ** NEAR_POISSON_POWER)
+        factors = [f * (1 - (1 - near(values, u, ops)) * own) for f, u in zip(factors, station_ratios(g))]
     return tuple(factors)
 
 
