@@ -174,8 +174,8 @@ SECH_REACH = 15.0   # sech(15) = 6e-7
 # ClampFit's loss (fitted on 6061-T6, nu 0.33) scales with a material's Poisson's ratio as
 # (nu / CLAMP_POISSON)^CLAMP_POISSON_POWER: the clamp's series in four materials (benchmarks/clamp_poisson_check.py);
 # a plain round bar's or tube's own near_clamp loss as (nu / CLAMP_POISSON)^NEAR_POISSON_POWER: least squares over
-# 16 study bars in 17-4PH-H900 and Ti-6Al-4V (round bars 1.2, tubes 1.09; benchmarks/feature_poisson_check.md)
-CLAMP_POISSON, CLAMP_POISSON_POWER, NEAR_POISSON_POWER = 0.33, 1.4, 1.2
+# 16 study bars in 17-4PH-H900 and Ti-6Al-4V (round bars 1.13, tubes 1.08; benchmarks/feature_poisson_check.md)
+CLAMP_POISSON, CLAMP_POISSON_POWER, NEAR_POISSON_POWER = 0.33, 1.4, 1.1
 NEAR_POISSON_FAMILIES = ("round-none", "tube-none")
 
 

@@ -3,8 +3,10 @@ deflection and the peak stresses.
 
 - A gauge reads the mean of ``eps_xx`` over its grid's footprint (``grid_length x grid_width``
   centred on the station, on the gauge face: the pocket floor, or the beam's surface). Along
-  each line of the grid that mean is exactly ``(u_x(end) - u_x(start)) / grid_length``; the
-  lines are combined with Gauss-Legendre weights across the grid's width.
+  each line of the grid that mean is exactly ``(u_x(end) - u_x(start)) / grid_length`` at one
+  height (a round surface's facets put the ends a little apart in height: the change of u_x
+  over it, by the section's rotation, is taken out); the lines are combined with
+  Gauss-Legendre weights across the grid's width.
 - The free-end deflection is the cut face's mean deflection ``w_c`` and slope ``w'_c`` (least
   squares of ``u_x = -z w'``) carried to the free end with Euler-Bernoulli over the plain rest:
   ``w(l) = w_c + w'_c (l - x_cut) + F a^3/(3EI) + F a^2/(2EI) (l - x_max)``, ``a = x_max - x_cut``.
@@ -169,7 +171,12 @@ def gauge_strains(sol: Solution, pb: Problem) -> list[float]:
         xy = np.array([np.r_[np.full(GAUGE_LINES, x1), np.full(GAUGE_LINES, x2)], np.r_[ys, ys]])
         points, cells = _surface_points(sol.mesh, xy, below=pb.gauge_z + PLANE_TOLERANCE * pb.size)
         ux = _axial_displacement(sol, points, cells)
-        strain = (ux[GAUGE_LINES:] - ux[:GAUGE_LINES]) / pb.grid_length
+        # a round surface's facets put a line's two ends at heights a little apart, over which u_x
+        # changes by the section's rotation (du_x/dz = -w'): the line is read at one height, midway
+        rise = points[2, GAUGE_LINES:] - points[2, :GAUGE_LINES]
+        turn = _probe_matrix(sol.basis, points, cells, derivative=2) @ sol.u[0]
+        ux_rise = (turn[GAUGE_LINES:] + turn[:GAUGE_LINES]) / 2 * rise
+        strain = (ux[GAUGE_LINES:] - ux[:GAUGE_LINES] - ux_rise) / pb.grid_length
         out.append(float(np.sum(w * strain) / np.sum(w)))
     return out
 
