@@ -169,7 +169,7 @@ def verify_design(design: dict, mesh: str = "normal", out_dir: Path | None = Non
         runs=(main.run, partner.run), profile_x=tuple(float(v) for v in x),
         profile_fea=tuple(float(v) for v in eps),
         profile_model=tuple(float(v) for v in model_profile(x, z, pb, segments)),
-        gauge_grid=(pb.grid_length, pb.grid_width), feature_length=pb.feature_length, messages=(),
+        gauge_grid=(pb.grid_length, pb.grid_width), feature_length=pb.feature_length, feature=pb.feature, messages=(),
         seconds=0.0, floor_radius=beam.floor_radius,
         stress_feature_worst=main.worst[0] if main.worst else 0.0, worst_angle=main.worst[1] if main.worst else 0.0,
         stress_feature_worst_model=float(a.stress_peak))

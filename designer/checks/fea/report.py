@@ -133,6 +133,7 @@ class VerifyResult:
     seconds: float
     floor_radius: float = 0.0       # the pockets' floor radius (cad.corner_radius), m; 0 without pockets
     stress_concentration_model: float = 1.0  # the model's K_t
+    feature: str = ""               # the design's feature kind (pocket, hole, none)
     stress_feature_nominal: float = 0.0    # the beam model's nominal stress at the feature's clamp-side edge
     stress_stations_fea: tuple = ()  # FEA peak within each station's feature zone
     stress_stations_places: tuple = ()  # ... and its (floor radius, outer face) peaks (readout.stress_peaks)
@@ -333,7 +334,8 @@ def plot_surface_strain(result: VerifyResult, ax=None):
     gl, gw = result.gauge_grid
     for i, g in enumerate(result.gauges):
         ax.axvspan((g.station - result.feature_length / 2) * 1e3, (g.station + result.feature_length / 2) * 1e3,
-                   color="C1", alpha=0.12, lw=0, label="feature" if i == 0 else None)
+                   color="C1", alpha=0.12, lw=0,
+                   label=None if i else "gauge site (no feature)" if result.feature == "none" else "feature")
         ax.errorbar([g.station * 1e3], [g.fea_strain / MICRO], xerr=[[gl * 1e3 / 2], [gl * 1e3 / 2]], fmt="o",
                     color="C3", ms=5, capsize=3, label="3-D gauge (grid mean)" if i == 0 else None)
         ax.plot([g.station * 1e3], [g.model_strain / MICRO], "s", mfc="none", color="k", ms=6,
