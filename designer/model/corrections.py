@@ -490,7 +490,8 @@ def strain_factors(g: Geometry, table: Corrections, ops=None, poisson=None) -> t
     distance in sizes (on a plain round bar or tube, its loss scaled to ``poisson`` too), or a slot's
     ``ClampShareFit`` of the plain bar's loss to the clamp there, and on a biaxial sensor the side
     features' ``biaxial_strain_factor``; empty if the table corrects none."""
-    strain, clamp, near = table.fit(family(g), "strain"), clamp_fit(table), table.fit(family(g), "near_clamp")
+    fam = family(g)
+    strain, clamp, near = table.fit(fam, "strain"), clamp_fit(table), table.fit(fam, "near_clamp")
     if strain is None and clamp is None and near is None:
         return ()
     values = parameters(g)
@@ -502,7 +503,7 @@ def strain_factors(g: Geometry, table: Corrections, ops=None, poisson=None) -> t
     if isinstance(near, ClampShareFit):
         factors = [f * near(values, 1 - c, clamp_nearness(r, ops)) for f, c, r in zip(factors, plate, clamp_ratios(g))]
     elif near is not None:
-        own = (1.0 if poisson is None or family(g) not in NEAR_POISSON_FAMILIES
+        own = (1.0 if poisson is None or fam not in NEAR_POISSON_FAMILIES
                else (poisson / CLAMP_POISSON) ** NEAR_POISSON_POWER)
         factors = [f * (1 - (1 - near(values, u, ops)) * own) for f, u in zip(factors, station_ratios(g))]
     return tuple(factors)
