@@ -80,6 +80,16 @@ class Candidate:
 
 
 FALLBACK = {"ipopt": "slsqp"}  # every other method falls back to ipopt
+# Two starts' answers this close (every variable, in the NLP's units: mm, or the objective's), with
+# the same verdict, are one answer: the later start takes the earlier one's rounding, repair and
+# check, which depend on the answer alone. Starts that converge to one optimum agree to about 1e-9
+# (IPOPT's tolerance); 1e-7 changes a rounding to the 0.01 mm grid only at a grid boundary.
+SAME_ANSWER = 1e-7
+
+
+def _same_answer(a: Solve, b: Solve) -> bool:
+    return (a.success == b.success and a.message == b.message and a.method == b.method
+            and np.shape(a.x) == np.shape(b.x) and float(np.max(np.abs(a.x - b.x), initial=0.0)) <= SAME_ANSWER)
 
 
 class SearchResult(dict):
@@ -138,6 +148,7 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
     tried, winner, proved, answers = [], None, "", {}
     for m in dict.fromkeys(methods):
         verdicts = 0  # starts that ended in a verdict rather than a failure of the solver
+        done = []     # this method's starts so far: (answer, answer after repair, checked design, start)
         for i, x0 in enumerate(starts):
             s = (problem.solve_ipopt(params, x0, margin=margin, warm=warm) if i == 0 and warm is not None and m == "ipopt"
                  else solve(problem, m, params, x0, margin))
@@ -146,36 +157,43 @@ def solve_candidate(problem: FamilyProblem, material, method: str, all_starts: b
                 tried.append(x0)
             if m == "ipopt" and s.message in IPOPT_INFEASIBLE:
                 verdicts += 1
-            ev = round_and_check(problem.design(s.x, material), spec)
-            if ev is None:
-                fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
-                continue
-            # on stock (not ``repair``) a converged answer that meets every limit is kept as it is
-            kept = (None if repair or m != "ipopt"
-                    else outranked_before_rounding(problem, material, s, -math.inf, model.FEASIBILITY_TOLERANCE))
-            if kept is not None and ev.feasible:
-                ev = kept
-            elif not s.success:
-                fallbacks.append(f"{m} start {i + 1}: {s.message}")
-            elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
-                fallbacks.append(f"{m} start {i + 1}: {what_broke(problem, material, s, ev)}")
-                bound = outranked_before_rounding(problem, material, s, cap) if m == "ipopt" and i == 0 else None
-                if bound is not None:
-                    fallbacks.append(f"outranked: its answer before rounding, {bound.objective:.4g}, is more than "
-                                     f"{CONTENDER_BAND:.0%} above the best design found before it; not repaired")
-                    return Candidate(material.name, problem.family, None, tuple(solves), tuple(fallbacks),
-                                     continuous=bound, outranked=True, unrounded=True, tried=tuple(tried))
-                if kept is not None:
-                    fallbacks.append(f"{m} start {i + 1}: on stock: rounding broke a limit; its answer before "
-                                     "rounding kept as the rows' start and bound")
+            twin = next((d for d in done if _same_answer(d[0], s)), None)
+            if twin is not None:   # (a front's infeasible level: every start ends at one optimum)
+                _, s, ev, k = twin
+                fallbacks.append(f"{m} start {i + 1}: the same answer as start {k + 1}; its design as that start's")
+            else:
+                raw = s
+                ev = round_and_check(problem.design(s.x, material), spec)
+                if ev is None:
+                    fallbacks.append(f"{m} start {i + 1}: the answer could not be evaluated ({s.message})")
+                    continue
+                # on stock (not ``repair``) a converged answer that meets every limit is kept as it is
+                kept = (None if repair or m != "ipopt"
+                        else outranked_before_rounding(problem, material, s, -math.inf, model.FEASIBILITY_TOLERANCE))
+                if kept is not None and ev.feasible:
                     ev = kept
-                elif m == "ipopt":
-                    s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
-                                      f"{m} start {i + 1}", front=neighbour is not None or not repair)
-                else:
-                    ev = onto_the_grid(problem, material, s, ev)
-            if m == "ipopt" and s.success and ev.feasible and repair:
-                ev = closer_on_the_grid(problem, params, material, s, ev, solves, neighbour)
+                elif not s.success:
+                    fallbacks.append(f"{m} start {i + 1}: {s.message}")
+                elif not ev.feasible and ev.violations and not only_targets_missed(ev, problem.epigraph):
+                    fallbacks.append(f"{m} start {i + 1}: {what_broke(problem, material, s, ev)}")
+                    bound = outranked_before_rounding(problem, material, s, cap) if m == "ipopt" and i == 0 else None
+                    if bound is not None:
+                        fallbacks.append(f"outranked: its answer before rounding, {bound.objective:.4g}, is more than "
+                                         f"{CONTENDER_BAND:.0%} above the best design found before it; not repaired")
+                        return Candidate(material.name, problem.family, None, tuple(solves), tuple(fallbacks),
+                                         continuous=bound, outranked=True, unrounded=True, tried=tuple(tried))
+                    if kept is not None:
+                        fallbacks.append(f"{m} start {i + 1}: on stock: rounding broke a limit; its answer before "
+                                         "rounding kept as the rows' start and bound")
+                        ev = kept
+                    elif m == "ipopt":
+                        s, ev = back_off(problem, params, material, s, ev, solves, fallbacks,
+                                          f"{m} start {i + 1}", front=neighbour is not None or not repair)
+                    else:
+                        ev = onto_the_grid(problem, material, s, ev)
+                if m == "ipopt" and s.success and ev.feasible and repair:
+                    ev = closer_on_the_grid(problem, params, material, s, ev, solves, neighbour)
+                done.append((raw, s, ev, i))
             if m == "ipopt" and s.success and only_targets_missed(ev, problem.epigraph):
                 verdicts += 1  # the least error this family reaches misses the targets
             checked.append(ev)

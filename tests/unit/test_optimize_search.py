@@ -499,6 +499,30 @@ def test_a_contender_is_solved_from_every_start():
     assert len(found.candidates[0].solves) >= 2
 
 
+def test_starts_that_end_at_one_answer_share_its_rounding_and_repair(monkeypatch):
+    # The gripper finger's 17-7PH-RH950 slotted bar under a 0.25 mm deflection limit (the tightest
+    # level of its deflection front): both of IPOPT's starts end at one optimum that misses the
+    # force target, and rounding it breaks the limit (the back-off re-solves). The second start
+    # takes the first one's design instead of repeating that work, and the candidate is what
+    # rounding and repairing each start's answer on its own gives (SAME_ANSWER < 0: never alike).
+    from designer.search import run
+    from designer.search.problem import FamilyProblem, Family
+
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    spec = replace(spec, objective="error", limits=replace(spec.limits, max_deflection=0.25e-3))
+    problem = FamilyProblem(spec, Family("rectangle", "pocket"))
+    material = catalogue.material("17-7PH-RH950")
+    shared = run.solve_candidate(problem, material, "ipopt")
+    monkeypatch.setattr(run, "SAME_ANSWER", -1.0)
+    each = run.solve_candidate(problem, material, "ipopt")
+    assert any("ipopt start 2: the same answer as start 1" in f for f in shared.fallbacks)
+    assert not any("the same answer" in f for f in each.fallbacks)
+    a, b = shared.evaluation, each.evaluation
+    assert a.design == b.design and a.objective == b.objective and not a.feasible
+    assert [(v.name, v.value) for v in a.violations] == [(v.name, v.value) for v in b.violations]
+    assert len(shared.solves) < len(each.solves)
+
+
 def test_the_front_passes_through_the_chosen_design(monkeypatch):
     # The front's points at the spec's own deflection limit are the search's designs, taken as
     # they are (only candidates the search outranked, which have no design, are solved there):
