@@ -16,7 +16,7 @@ from designer.errors import InputError
 from designer.result.evaluation import evaluate
 from designer.search.problem import SWEPT_LIMIT, FamilyProblem, families
 from designer.search.run import Candidate, optimize
-from designer.search.stock import stock_system
+from designer.search.stock import stock_rows, stock_system
 from designer.spec import catalogue
 
 LEVELS = 9
@@ -54,6 +54,10 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
     done = 0
     for key, value, given in sweeps:
         graphs = {fam: FamilyProblem(base, fam, swept=key) for fam in families(base)}
+        # a family on stock with no row of the material inside the size bounds has no design at
+        # any level (the swept limit moves no bound): its point is empty, unsolved
+        rowless = {(m, fam) for m in leading for fam, g in graphs.items()
+                   if stock_system(base, fam) != "none" and not stock_rows(g, catalogue.material(m))[0]}
         levels = _levels(given or value)
         centre = len(levels) // 2
         # from the centre up, then from the centre down: each level's neighbour is solved before it
@@ -91,7 +95,7 @@ def fronts(spec, outcome, materials: int = MATERIALS, progress=None) -> dict:
             # (one outranked by the main search had a design: it is solved, not skipped)
             ranked_out = {(c.material, c.family) for c in near if c.unrounded}
             skip = ({(m, fam) for m in leading for fam in graphs if (m, fam) not in warm and (m, fam) not in ranked_out}
-                    if tighter else set())
+                    if tighter else set()) | rowless
             skip -= set(same)
             if len(skip) + len(same) == len(leading) * len(graphs):
                 found[i] = [same.get((m, fam), Candidate(m, fam, None)) for m in leading for fam in graphs]

@@ -413,6 +413,34 @@ def test_a_front_s_skipped_candidate_is_not_searched_on_stock_rows_either():
     assert skipped.evaluation is None and skipped.solves == ()
 
 
+def test_a_front_does_not_solve_a_material_with_no_stock_row_of_the_family(monkeypatch):
+    # The gripper finger's tubes come from tube stock, and the stock catalogue has no Ti-6Al-4V
+    # or 17-7PH-RH950 tube (stock.stock_rows: no row at all, whatever the swept limit): those two
+    # of its four leading materials have no tube design at any level, so the fronts give them an
+    # empty point at every level without a solve; 7075-T6 and 2024-T3 tubes are solved.
+    from designer.search import run
+    from designer.search.stock import stock_rows
+    from designer.search.tradeoff import LEVELS, fronts
+
+    spec = load_spec(EXAMPLES / "gripper-finger.yaml")
+    found = search.optimize(spec)
+    solved = []
+    real = run.solve_candidate
+    monkeypatch.setattr(run, "solve_candidate", lambda problem, material, *a, **k: (
+        solved.append((material.name, problem.family.section)) or real(problem, material, *a, **k)))
+    points = fronts(spec, found)
+    tube = next(fam for fam in search.families(spec) if fam.section == "tube")
+    problem = search.FamilyProblem(spec, tube)
+    rowless = {m for m in ("Ti-6Al-4V", "17-7PH-RH950", "7075-T6", "2024-T3")
+               if not stock_rows(problem, catalogue.material(m))[0]}
+    assert rowless == {"Ti-6Al-4V", "17-7PH-RH950"}
+    assert not {(m, "tube") for m in rowless} & set(solved)
+    assert {("7075-T6", "tube"), ("2024-T3", "tube")} <= set(solved)
+    for key in ("max_deflection", "min_frequency"):
+        empty = [p for p in points[key] if p["material"] in rowless and p["section"].startswith("tube")]
+        assert len(empty) == 2 * LEVELS and all(p["objective"] is None and not p["feasible"] for p in empty)
+
+
 # The bench suite's 016-short-beam (``bench.generate_suite(30, 0)``), with one material.
 SHORT_BEAM = """name: 016-short-beam
 load: {force: [39.12 mN, 703.7 mN], position: [8.212 mm, 10.99 mm]}
@@ -506,7 +534,7 @@ def test_starts_that_end_at_one_answer_share_its_rounding_and_repair(monkeypatch
     # takes the first one's design instead of repeating that work, and the candidate is what
     # rounding and repairing each start's answer on its own gives (SAME_ANSWER < 0: never alike).
     from designer.search import run
-    from designer.search.problem import FamilyProblem, Family
+    from designer.search.problem import Family, FamilyProblem
 
     spec = load_spec(EXAMPLES / "gripper-finger.yaml")
     spec = replace(spec, objective="error", limits=replace(spec.limits, max_deflection=0.25e-3))
