@@ -80,10 +80,9 @@ class Candidate:
 
 
 FALLBACK = {"ipopt": "slsqp"}  # every other method falls back to ipopt
-# Two starts' answers this close (every variable, in the NLP's units: mm, or the objective's), with
-# the same verdict, are one answer: the later start takes the earlier one's rounding, repair and
-# check, which depend on the answer alone. Starts that converge to one optimum agree to about 1e-9
-# (IPOPT's tolerance); 1e-7 changes a rounding to the 0.01 mm grid only at a grid boundary.
+# Two starts' answers this close (each variable in the NLP's units), with the same verdict, are one:
+# the later takes the earlier's rounding, repair and check (functions of the answer). Starts at one
+# optimum agree to about 1e-9 (IPOPT's tolerance); 1e-7 moves a 0.01 mm rounding only at its boundary.
 SAME_ANSWER = 1e-7
 
 
