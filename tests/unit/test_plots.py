@@ -336,6 +336,16 @@ def test_write_design_plots_leaves_nothing_behind_on_failure(proto_b, tmp_path, 
     assert [p.name for p in tmp_path.iterdir() if p.name != "out"] == []
 
 
+def test_the_same_design_gives_the_same_plot_files_svg_too(proto_b, tmp_path):
+    # An SVG names its clip paths and glyphs by a hash that matplotlib salts with a random value
+    # unless ``svg.hashsalt`` is set: the plots' SVG copies were new files at every run.
+    first = plots.write_design_plots(proto_b, tmp_path / "a", formats=("png", "svg"))
+    second = plots.write_design_plots(proto_b, tmp_path / "b", formats=("png", "svg"))
+    assert len(first) == 2 * 4 and [p.name for p in first] == [p.name for p in second]
+    for a, b in zip(first, second):
+        assert a.read_bytes() == b.read_bytes(), a.name
+
+
 def test_write_design_plots_rejects_unknown_formats(proto_b, tmp_path):
     with pytest.raises(InputError, match=r"format: 'jpg' is not allowed; must be one of \[png, svg\]"):
         plots.write_design_plots(proto_b, tmp_path / "out", formats=("jpg",))

@@ -6,7 +6,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from designer.errors import InputError, brief, describe_allowed
-from designer.outputs.drawing.figures import savefig_options
+from designer.outputs.drawing.figures import figure_bytes
 from designer.outputs.plots.budget import plot_budget
 from designer.outputs.plots.candidates import plot_candidates
 from designer.outputs.plots.error_maps import plot_error_maps
@@ -82,7 +82,8 @@ def write_design_plots(design: Mapping, out_dir, formats: Sequence[str] = DEFAUL
                 continue
             fig = make()
             for fmt in formats:
-                fig.savefig(scratch / f"{name}.{fmt}", format=fmt, dpi=PNG_DPI, **savefig_options(fmt))
+                # (SVG with salted ids: the same design gives the same file)
+                (scratch / f"{name}.{fmt}").write_bytes(figure_bytes(fig, fmt, PNG_DPI))
                 written.append(out_dir / f"{name}.{fmt}")
             if progress is not None:
                 progress(i + 1, len(makers))
